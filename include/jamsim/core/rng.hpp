@@ -1,0 +1,38 @@
+#pragma once
+#include <array>
+#include <cstdint>
+
+namespace jamsim {
+
+/// Every use of random numbers in jamsim has its own purpose id (HOOMD's RNGIdentifiers
+/// idea): streams for different purposes never overlap, and adding a purpose never
+/// changes the numbers another purpose draws.
+enum class RngPurpose : std::uint32_t {
+    InitialPositions = 1,
+    TestConfiguration = 1000,  ///< random configurations in tests
+};
+
+/// Philox4x32-10 (Salmon et al., SC'11): a counter-based generator. The output is a pure
+/// function of (key, counter), so a replica's random numbers depend only on
+/// (seed, replica, purpose, index) and never on rank count or scheduling.
+std::array<std::uint32_t, 4> philox4x32(std::array<std::uint32_t, 4> counter,
+                                        std::array<std::uint32_t, 2> key);
+
+/// A stream of uniform doubles keyed by (seed, replica, purpose); draw k of a given
+/// index is philox(key = seed, counter = {replica, purpose, index, k/2}).
+class RngStream {
+  public:
+    RngStream(std::uint64_t seed, std::uint32_t replica, RngPurpose purpose)
+        : seed_(seed), replica_(replica), purpose_(static_cast<std::uint32_t>(purpose)) {}
+
+    /// Two independent uniform doubles in [0, 1) (53 random bits each) for `index`
+    /// and sub-counter `sub`.
+    std::array<double, 2> uniform2(std::uint32_t index, std::uint32_t sub = 0) const;
+
+  private:
+    std::uint64_t seed_;
+    std::uint32_t replica_;
+    std::uint32_t purpose_;
+};
+
+} // namespace jamsim

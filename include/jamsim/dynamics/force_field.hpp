@@ -1,0 +1,43 @@
+#pragma once
+#include <span>
+
+#include "jamsim/core/system.hpp"
+#include "jamsim/force/pair_forces.hpp"
+#include "jamsim/neighbor/neighbor_list.hpp"
+#include "jamsim/potential/soft_sphere.hpp"
+
+namespace jamsim {
+
+/// The elastic interaction of a replica: pair evaluator + neighbour list + rebuild policy.
+/// Models ask it for forces; they never touch the list themselves.
+class ForceField {
+  public:
+    ForceField(potential::SoftSphere pot, double skin) : pot_(pot), list_(skin) {}
+
+    /// Forces on the system's particles (into particles.fx, fy) at a step boundary. When the
+    /// list is stale the particles are wrapped into the cell, sorted by cell for memory
+    /// locality, and the list is rebuilt.
+    ForceResult compute(System& sys);
+
+    /// Forces for trial positions inside a step (e.g. a Heun predictor) at the box's current
+    /// strain; rebuilds the list from the trial positions if needed but reorders nothing.
+    ForceResult compute_at(const Box& box, std::span<const double> x, std::span<const double> y,
+                           std::span<const double> diameter, std::span<double> fx,
+                           std::span<double> fy);
+
+    /// Forget the list (after a Lees–Edwards wrap remapped the positions).
+    void invalidate() { list_.invalidate(); }
+
+    const NeighborList& list() const { return list_; }
+    const potential::SoftSphere& potential() const { return pot_; }
+
+  private:
+    potential::SoftSphere pot_;
+    NeighborList list_;
+};
+
+/// Set γ to `strain` (it may leave [−1/2, 1/2) by at most one step's worth), then wrap it
+/// back and remap the positions if it crossed ±1/2, invalidating the neighbour list.
+void apply_strain(System& sys, ForceField& forces, double strain);
+
+} // namespace jamsim

@@ -1,0 +1,46 @@
+#pragma once
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "jamsim/core/system.hpp"
+#include "jamsim/dynamics/force_field.hpp"
+
+namespace jamsim {
+
+/// Time integration scheme for first-order (overdamped) models.
+enum class Integrator { Euler, Heun };
+
+/// Parameters every dynamical model may read. Units: k_e = k_d = d_s = 1 unless changed.
+struct ModelParams {
+    double kd = 1.0;                          ///< dissipation coefficient k_d
+    Integrator integrator = Integrator::Euler;
+};
+
+/// A dynamical model advances a System under constant shear rate. The driver calls, per step:
+///   forces.compute(sys)          (elastic forces of the current state into sys.particles)
+///   [observables of that state]
+///   model.advance(sys, forces, dt, rate)
+/// so advance() may use the forces already in sys.particles.fx, fy as its first stage.
+class Model {
+  public:
+    virtual ~Model() = default;
+    virtual std::string_view name() const = 0;
+
+    /// Advance positions and γ by one step of length dt (time unit τ = k_d d_s² / k_e)
+    /// at shear rate `rate` (1/τ).
+    virtual void advance(System& sys, ForceField& forces, double dt, double rate) = 0;
+
+    /// Mean square non-affine velocity (1/N) Σ |u_i|², u = v − γ̇ y x̂, of the state whose
+    /// forces are in sys.particles (units (d_s/τ)²).
+    virtual double nonaffine_velocity_sq(const System& sys) const = 0;
+};
+
+/// Registry: a model by name ("RD0"); throws std::invalid_argument listing the known names.
+std::unique_ptr<Model> make_model(std::string_view name, const ModelParams& params);
+
+/// Names accepted by make_model.
+std::vector<std::string> model_names();
+
+} // namespace jamsim

@@ -1,0 +1,24 @@
+#pragma once
+#include <vector>
+
+#include "jamsim/dynamics/model.hpp"
+
+namespace jamsim {
+
+/// RD0: Durian's overdamped bubble model with reservoir dissipation (thesis §4.5.2,
+/// eq. 4.22 with z = 1): each disk moves with the affine shear flow plus u_i = f_i^el / k_d.
+/// In sheared coordinates ẋ_i = (f_ix − γ f_iy)/k_d, ẏ_i = f_iy / k_d, and γ̇ is constant.
+/// Forward Euler (one force evaluation per step) or Heun (two; second order in Δt).
+class Rd0 final : public Model {
+  public:
+    explicit Rd0(const ModelParams& params) : params_(params) {}
+    std::string_view name() const override { return "RD0"; }
+    void advance(System& sys, ForceField& forces, double dt, double rate) override;
+    double nonaffine_velocity_sq(const System& sys) const override;
+
+  private:
+    ModelParams params_;
+    std::vector<double> x0_, y0_, fx1_, fy1_;  // Heun scratch, shape [N]
+};
+
+} // namespace jamsim

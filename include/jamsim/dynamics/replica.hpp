@@ -1,0 +1,68 @@
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "jamsim/core/system.hpp"
+#include "jamsim/dynamics/model.hpp"
+#include "jamsim/observe/time_series.hpp"
+
+namespace jamsim {
+
+/// Everything that defines one replica; its output depends on nothing else.
+struct ReplicaParams {
+    std::string model = "RD0";
+    std::int64_t n = 1024;          ///< number of disks N
+    double phi = 0.84;              ///< packing fraction φ = Σ π d_i² / (4 L²)
+    double rate = 1e-4;             ///< shear rate γ̇, 1/τ
+    double strain = 2.0;            ///< total strain to run (used when rate > 0)
+    double time = 0.0;              ///< total time to run, τ (used when rate == 0)
+    double transient = 0.0;         ///< strain (or time at rate 0) excluded from averages
+    double sample_interval = 0.01;  ///< strain between samples (time when rate == 0)
+    double dt = 0.2;                ///< time step Δt, τ
+    double alpha = 2.0;             ///< potential exponent α (2 harmonic, 2.5 Hertzian)
+    double size_ratio = 1.4;        ///< large/small diameter (1 = monodisperse)
+    double skin = 0.3;              ///< neighbour-list skin, d_s
+    double kd = 1.0;                ///< dissipation coefficient k_d
+    Integrator integrator = Integrator::Euler;
+    std::uint64_t seed = 1;
+    std::uint32_t replica = 0;      ///< replica id within a campaign (part of the RNG key)
+};
+
+/// A problem with one parameter, phrased for a person.
+struct ParamError {
+    std::string key;      ///< parameter name as the user writes it
+    std::string value;    ///< the offending value
+    std::string allowed;  ///< what is allowed
+};
+
+/// All violations (empty when the parameters are usable).
+std::vector<ParamError> validate(const ReplicaParams& params);
+
+/// Number of steps and steps between samples implied by the parameters.
+struct Schedule {
+    std::int64_t steps;
+    std::int64_t sample_every;
+};
+Schedule schedule_of(const ReplicaParams& params);
+
+std::string to_string(Integrator integrator);
+Integrator integrator_from_string(const std::string& name);  ///< throws std::invalid_argument
+
+/// What a finished replica hands back.
+struct ReplicaResult {
+    TimeSeries series;
+    System final_state;
+    std::int64_t force_evaluations = 0;
+    std::int64_t list_builds = 0;
+    double wall_seconds = 0.0;
+};
+
+/// The initial configuration of a replica (random positions keyed by seed and replica id).
+System initial_system(const ReplicaParams& params);
+
+/// Run one replica from its initial configuration; throws std::runtime_error when the state
+/// becomes non-finite.
+ReplicaResult run_replica(const ReplicaParams& params);
+
+} // namespace jamsim

@@ -1,0 +1,71 @@
+#pragma once
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "jamsim/core/box.hpp"
+#include "jamsim/core/particles.hpp"
+
+namespace jamsim {
+
+/// Verlet (half) neighbour list with a skin, built through a cell list in sheared
+/// coordinates, valid at any Lees–Edwards strain.
+///
+/// Pair (i, j) is listed once (i owns it) when its lab distance at build time is below
+/// d_ij + skin. Each entry stores the sheared image shift (sx, sy) that makes
+/// (x_i − x_j + sx, y_i − y_j + sy) the separation of the nearby image, so the force loop
+/// never rounds; positions need not be wrapped between builds.
+///
+/// Validity (why the rebuild test is safe): between builds a pair's lab separation changes
+/// by at most |M(γ)δs_i| + |M(γ)δs_j| + |Δγ| |s_y|, with δs the sheared displacement since
+/// the build, M(γ) = [[1, γ], [0, 1]] and |s_y| < d_max + skin for any pair that can
+/// touch. So no contact is missed while 2 max_i |M(γ)δs_i| + |Δγ|(d_max + skin) ≤ skin.
+class NeighborList {
+  public:
+    explicit NeighborList(double skin = 0.3) : skin_(skin) {}
+
+    double skin() const { return skin_; }
+
+    /// Build from (possibly unwrapped) sheared positions at the box's current strain.
+    void build(std::span<const double> x, std::span<const double> y,
+               std::span<const double> diameter, const Box& box);
+
+    /// True when the list may miss a contact for these positions and this strain.
+    bool needs_rebuild(std::span<const double> x, std::span<const double> y,
+                       const Box& box) const;
+
+    /// Force a rebuild at the next check (after a Lees–Edwards wrap or a reorder).
+    void invalidate() { valid_ = false; }
+
+    std::size_t size() const { return neighbor_.size(); }
+    std::size_t builds() const { return builds_; }
+
+    // CSR layout: entries first_[i] .. first_[i+1]-1 belong to particle i.
+    std::span<const std::int32_t> first() const { return first_; }
+    std::span<const std::int32_t> neighbor() const { return neighbor_; }
+    std::span<const double> shift_x() const { return shift_x_; }
+    std::span<const double> shift_y() const { return shift_y_; }
+
+  private:
+    void build_all_pairs(std::span<const double> x, std::span<const double> y,
+                         std::span<const double> diameter, const Box& box);
+    void build_with_cells(std::span<const double> x, std::span<const double> y,
+                          std::span<const double> diameter, const Box& box, int cells);
+    void remember_reference(std::span<const double> x, std::span<const double> y,
+                            const Box& box, double max_d);
+
+    double skin_;
+    double max_diameter_ = 0.0;
+    bool valid_ = false;
+    std::size_t builds_ = 0;
+    std::vector<std::int32_t> first_, neighbor_;
+    std::vector<double> shift_x_, shift_y_;
+    std::vector<double> x_ref_, y_ref_;
+    double strain_ref_ = 0.0;
+};
+
+/// Order that sorts particles by their cell in sheared coordinates (cells of side ≥ cell);
+/// apply with Particles::permute to keep neighbours close in memory.
+std::vector<std::int32_t> spatial_order(const Particles& p, const Box& box, double cell);
+
+} // namespace jamsim

@@ -1,0 +1,63 @@
+#pragma once
+#include <string>
+#include <vector>
+
+namespace jamsim {
+
+/// One row of observables, sampled at the start of a step (the state whose forces were just
+/// computed). Definitions (units: k_e = k_d = d_s = 1, τ = k_d d_s²/k_e, A = L²):
+struct Sample {
+    double time;                   ///< t = n Δt, τ
+    double strain;                 ///< accumulated strain γ̇ t (not wrapped), 1
+    double energy_per_particle;    ///< E/N = (1/N) Σ_pairs V(r_ij), k_e
+    double pressure;               ///< p = (1/2A) Σ_pairs r_ij · f_ij, k_e/d_s²
+    double shear_stress;           ///< σ = −(1/A) Σ_pairs r_ij,x f_ij,y, k_e/d_s²
+    double contact_number;         ///< z = 2 N_c / N, contacts per particle (rattlers included)
+    double nonaffine_velocity_sq;  ///< (1/N) Σ |u_i|², u = v − γ̇ y x̂, (d_s/τ)²
+};
+
+/// A named column of a time series, as written to the archive.
+struct ColumnInfo {
+    const char* name;
+    const char* units;
+    const char* description;
+    double Sample::*member;
+};
+
+/// Schema of Sample: the writer creates one dataset per entry, so adding an observable is a
+/// Sample field plus a line here.
+inline constexpr ColumnInfo kSampleColumns[] = {
+    {"time", "tau", "t = n dt, tau = k_d d_s^2 / k_e", &Sample::time},
+    {"strain", "1", "accumulated strain rate * t (not wrapped)", &Sample::strain},
+    {"energy_per_particle", "k_e", "E/N = (1/N) sum_pairs V(r_ij)", &Sample::energy_per_particle},
+    {"pressure", "k_e/d_s^2", "p = (1/2A) sum_pairs r_ij . f_ij", &Sample::pressure},
+    {"shear_stress", "k_e/d_s^2", "sigma = -(1/A) sum_pairs r_ij,x f_ij,y", &Sample::shear_stress},
+    {"contact_number", "1", "z = 2 N_contacts / N (rattlers included)", &Sample::contact_number},
+    {"nonaffine_velocity_sq", "d_s^2/tau^2", "(1/N) sum_i |v_i - rate y_i x|^2",
+     &Sample::nonaffine_velocity_sq},
+};
+
+/// Rows of samples, stored by column.
+class TimeSeries {
+  public:
+    void push(const Sample& s) {
+        rows_.push_back(s);
+    }
+    std::size_t size() const { return rows_.size(); }
+    const Sample& operator[](std::size_t k) const { return rows_[k]; }
+    /// One column as a contiguous array.
+    std::vector<double> column(double Sample::*member) const {
+        std::vector<double> out;
+        out.reserve(rows_.size());
+        for (const auto& r : rows_) out.push_back(r.*member);
+        return out;
+    }
+
+  private:
+    std::vector<Sample> rows_;
+};
+
+/// Mean of a column over the rows with strain ≥ from_strain (NaN when there are none).
+double mean_after(const TimeSeries& ts, double Sample::*member, double from_strain);
+
+} // namespace jamsim

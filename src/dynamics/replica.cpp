@@ -1,0 +1,117 @@
+#include "jamsim/dynamics/replica.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "jamsim/dynamics/force_field.hpp"
+
+namespace jamsim {
+
+namespace {
+template <class T> std::string str(T v) {
+    std::ostringstream os;
+    os.precision(17);
+    os << v;
+    return os.str();
+}
+bool finite_positive(double v) { return std::isfinite(v) && v > 0.0; }
+} // namespace
+
+std::string to_string(Integrator integrator) {
+    return integrator == Integrator::Euler ? "euler" : "heun";
+}
+
+Integrator integrator_from_string(const std::string& name) {
+    if (name == "euler") return Integrator::Euler;
+    if (name == "heun") return Integrator::Heun;
+    throw std::invalid_argument("unknown integrator '" + name + "' (known: euler, heun)");
+}
+
+std::vector<ParamError> validate(const ReplicaParams& p) {
+    std::vector<ParamError> e;
+    bool known_model = false;
+    std::string names;
+    for (const auto& m : model_names()) {
+        known_model = known_model || m == p.model;
+        names += (names.empty() ? "" : ", ") + m;
+    }
+    if (!known_model) e.push_back({"model", p.model, "one of: " + names});
+    if (p.n < 2) e.push_back({"N", str(p.n), "an integer >= 2"});
+    else if (p.size_ratio != 1.0 && p.n % 2 != 0)
+        e.push_back({"N", str(p.n), "an even number (50:50 mixture; size_ratio = 1 allows odd N)"});
+    if (!(p.phi > 0.0 && p.phi < 1.0)) e.push_back({"phi", str(p.phi), "0 < phi < 1"});
+    if (!(std::isfinite(p.rate) && p.rate >= 0.0)) e.push_back({"rate", str(p.rate), "rate >= 0"});
+    if (p.rate > 0.0 && !finite_positive(p.strain))
+        e.push_back({"strain", str(p.strain), "strain > 0"});
+    if (p.rate == 0.0 && !finite_positive(p.time))
+        e.push_back({"time", str(p.time), "time > 0 (needed when rate = 0)"});
+    if (!(std::isfinite(p.transient) && p.transient >= 0.0))
+        e.push_back({"transient", str(p.transient), "transient >= 0"});
+    if (!finite_positive(p.sample_interval))
+        e.push_back({"sample-interval", str(p.sample_interval), "sample-interval > 0"});
+    if (!finite_positive(p.dt)) e.push_back({"dt", str(p.dt), "dt > 0"});
+    if (!(std::isfinite(p.alpha) && p.alpha > 1.0))
+        e.push_back({"alpha", str(p.alpha), "alpha > 1 (2 harmonic, 2.5 Hertzian)"});
+    if (!(std::isfinite(p.size_ratio) && p.size_ratio >= 1.0))
+        e.push_back({"size-ratio", str(p.size_ratio), "size-ratio >= 1"});
+    if (!finite_positive(p.skin)) e.push_back({"skin", str(p.skin), "skin > 0"});
+    if (!finite_positive(p.kd)) e.push_back({"kd", str(p.kd), "kd > 0"});
+    return e;
+}
+
+Schedule schedule_of(const ReplicaParams& p) {
+    const double duration = p.rate > 0.0 ? p.strain / p.rate : p.time;
+    const double sample_time = p.rate > 0.0 ? p.sample_interval / p.rate : p.sample_interval;
+    const auto steps = static_cast<std::int64_t>(std::ceil(duration / p.dt - 1e-9));
+    const auto every = std::max<std::int64_t>(1, std::llround(sample_time / p.dt));
+    return {steps, every};
+}
+
+System initial_system(const ReplicaParams& p) {
+    return random_system(p.n, p.phi, SizeMix{p.size_ratio}, p.seed, p.replica);
+}
+
+ReplicaResult run_replica(const ReplicaParams& p) {
+    const auto errors = validate(p);
+    if (!errors.empty())
+        throw std::invalid_argument("replica parameter " + errors.front().key + " = " +
+                                    errors.front().value + ": allowed " + errors.front().allowed);
+    const auto start = std::chrono::steady_clock::now();
+    ReplicaResult result{TimeSeries{}, initial_system(p)};
+    System& sys = result.final_state;
+    ForceField forces(potential::make_soft_sphere(p.alpha), p.skin);
+    auto model = make_model(p.model, ModelParams{p.kd, p.integrator});
+    const Schedule plan = schedule_of(p);
+    const double inv_n = 1.0 / static_cast<double>(p.n);
+    const std::int64_t evals_per_step = p.integrator == Integrator::Heun ? 2 : 1;
+
+    for (std::int64_t step = 0;; ++step) {
+        const ForceResult f = forces.compute(sys);
+        if (step % plan.sample_every == 0) {
+            const double t = static_cast<double>(step) * p.dt;
+            const Sample s{t,
+                           p.rate * t,
+                           f.energy * inv_n,
+                           f.pressure(sys.box),
+                           f.shear_stress(sys.box),
+                           2.0 * static_cast<double>(f.contacts) * inv_n,
+                           model->nonaffine_velocity_sq(sys)};
+            if (!std::isfinite(s.energy_per_particle) || !std::isfinite(s.pressure))
+                throw std::runtime_error("non-finite state at t = " + str(t) +
+                                         " (time step too large?)");
+            result.series.push(s);
+        }
+        if (step == plan.steps) break;
+        model->advance(sys, forces, p.dt, p.rate);
+        result.force_evaluations += evals_per_step;
+    }
+    result.force_evaluations += 1;  // the final state's evaluation
+    result.list_builds = static_cast<std::int64_t>(forces.list().builds());
+    result.wall_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return result;
+}
+
+} // namespace jamsim

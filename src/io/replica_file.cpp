@@ -1,0 +1,90 @@
+#include "jamsim/io/replica_file.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <vector>
+
+#include "jamsim/core/version.hpp"
+#include "jamsim/io/hdf5.hpp"
+
+namespace jamsim {
+
+namespace {
+
+void write_params(hid_t root, const ReplicaParams& p) {
+    h5::write_attribute(root, "model", p.model);
+    h5::write_attribute(root, "N", p.n);
+    h5::write_attribute(root, "phi", p.phi);
+    h5::write_attribute(root, "rate", p.rate);
+    h5::write_attribute(root, "strain", p.strain);
+    h5::write_attribute(root, "time", p.time);
+    h5::write_attribute(root, "transient", p.transient);
+    h5::write_attribute(root, "sample_interval", p.sample_interval);
+    h5::write_attribute(root, "dt", p.dt);
+    h5::write_attribute(root, "alpha", p.alpha);
+    h5::write_attribute(root, "size_ratio", p.size_ratio);
+    h5::write_attribute(root, "skin", p.skin);
+    h5::write_attribute(root, "kd", p.kd);
+    h5::write_attribute(root, "integrator", to_string(p.integrator));
+    h5::write_attribute(root, "seed", static_cast<std::int64_t>(p.seed));
+    h5::write_attribute(root, "replica", static_cast<std::int64_t>(p.replica));
+}
+
+void write_final(hid_t root, const System& sys) {
+    const Particles& p = sys.particles;
+    const std::size_t n = p.size();
+    std::vector<double> x(n), y(n), d(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        const auto t = static_cast<std::size_t>(p.tag[k]);
+        double xw = p.x[k], yw = p.y[k];
+        sys.box.wrap_into_cell(xw, yw);
+        x[t] = xw;
+        y[t] = yw;
+        d[t] = p.diameter[k];
+    }
+    auto g = h5::create_group(root, "final");
+    h5::write_dataset(g.get(), "x", x, "d_s", "sheared x in [0, L); lab x = x + box_strain * y");
+    h5::write_dataset(g.get(), "y", y, "d_s", "y in [0, L)");
+    h5::write_dataset(g.get(), "diameter", d, "d_s", "disk diameter");
+    h5::write_attribute(g.get(), "box_side", sys.box.side());
+    h5::write_attribute(g.get(), "box_strain", sys.box.strain());
+    g.close("group final");
+}
+
+} // namespace
+
+void write_replica_file(const std::string& path, const ReplicaParams& params,
+                        const ReplicaResult& result) {
+    h5::quiet_errors();
+    const std::string tmp = path + ".tmp";
+    try {
+        auto file = h5::create_file(tmp);
+        const hid_t root = file.get();
+        write_params(root, params);
+        h5::write_attribute(root, "code_version", std::string(kVersion));
+        h5::write_attribute(root, "build_flags", std::string(kBuildFlags));
+        h5::write_attribute(root, "mean_pressure",
+                            mean_after(result.series, &Sample::pressure, params.transient));
+        h5::write_attribute(root, "mean_shear_stress",
+                            mean_after(result.series, &Sample::shear_stress, params.transient));
+        h5::write_attribute(root, "force_evaluations", result.force_evaluations);
+        h5::write_attribute(root, "neighbor_list_builds", result.list_builds);
+        h5::write_attribute(root, "wall_seconds", result.wall_seconds);
+        {
+            auto ts = h5::create_group(root, "timeseries");
+            for (const auto& c : kSampleColumns)
+                h5::write_dataset(ts.get(), c.name, result.series.column(c.member), c.units,
+                                  c.description);
+            ts.close("group timeseries");
+        }
+        write_final(root, result.final_state);
+        file.close("file '" + tmp + "'");
+        std::filesystem::rename(tmp, path);
+    } catch (...) {
+        std::error_code ignored;
+        std::filesystem::remove(tmp, ignored);
+        throw;
+    }
+}
+
+} // namespace jamsim

@@ -1,0 +1,165 @@
+#include "jamsim/neighbor/neighbor_list.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace jamsim {
+
+namespace {
+
+/// Particles binned into an nc × nc grid over the primary cell (sheared coordinates).
+struct CellGrid {
+    int cells = 0;
+    std::vector<std::int32_t> start;    // shape [nc*nc + 1]
+    std::vector<std::int32_t> members;  // particle indices, grouped by cell, ascending
+    std::vector<std::int32_t> cell_of;  // shape [N]
+
+    CellGrid(std::span<const double> x, std::span<const double> y, const Box& box, int nc)
+        : cells(nc) {
+        const std::size_t n = x.size();
+        const double scale = nc / box.side();
+        cell_of.resize(n);
+        start.assign(static_cast<std::size_t>(nc) * nc + 1, 0);
+        for (std::size_t i = 0; i < n; ++i) {
+            double xw = x[i], yw = y[i];
+            box.wrap_into_cell(xw, yw);
+            const int cx = std::min(static_cast<int>(xw * scale), nc - 1);
+            const int cy = std::min(static_cast<int>(yw * scale), nc - 1);
+            cell_of[i] = cy * nc + cx;
+            ++start[static_cast<std::size_t>(cell_of[i]) + 1];
+        }
+        for (std::size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
+        members.resize(n);
+        std::vector<std::int32_t> fill(start.begin(), start.end() - 1);
+        for (std::size_t i = 0; i < n; ++i)
+            members[static_cast<std::size_t>(fill[static_cast<std::size_t>(cell_of[i])]++)] =
+                static_cast<std::int32_t>(i);
+    }
+};
+
+} // namespace
+
+void NeighborList::build(std::span<const double> x, std::span<const double> y,
+                         std::span<const double> diameter, const Box& box) {
+    double max_d = 0.0;
+    for (double d : diameter) max_d = std::max(max_d, d);
+    const double reach = max_d + skin_;
+    if (box.side() < 2.0 * reach)
+        throw std::invalid_argument("neighbour list: box side " + std::to_string(box.side()) +
+                                    " is below twice the list range " + std::to_string(reach) +
+                                    "; use more particles");
+    const int cells = static_cast<int>(std::floor(box.side() / reach));
+    if (cells >= 5)
+        build_with_cells(x, y, diameter, box, cells);
+    else
+        build_all_pairs(x, y, diameter, box);
+    remember_reference(x, y, box, max_d);
+}
+
+void NeighborList::remember_reference(std::span<const double> x, std::span<const double> y,
+                                      const Box& box, double max_d) {
+    x_ref_.assign(x.begin(), x.end());
+    y_ref_.assign(y.begin(), y.end());
+    strain_ref_ = box.strain();
+    max_diameter_ = max_d;
+    valid_ = true;
+    ++builds_;
+}
+
+void NeighborList::build_all_pairs(std::span<const double> x, std::span<const double> y,
+                                   std::span<const double> diameter, const Box& box) {
+    const std::size_t n = x.size();
+    const double side = box.side();
+    first_.assign(n + 1, 0);
+    neighbor_.clear();
+    shift_x_.clear();
+    shift_y_.clear();
+    for (std::size_t i = 0; i < n; ++i) {
+        for (std::size_t j = i + 1; j < n; ++j) {
+            const double dx = x[i] - x[j], dy = y[i] - y[j];
+            const double ny = std::nearbyint(dy / side);
+            const double nx = std::nearbyint(box.lab_x(dx, dy - ny * side) / side);
+            const Vec2 r = box.lab(dx - nx * side, dy - ny * side);
+            const double range = 0.5 * (diameter[i] + diameter[j]) + skin_;
+            if (norm2(r) < range * range) {
+                neighbor_.push_back(static_cast<std::int32_t>(j));
+                shift_x_.push_back(-nx * side);
+                shift_y_.push_back(-ny * side);
+            }
+        }
+        first_[i + 1] = static_cast<std::int32_t>(neighbor_.size());
+    }
+}
+
+void NeighborList::build_with_cells(std::span<const double> x, std::span<const double> y,
+                                    std::span<const double> diameter, const Box& box,
+                                    int nc) {
+    const std::size_t n = x.size();
+    const double side = box.side();
+    const CellGrid grid(x, y, box, nc);
+    // Half stencil in sheared coordinates: a pair closer than the list range in the lab
+    // has |dy| < w and |dx| ≤ (1 + |γ|) range < 2w, so rows 0 and +1 and columns ±2 suffice;
+    // listing (0,0) with j > i, (1,0), (2,0) and (−2..2, +1) visits each cell pair once.
+    static constexpr int kStencil[8][2] = {{0, 0}, {1, 0}, {2, 0}, {-2, 1},
+                                           {-1, 1}, {0, 1}, {1, 1}, {2, 1}};
+    first_.assign(n + 1, 0);
+    neighbor_.clear();
+    shift_x_.clear();
+    shift_y_.clear();
+    neighbor_.reserve(n * 4);
+    shift_x_.reserve(n * 4);
+    shift_y_.reserve(n * 4);
+    for (std::size_t i = 0; i < n; ++i) {
+        const int ci = grid.cell_of[i];
+        const int cx = ci % nc, cy = ci / nc;
+        const double kxi = box.image_of(x[i]), kyi = box.image_of(y[i]);
+        for (const auto& offset : kStencil) {
+            int nx = cx + offset[0], ny = cy + offset[1];
+            int wx = 0, wy = 0;  // which periodic image of the neighbour cell
+            if (nx < 0) { nx += nc; wx = -1; }
+            if (nx >= nc) { nx -= nc; wx = 1; }
+            if (ny >= nc) { ny -= nc; wy = 1; }
+            const int cj = ny * nc + nx;
+            for (auto k = grid.start[static_cast<std::size_t>(cj)];
+                 k < grid.start[static_cast<std::size_t>(cj) + 1]; ++k) {
+                const auto j = static_cast<std::size_t>(grid.members[static_cast<std::size_t>(k)]);
+                if (cj == ci && j <= i) continue;
+                // Sheared shift that takes x_j to the image sitting in cell (cx+ox, cy+oy).
+                const double sx = (box.image_of(x[j]) - kxi - wx) * side;
+                const double sy = (box.image_of(y[j]) - kyi - wy) * side;
+                const Vec2 r = box.lab(x[i] - x[j] + sx, y[i] - y[j] + sy);
+                const double range = 0.5 * (diameter[i] + diameter[j]) + skin_;
+                if (norm2(r) < range * range) {
+                    neighbor_.push_back(static_cast<std::int32_t>(j));
+                    shift_x_.push_back(sx);
+                    shift_y_.push_back(sy);
+                }
+            }
+        }
+        first_[i + 1] = static_cast<std::int32_t>(neighbor_.size());
+    }
+}
+
+bool NeighborList::needs_rebuild(std::span<const double> x, std::span<const double> y,
+                                 const Box& box) const {
+    if (!valid_ || x.size() != x_ref_.size()) return true;
+    const double gamma = box.strain();
+    double max2 = 0.0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        const double dy = y[i] - y_ref_[i];
+        const double dx = x[i] - x_ref_[i] + gamma * dy;
+        max2 = std::max(max2, dx * dx + dy * dy);
+    }
+    const double affine = std::abs(gamma - strain_ref_) * (max_diameter_ + skin_);
+    return 2.0 * std::sqrt(max2) + affine > skin_;
+}
+
+std::vector<std::int32_t> spatial_order(const Particles& p, const Box& box, double cell) {
+    const int nc = std::max(1, static_cast<int>(std::floor(box.side() / cell)));
+    const CellGrid grid(p.x, p.y, box, nc);
+    return grid.members;
+}
+
+} // namespace jamsim
