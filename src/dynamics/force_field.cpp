@@ -2,21 +2,22 @@
 
 namespace jamsim {
 
-ForceResult ForceField::compute(System& sys) {
+ForceResult ForceField::compute(System& sys, Tally tally) {
     Particles& p = sys.particles;
     if (list_.needs_rebuild(p.x, p.y, sys.box)) {
         for (std::size_t i = 0; i < p.size(); ++i) sys.box.wrap_into_cell(p.x[i], p.y[i]);
         p.permute(spatial_order(p, sys.box, max_diameter(p) + list_.skin()));
         list_.build(p.x, p.y, p.diameter, sys.box);
     }
-    return compute_pair_forces(pot_, list_, sys.box, p.x, p.y, p.diameter, p.fx, p.fy);
+    return compute_pair_forces(pot_, list_, sys.box, p.x, p.y, p.diameter, p.fx, p.fy, scratch_,
+                               tally);
 }
 
 ForceResult ForceField::compute_at(const Box& box, std::span<const double> x,
                                    std::span<const double> y, std::span<const double> diameter,
-                                   std::span<double> fx, std::span<double> fy) {
+                                   std::span<double> fx, std::span<double> fy, Tally tally) {
     if (list_.needs_rebuild(x, y, box)) list_.build(x, y, diameter, box);
-    return compute_pair_forces(pot_, list_, box, x, y, diameter, fx, fy);
+    return compute_pair_forces(pot_, list_, box, x, y, diameter, fx, fy, scratch_, tally);
 }
 
 void apply_strain(System& sys, ForceField& forces, double strain) {

@@ -88,8 +88,9 @@ ReplicaResult run_replica(const ReplicaParams& p) {
     const std::int64_t evals_per_step = p.integrator == Integrator::Heun ? 2 : 1;
 
     for (std::int64_t step = 0;; ++step) {
-        const ForceResult f = forces.compute(sys);
-        if (step % plan.sample_every == 0) {
+        const bool sample_now = step % plan.sample_every == 0;
+        const ForceResult f = forces.compute(sys, sample_now ? Tally::Full : Tally::ForcesOnly);
+        if (sample_now) {
             const double t = static_cast<double>(step) * p.dt;
             const Sample s{t,
                            p.rate * t,

@@ -55,6 +55,10 @@ void NeighborList::build(std::span<const double> x, std::span<const double> y,
         build_with_cells(x, y, diameter, box, cells);
     else
         build_all_pairs(x, y, diameter, box);
+    owner_.resize(neighbor_.size());
+    for (std::size_t i = 0; i + 1 < first_.size(); ++i)
+        for (auto k = first_[i]; k < first_[i + 1]; ++k)
+            owner_[static_cast<std::size_t>(k)] = static_cast<std::int32_t>(i);
     remember_reference(x, y, box, max_d);
 }
 

@@ -25,7 +25,7 @@ static void BM_Rd0(benchmark::State& state) {
     }
     const auto builds0 = ff.list().builds();
     for (auto _ : state) {
-        ff.compute(sys);
+        ff.compute(sys, Tally::ForcesOnly);  // as on the steps between samples
         model.advance(sys, ff, p.dt, p.rate);
     }
     const double steps = static_cast<double>(state.iterations());

@@ -17,13 +17,13 @@ class ForceField {
     /// Forces on the system's particles (into particles.fx, fy) at a step boundary. When the
     /// list is stale the particles are wrapped into the cell, sorted by cell for memory
     /// locality, and the list is rebuilt.
-    ForceResult compute(System& sys);
+    ForceResult compute(System& sys, Tally tally = Tally::Full);
 
     /// Forces for trial positions inside a step (e.g. a Heun predictor) at the box's current
     /// strain; rebuilds the list from the trial positions if needed but reorders nothing.
     ForceResult compute_at(const Box& box, std::span<const double> x, std::span<const double> y,
                            std::span<const double> diameter, std::span<double> fx,
-                           std::span<double> fy);
+                           std::span<double> fy, Tally tally = Tally::ForcesOnly);
 
     /// Forget the list (after a Lees–Edwards wrap remapped the positions).
     void invalidate() { list_.invalidate(); }
@@ -34,6 +34,7 @@ class ForceField {
   private:
     potential::SoftSphere pot_;
     NeighborList list_;
+    PairScratch scratch_;
 };
 
 /// Set γ to `strain` (it may leave [−1/2, 1/2) by at most one step's worth), then wrap it

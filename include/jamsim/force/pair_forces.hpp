@@ -1,6 +1,8 @@
 #pragma once
 #include <cstdint>
+#include <algorithm>
 #include <span>
+#include <vector>
 
 #include "jamsim/core/box.hpp"
 #include "jamsim/neighbor/neighbor_list.hpp"
@@ -17,6 +19,7 @@ struct ForceResult {
     double virial_xy = 0.0;
     double virial_yy = 0.0;
     std::int64_t contacts = 0;  ///< pairs with r_ij < d_ij
+    bool tallied = false;       ///< false: only forces were computed (Tally::ForcesOnly)
 
     /// p = (P_xx + P_yy)/2 with P_ab = virial_ab / L²: positive under compression. k_e/d_s².
     double pressure(const Box& box) const { return 0.5 * (virial_xx + virial_yy) / box.area(); }
@@ -24,54 +27,92 @@ struct ForceResult {
     double shear_stress(const Box& box) const { return -virial_xy / box.area(); }
 };
 
+/// What a force evaluation must produce besides the forces. Steps that record no sample
+/// ask for ForcesOnly and skip the energy, virial and contact sums.
+enum class Tally { ForcesOnly, Full };
+
+/// Scratch space of the force loop (reused across calls; one per ForceField).
+struct PairScratch {
+    static constexpr std::size_t kChunk = 512;  ///< list entries per block (fits in L1)
+    std::vector<double> rx, ry, r2, contact, f_over_r, energy;
+    void reserve() {
+        for (auto* v : {&rx, &ry, &r2, &contact, &f_over_r, &energy}) v->resize(kChunk);
+    }
+};
+
 /// The one neighbour loop: forces (written into fx, fy), energy, virial and contact count
 /// for positions (x, y) at the box's current strain, with pair evaluator `eval`.
 /// The list must be valid for these positions (NeighborList::needs_rebuild is false).
-template <class Evaluator>
+///
+/// It runs over the flat list in blocks of PairScratch::kChunk entries, in three passes:
+/// geometry (lab separations), the evaluator on contiguous arrays (no branch, so the
+/// square roots and divisions vectorise), and the scatter of forces and sums. A branch on
+/// "in contact?" per pair would mispredict at a quarter of the pairs and serialise the
+/// divider; this form keeps it busy.
+template <Tally kTally, class Evaluator>
 ForceResult accumulate_pair_forces(const Evaluator& eval, const NeighborList& list,
                                    const Box& box, std::span<const double> x,
                                    std::span<const double> y, std::span<const double> diameter,
-                                   std::span<double> fx, std::span<double> fy) {
+                                   std::span<double> fx, std::span<double> fy,
+                                   PairScratch& scratch) {
     const std::size_t n = x.size();
     for (std::size_t i = 0; i < n; ++i) fx[i] = fy[i] = 0.0;
-    const std::int32_t* first = list.first().data();
+    scratch.reserve();
+    const std::int32_t* owner = list.owner().data();
     const std::int32_t* neighbor = list.neighbor().data();
     const double* shift_x = list.shift_x().data();
     const double* shift_y = list.shift_y().data();
     const double gamma = box.strain();
-    ForceResult out;
+    double* const rx = scratch.rx.data();
+    double* const ry = scratch.ry.data();
+    double* const r2 = scratch.r2.data();
+    double* const dc = scratch.contact.data();
+    double* const fr = scratch.f_over_r.data();
+    double* const en = scratch.energy.data();
     double energy = 0.0, vxx = 0.0, vxy = 0.0, vyy = 0.0;
     std::int64_t contacts = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-        const double xi = x[i], yi = y[i], di = diameter[i];
-        double fxi = 0.0, fyi = 0.0;
-        for (std::int32_t k = first[i]; k < first[i + 1]; ++k) {
-            const auto j = static_cast<std::size_t>(neighbor[k]);
-            const double ry = yi - y[j] + shift_y[k];
-            const double rx = xi - x[j] + shift_x[k] + gamma * ry;
-            const double r2 = rx * rx + ry * ry;
-            const double dij = 0.5 * (di + diameter[j]);
-            if (r2 >= dij * dij) continue;
-            const potential::PairTerm t = eval(r2, dij);
-            const double px = t.force_over_r * rx, py = t.force_over_r * ry;
-            fxi += px;
-            fyi += py;
+    const std::size_t total = list.size();
+    for (std::size_t k0 = 0; k0 < total; k0 += PairScratch::kChunk) {
+        const std::size_t m = std::min(PairScratch::kChunk, total - k0);
+        for (std::size_t k = 0; k < m; ++k) {
+            const auto i = static_cast<std::size_t>(owner[k0 + k]);
+            const auto j = static_cast<std::size_t>(neighbor[k0 + k]);
+            const double sy = y[i] - y[j] + shift_y[k0 + k];
+            const double sx = x[i] - x[j] + shift_x[k0 + k] + gamma * sy;
+            rx[k] = sx;
+            ry[k] = sy;
+            r2[k] = sx * sx + sy * sy;
+            dc[k] = 0.5 * (diameter[i] + diameter[j]);
+        }
+        for (std::size_t k = 0; k < m; ++k) {
+            const potential::PairTerm t = eval(r2[k], dc[k]);  // zero beyond contact
+            fr[k] = t.force_over_r;
+            if constexpr (kTally == Tally::Full) en[k] = t.energy;
+        }
+        for (std::size_t k = 0; k < m; ++k) {
+            const auto i = static_cast<std::size_t>(owner[k0 + k]);
+            const auto j = static_cast<std::size_t>(neighbor[k0 + k]);
+            const double px = fr[k] * rx[k], py = fr[k] * ry[k];
+            fx[i] += px;
+            fy[i] += py;
             fx[j] -= px;
             fy[j] -= py;
-            energy += t.energy;
-            vxx += rx * px;
-            vxy += rx * py;
-            vyy += ry * py;
-            ++contacts;
+            if constexpr (kTally == Tally::Full) {
+                energy += en[k];
+                vxx += rx[k] * px;
+                vxy += rx[k] * py;
+                vyy += ry[k] * py;
+                contacts += r2[k] < dc[k] * dc[k];
+            }
         }
-        fx[i] += fxi;
-        fy[i] += fyi;
     }
+    ForceResult out;
     out.energy = energy;
     out.virial_xx = vxx;
     out.virial_xy = vxy;
     out.virial_yy = vyy;
     out.contacts = contacts;
+    out.tallied = kTally == Tally::Full;
     return out;
 }
 
@@ -79,6 +120,7 @@ ForceResult accumulate_pair_forces(const Evaluator& eval, const NeighborList& li
 ForceResult compute_pair_forces(const potential::SoftSphere& pot, const NeighborList& list,
                                 const Box& box, std::span<const double> x,
                                 std::span<const double> y, std::span<const double> diameter,
-                                std::span<double> fx, std::span<double> fy);
+                                std::span<double> fx, std::span<double> fy,
+                                PairScratch& scratch, Tally tally = Tally::Full);
 
 } // namespace jamsim

@@ -43,6 +43,8 @@ class NeighborList {
     // CSR layout: entries first_[i] .. first_[i+1]-1 belong to particle i.
     std::span<const std::int32_t> first() const { return first_; }
     std::span<const std::int32_t> neighbor() const { return neighbor_; }
+    /// Owner i of each entry (the same information as first(), flat for the force loop).
+    std::span<const std::int32_t> owner() const { return owner_; }
     std::span<const double> shift_x() const { return shift_x_; }
     std::span<const double> shift_y() const { return shift_y_; }
 
@@ -58,7 +60,7 @@ class NeighborList {
     double max_diameter_ = 0.0;
     bool valid_ = false;
     std::size_t builds_ = 0;
-    std::vector<std::int32_t> first_, neighbor_;
+    std::vector<std::int32_t> first_, neighbor_, owner_;
     std::vector<double> shift_x_, shift_y_;
     std::vector<double> x_ref_, y_ref_;
     double strain_ref_ = 0.0;
