@@ -55,11 +55,19 @@ void NeighborList::build(std::span<const double> x, std::span<const double> y,
         build_with_cells(x, y, diameter, box, cells);
     else
         build_all_pairs(x, y, diameter, box);
-    owner_.resize(neighbor_.size());
-    for (std::size_t i = 0; i + 1 < first_.size(); ++i)
-        for (auto k = first_[i]; k < first_[i + 1]; ++k)
-            owner_[static_cast<std::size_t>(k)] = static_cast<std::int32_t>(i);
+    finish_build(diameter);
     remember_reference(x, y, box, max_d);
+}
+
+void NeighborList::finish_build(std::span<const double> diameter) {
+    owner_.resize(neighbor_.size());
+    contact_.resize(neighbor_.size());
+    for (std::size_t i = 0; i + 1 < first_.size(); ++i)
+        for (auto k = static_cast<std::size_t>(first_[i]);
+             k < static_cast<std::size_t>(first_[i + 1]); ++k) {
+            owner_[k] = static_cast<std::int32_t>(i);
+            contact_[k] = 0.5 * (diameter[i] + diameter[static_cast<std::size_t>(neighbor_[k])]);
+        }
 }
 
 void NeighborList::remember_reference(std::span<const double> x, std::span<const double> y,

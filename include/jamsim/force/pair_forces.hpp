@@ -34,9 +34,9 @@ enum class Tally { ForcesOnly, Full };
 /// Scratch space of the force loop (reused across calls; one per ForceField).
 struct PairScratch {
     static constexpr std::size_t kChunk = 512;  ///< list entries per block (fits in L1)
-    std::vector<double> rx, ry, r2, contact, f_over_r, energy;
+    std::vector<double> rx, ry, r2, f_over_r, energy;
     void reserve() {
-        for (auto* v : {&rx, &ry, &r2, &contact, &f_over_r, &energy}) v->resize(kChunk);
+        for (auto* v : {&rx, &ry, &r2, &f_over_r, &energy}) v->resize(kChunk);
     }
 };
 
@@ -52,7 +52,7 @@ struct PairScratch {
 template <Tally kTally, class Evaluator>
 ForceResult accumulate_pair_forces(const Evaluator& eval, const NeighborList& list,
                                    const Box& box, std::span<const double> x,
-                                   std::span<const double> y, std::span<const double> diameter,
+                                   std::span<const double> y, std::span<const double> /*diameter*/,
                                    std::span<double> fx, std::span<double> fy,
                                    PairScratch& scratch) {
     const std::size_t n = x.size();
@@ -66,7 +66,7 @@ ForceResult accumulate_pair_forces(const Evaluator& eval, const NeighborList& li
     double* const rx = scratch.rx.data();
     double* const ry = scratch.ry.data();
     double* const r2 = scratch.r2.data();
-    double* const dc = scratch.contact.data();
+    const double* contact = list.contact().data();
     double* const fr = scratch.f_over_r.data();
     double* const en = scratch.energy.data();
     double energy = 0.0, vxx = 0.0, vxy = 0.0, vyy = 0.0;
@@ -82,8 +82,8 @@ ForceResult accumulate_pair_forces(const Evaluator& eval, const NeighborList& li
             rx[k] = sx;
             ry[k] = sy;
             r2[k] = sx * sx + sy * sy;
-            dc[k] = 0.5 * (diameter[i] + diameter[j]);
         }
+        const double* dc = contact + k0;
         for (std::size_t k = 0; k < m; ++k) {
             const potential::PairTerm t = eval(r2[k], dc[k]);  // zero beyond contact
             fr[k] = t.force_over_r;

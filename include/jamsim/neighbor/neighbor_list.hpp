@@ -45,6 +45,8 @@ class NeighborList {
     std::span<const std::int32_t> neighbor() const { return neighbor_; }
     /// Owner i of each entry (the same information as first(), flat for the force loop).
     std::span<const std::int32_t> owner() const { return owner_; }
+    /// Contact distance d_ij = (d_i + d_j)/2 of each entry.
+    std::span<const double> contact() const { return contact_; }
     std::span<const double> shift_x() const { return shift_x_; }
     std::span<const double> shift_y() const { return shift_y_; }
 
@@ -53,6 +55,7 @@ class NeighborList {
                          std::span<const double> diameter, const Box& box);
     void build_with_cells(std::span<const double> x, std::span<const double> y,
                           std::span<const double> diameter, const Box& box, int cells);
+    void finish_build(std::span<const double> diameter);
     void remember_reference(std::span<const double> x, std::span<const double> y,
                             const Box& box, double max_d);
 
@@ -61,7 +64,7 @@ class NeighborList {
     bool valid_ = false;
     std::size_t builds_ = 0;
     std::vector<std::int32_t> first_, neighbor_, owner_;
-    std::vector<double> shift_x_, shift_y_;
+    std::vector<double> shift_x_, shift_y_, contact_;
     std::vector<double> x_ref_, y_ref_;
     double strain_ref_ = 0.0;
 };
