@@ -23,7 +23,7 @@ median() { sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
 printf "%-7s %-16s %-16s %s\n" N "jamsim p-steps/s" "LAMMPS p-steps/s" "ratio"
 for n in "${sizes[@]}"; do
   jam=$(for r in $(seq "$repeats"); do
-          build/release/tests/bench/jamsim_bench --benchmark_filter="BM_Rd0/N:$n/heun:0\$" \
+          build/release/tests/bench/jamsim_bench --benchmark_filter="BM_Rd0/N:$n/heun:0/" \
             --benchmark_format=json 2>/dev/null |
             /usr/bin/python3 -c 'import json,sys; print(json.load(sys.stdin)["benchmarks"][0]["items_per_second"])'
         done | median)

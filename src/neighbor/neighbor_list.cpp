@@ -158,14 +158,18 @@ bool NeighborList::needs_rebuild(std::span<const double> x, std::span<const doub
                                  const Box& box) const {
     if (!valid_ || x.size() != x_ref_.size()) return true;
     const double gamma = box.strain();
-    double max2 = 0.0;
+    // 2 max|M(γ)δs| + |Δγ|(d_max + skin) > skin  ⇔  some |M(γ)δs|² > ((skin − affine)/2)²
+    const double affine = std::abs(gamma - strain_ref_) * (max_diameter_ + skin_);
+    const double allowed = 0.5 * (skin_ - affine);
+    if (allowed <= 0.0) return true;
+    const double allowed2 = allowed * allowed;
+    int moved_too_far = 0;  // an OR over all particles, written to vectorise (no early exit)
     for (std::size_t i = 0; i < x.size(); ++i) {
         const double dy = y[i] - y_ref_[i];
         const double dx = x[i] - x_ref_[i] + gamma * dy;
-        max2 = std::max(max2, dx * dx + dy * dy);
+        moved_too_far |= (dx * dx + dy * dy > allowed2);
     }
-    const double affine = std::abs(gamma - strain_ref_) * (max_diameter_ + skin_);
-    return 2.0 * std::sqrt(max2) + affine > skin_;
+    return moved_too_far != 0;
 }
 
 std::vector<std::int32_t> spatial_order(const Particles& p, const Box& box, double cell) {
