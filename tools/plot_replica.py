@@ -34,6 +34,8 @@ def main(argv):
         for ax, (name, label) in zip(axes, panels):
             values = ts[name][...]
             ax.plot(strain, values, lw=0.8)
+            if name == "energy_per_particle" and (values > 0).all():
+                ax.set_yscale("log")  # the start-up transient spans decades
             steady = values[strain >= transient]
             if steady.size:
                 ax.axhline(steady.mean(), ls="--", color="k", lw=0.8)

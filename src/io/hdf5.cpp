@@ -7,7 +7,11 @@ namespace jamsim::h5 {
 void quiet_errors() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
 
 Handle create_file(const std::string& path) {
-    return Handle(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
+    // Semi close degree: H5Fclose fails (instead of silently deferring) if any object in
+    // the file is still open, so a successful close means the file is complete.
+    Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "file access properties");
+    check(H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_SEMI), "set close degree");
+    return Handle(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose,
                   "create file '" + path + "'");
 }
 

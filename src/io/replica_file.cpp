@@ -1,6 +1,10 @@
 #include "jamsim/io/replica_file.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <cstdio>
+#include <stdexcept>
 #include <filesystem>
 #include <vector>
 
@@ -10,6 +14,16 @@
 namespace jamsim {
 
 namespace {
+
+/// fsync a finished file so that the rename below never publishes an unwritten one.
+void sync_to_disk(const std::string& path) {
+    const int fd = ::open(path.c_str(), O_RDONLY);
+    if (fd < 0 || ::fsync(fd) != 0) {
+        if (fd >= 0) ::close(fd);
+        throw std::runtime_error("cannot sync '" + path + "' to disk");
+    }
+    ::close(fd);
+}
 
 void write_params(hid_t root, const ReplicaParams& p) {
     h5::write_attribute(root, "model", p.model);
@@ -78,7 +92,9 @@ void write_replica_file(const std::string& path, const ReplicaParams& params,
             ts.close("group timeseries");
         }
         write_final(root, result.final_state);
+        h5::check(H5Fflush(root, H5F_SCOPE_GLOBAL), "flush '" + tmp + "'");
         file.close("file '" + tmp + "'");
+        sync_to_disk(tmp);
         std::filesystem::rename(tmp, path);
     } catch (...) {
         std::error_code ignored;

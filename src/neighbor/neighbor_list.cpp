@@ -15,16 +15,19 @@ struct CellGrid {
     std::vector<std::int32_t> start;    // shape [nc*nc + 1]
     std::vector<std::int32_t> members;  // particle indices, grouped by cell, ascending
     std::vector<std::int32_t> cell_of;  // shape [N]
+    std::vector<double> image_x, image_y;  // cell sides removed by the fold, shape [N]
 
     CellGrid(std::span<const double> x, std::span<const double> y, const Box& box, int nc)
         : cells(nc) {
         const std::size_t n = x.size();
         const double scale = nc / box.side();
         cell_of.resize(n);
+        image_x.resize(n);
+        image_y.resize(n);
         start.assign(static_cast<std::size_t>(nc) * nc + 1, 0);
         for (std::size_t i = 0; i < n; ++i) {
-            double xw = x[i], yw = y[i];
-            box.wrap_into_cell(xw, yw);
+            const double xw = box.fold(x[i], image_x[i]);
+            const double yw = box.fold(y[i], image_y[i]);
             const int cx = std::min(static_cast<int>(xw * scale), nc - 1);
             const int cy = std::min(static_cast<int>(yw * scale), nc - 1);
             cell_of[i] = cy * nc + cx;
@@ -126,7 +129,7 @@ void NeighborList::build_with_cells(std::span<const double> x, std::span<const d
     for (std::size_t i = 0; i < n; ++i) {
         const int ci = grid.cell_of[i];
         const int cx = ci % nc, cy = ci / nc;
-        const double kxi = box.image_of(x[i]), kyi = box.image_of(y[i]);
+        const double kxi = grid.image_x[i], kyi = grid.image_y[i];
         for (const auto& offset : kStencil) {
             int nx = cx + offset[0], ny = cy + offset[1];
             int wx = 0, wy = 0;  // which periodic image of the neighbour cell
@@ -139,8 +142,8 @@ void NeighborList::build_with_cells(std::span<const double> x, std::span<const d
                 const auto j = static_cast<std::size_t>(grid.members[static_cast<std::size_t>(k)]);
                 if (cj == ci && j <= i) continue;
                 // Sheared shift that takes x_j to the image sitting in cell (cx+ox, cy+oy).
-                const double sx = (box.image_of(x[j]) - kxi - wx) * side;
-                const double sy = (box.image_of(y[j]) - kyi - wy) * side;
+                const double sx = (grid.image_x[j] - kxi - wx) * side;
+                const double sy = (grid.image_y[j] - kyi - wy) * side;
                 const Vec2 r = box.lab(x[i] - x[j] + sx, y[i] - y[j] + sy);
                 const double range = 0.5 * (diameter[i] + diameter[j]) + skin_;
                 if (norm2(r) < range * range) {

@@ -53,6 +53,11 @@ TEST(NeighborList, ExactlyThePairsWithinRange) {
                 sys.particles.x[i] += sys.box.side() * static_cast<double>(i % 5) - 2 * sys.box.side();
                 sys.particles.y[i] -= sys.box.side() * static_cast<double>(i % 3);
             }
+            // coordinates a hair below 0: folding them rounds onto exactly L, i.e. 0 of the
+            // next image; binning and image shift must agree on that
+            sys.particles.x[1] = -1e-17;
+            sys.particles.y[2] = -1e-17;
+            sys.particles.x[4] = std::nextafter(sys.box.side(), 0.0) - sys.box.side();
             NeighborList nl(0.3);
             nl.build(sys.particles.x, sys.particles.y, sys.particles.diameter, sys.box);
             System wrapped = sys;

@@ -51,14 +51,26 @@ class Box {
     /// Integer number of cell sides to subtract so that a coordinate lands in [0, L).
     double image_of(double coordinate) const { return std::floor(coordinate * inv_side_); }
 
+    /// Fold one coordinate into [0, L): returns the folded value and sets `image` to the
+    /// number of cell sides removed (coordinate = folded + image·L up to rounding). Cell
+    /// binning and image shifts must both use this one rule, so that a value that rounds
+    /// onto L is treated as 0 of the next image by both.
+    double fold(double coordinate, double& image) const {
+        image = image_of(coordinate);
+        double folded = coordinate - side_ * image;
+        if (folded >= side_) {  // rounding can leave exactly L
+            folded -= side_;
+            image += 1.0;
+        }
+        return folded;
+    }
+
     /// Map (x, y) into the primary cell [0, L)² without changing the lab position
     /// (modulo lattice vectors).
     void wrap_into_cell(double& x, double& y) const {
-        y -= side_ * image_of(y);
-        x -= side_ * image_of(x);
-        // Rounding can leave exactly L; fold it back.
-        if (y >= side_) y -= side_;
-        if (x >= side_) x -= side_;
+        double image = 0.0;
+        y = fold(y, image);
+        x = fold(x, image);
     }
 
     /// Set γ during a step (a Heun predictor, say); may lie slightly outside [−1/2, 1/2).

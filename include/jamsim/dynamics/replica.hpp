@@ -18,7 +18,10 @@ struct ReplicaParams {
     double strain = 2.0;            ///< total strain to run (used when rate > 0)
     double time = 0.0;              ///< total time to run, τ (used when rate == 0)
     double transient = 0.0;         ///< strain (or time at rate 0) excluded from averages
-    double sample_interval = 0.01;  ///< strain between samples (time when rate == 0)
+    /// Strain between samples (time when rate == 0). Samples fall on whole steps: the
+    /// spacing used is round(interval / (rate·dt)) steps (at least 1), and the stored
+    /// `strain`/`time` columns give the exact values.
+    double sample_interval = 0.01;
     double dt = 0.2;                ///< time step Δt, τ
     double alpha = 2.0;             ///< potential exponent α (2 harmonic, 2.5 Hertzian)
     double size_ratio = 1.4;        ///< large/small diameter (1 = monodisperse)
