@@ -40,6 +40,30 @@ struct PairScratch {
     }
 };
 
+/// The evaluator over a block: f_over_r[k], and energy[k] unless energy is null, for
+/// contiguous r2[k], contact[k]. Branch-free, so it vectorises.
+template <class Evaluator>
+void evaluate_block(const Evaluator& eval, const double* r2, const double* contact,
+                    double* f_over_r, double* energy, std::size_t m) {
+    if (energy) {
+        for (std::size_t k = 0; k < m; ++k) {
+            const potential::PairTerm t = eval(r2[k], contact[k]);
+            f_over_r[k] = t.force_over_r;
+            energy[k] = t.energy;
+        }
+    } else {
+        for (std::size_t k = 0; k < m; ++k) f_over_r[k] = eval(r2[k], contact[k]).force_over_r;
+    }
+}
+
+/// The harmonic and Hertzian blocks are compiled twice (AVX2 and baseline x86-64) and the
+/// CPU picks one at load time. Only IEEE-exact lane-wise operations are involved (sqrt,
+/// division, multiply, max; no fused multiply-add), so both give the same bits.
+void evaluate_block(const potential::Harmonic& eval, const double* r2, const double* contact,
+                    double* f_over_r, double* energy, std::size_t m);
+void evaluate_block(const potential::Hertzian& eval, const double* r2, const double* contact,
+                    double* f_over_r, double* energy, std::size_t m);
+
 /// The one neighbour loop: forces (written into fx, fy), energy, virial and contact count
 /// for positions (x, y) at the box's current strain, with pair evaluator `eval`.
 /// The list must be valid for these positions (NeighborList::needs_rebuild is false).
@@ -84,11 +108,7 @@ ForceResult accumulate_pair_forces(const Evaluator& eval, const NeighborList& li
             r2[k] = sx * sx + sy * sy;
         }
         const double* dc = contact + k0;
-        for (std::size_t k = 0; k < m; ++k) {
-            const potential::PairTerm t = eval(r2[k], dc[k]);  // zero beyond contact
-            fr[k] = t.force_over_r;
-            if constexpr (kTally == Tally::Full) en[k] = t.energy;
-        }
+        evaluate_block(eval, r2, dc, fr, kTally == Tally::Full ? en : nullptr, m);
         for (std::size_t k = 0; k < m; ++k) {
             const auto i = static_cast<std::size_t>(owner[k0 + k]);
             const auto j = static_cast<std::size_t>(neighbor[k0 + k]);
