@@ -5,6 +5,9 @@
 namespace jamsim {
 
 namespace {
+// The same body as the header's evaluate_block template, but local and inline so that it is
+// compiled *inside* each target clone below (calling the header template instead leaves an
+// out-of-line baseline call in the AVX2 clone: measured 20% slower at N = 1024).
 template <class Evaluator>
 inline void evaluate_block_impl(const Evaluator& eval, const double* __restrict r2,
                                 const double* __restrict contact, double* __restrict f_over_r,
