@@ -9,7 +9,7 @@ ForceResult ForceField::compute(System& sys, Tally tally) {
         p.permute(spatial_order(p, sys.box, max_diameter(p) + list_.skin()));
         list_.build(p.x, p.y, p.diameter, sys.box);
     }
-    return compute_pair_forces(pot_, list_, sys.box, p.x, p.y, p.diameter, p.fx, p.fy, scratch_,
+    return compute_pair_forces(pot_, list_, sys.box, p.x, p.y, p.fx, p.fy, scratch_,
                                tally);
 }
 
@@ -17,7 +17,7 @@ ForceResult ForceField::compute_at(const Box& box, std::span<const double> x,
                                    std::span<const double> y, std::span<const double> diameter,
                                    std::span<double> fx, std::span<double> fy, Tally tally) {
     if (list_.needs_rebuild(x, y, box)) list_.build(x, y, diameter, box);
-    return compute_pair_forces(pot_, list_, box, x, y, diameter, fx, fy, scratch_, tally);
+    return compute_pair_forces(pot_, list_, box, x, y, fx, fy, scratch_, tally);
 }
 
 void apply_strain(System& sys, ForceField& forces, double strain) {

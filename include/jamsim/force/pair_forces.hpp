@@ -34,17 +34,22 @@ enum class Tally { ForcesOnly, Full };
 /// Scratch space of the force loop (reused across calls; one per ForceField).
 struct PairScratch {
     static constexpr std::size_t kChunk = 512;  ///< list entries per block (fits in L1)
-    std::vector<double> rx, ry, r2, f_over_r, energy;
-    void reserve() {
-        for (auto* v : {&rx, &ry, &r2, &f_over_r, &energy}) v->resize(kChunk);
-    }
+    std::vector<double> rx = block(), ry = block(), r2 = block(), f_over_r = block(),
+                        energy = block();
+
+  private:
+    static std::vector<double> block() { return std::vector<double>(kChunk); }
 };
 
 /// The evaluator over a block: f_over_r[k], and energy[k] unless energy is null, for
 /// contiguous r2[k], contact[k]. Branch-free, so it vectorises.
+/// Always inlined, so that the same body is compiled inside each target clone below.
 template <class Evaluator>
-void evaluate_block(const Evaluator& eval, const double* r2, const double* contact,
-                    double* f_over_r, double* energy, std::size_t m) {
+[[gnu::always_inline]] inline void evaluate_block(const Evaluator& eval,
+                                                  const double* __restrict r2,
+                                                  const double* __restrict contact,
+                                                  double* __restrict f_over_r,
+                                                  double* __restrict energy, std::size_t m) {
     if (energy) {
         for (std::size_t k = 0; k < m; ++k) {
             const potential::PairTerm t = eval(r2[k], contact[k]);
@@ -76,12 +81,11 @@ void evaluate_block(const potential::Hertzian& eval, const double* r2, const dou
 template <Tally kTally, class Evaluator>
 ForceResult accumulate_pair_forces(const Evaluator& eval, const NeighborList& list,
                                    const Box& box, std::span<const double> x,
-                                   std::span<const double> y, std::span<const double> /*diameter*/,
+                                   std::span<const double> y,
                                    std::span<double> fx, std::span<double> fy,
                                    PairScratch& scratch) {
     const std::size_t n = x.size();
     for (std::size_t i = 0; i < n; ++i) fx[i] = fy[i] = 0.0;
-    scratch.reserve();
     const std::int32_t* owner = list.owner().data();
     const std::int32_t* neighbor = list.neighbor().data();
     const double* shift_x = list.shift_x().data();
@@ -139,7 +143,7 @@ ForceResult accumulate_pair_forces(const Evaluator& eval, const NeighborList& li
 /// Run-time dispatch over the registered evaluators (one instantiation each).
 ForceResult compute_pair_forces(const potential::SoftSphere& pot, const NeighborList& list,
                                 const Box& box, std::span<const double> x,
-                                std::span<const double> y, std::span<const double> diameter,
+                                std::span<const double> y,
                                 std::span<double> fx, std::span<double> fy,
                                 PairScratch& scratch, Tally tally = Tally::Full);
 
