@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "jamsim/core/version.hpp"
+#include "campaign_commands.hpp"
 #include "replica_command.hpp"
 
 int main(int argc, char** argv) {
@@ -12,6 +13,8 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", std::string("jamsim ") + jamsim::kVersion);
     app.require_subcommand(1);
     jamsim::app::add_replica_command(app);
+    jamsim::app::add_run_command(app, argc, argv);
+    jamsim::app::add_status_command(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -69,11 +69,27 @@ Schedule schedule_of(const ReplicaParams& p) {
     return {steps, every};
 }
 
+FinalConfiguration final_configuration(const System& sys) {
+    const Particles& p = sys.particles;
+    const std::size_t n = p.size();
+    FinalConfiguration out{std::vector<double>(n), std::vector<double>(n), std::vector<double>(n),
+                           sys.box.side(), sys.box.strain()};
+    for (std::size_t k = 0; k < n; ++k) {
+        const auto t = static_cast<std::size_t>(p.tag[k]);
+        double xw = p.x[k], yw = p.y[k];
+        sys.box.wrap_into_cell(xw, yw);
+        out.x[t] = xw;
+        out.y[t] = yw;
+        out.diameter[t] = p.diameter[k];
+    }
+    return out;
+}
+
 System initial_system(const ReplicaParams& p) {
     return random_system(p.n, p.phi, SizeMix{p.size_ratio}, p.seed, p.replica);
 }
 
-ReplicaResult run_replica(const ReplicaParams& p) {
+ReplicaResult run_replica(const ReplicaParams& p, const std::function<void()>& after_sample) {
     const auto errors = validate(p);
     if (!errors.empty())
         throw std::invalid_argument("replica parameter " + errors.front().key + " = " +
@@ -103,6 +119,7 @@ ReplicaResult run_replica(const ReplicaParams& p) {
                 throw std::runtime_error("non-finite state at t = " + str(t) +
                                          " (time step too large?)");
             result.series.push(s);
+            if (after_sample) after_sample();
         }
         if (step == plan.steps) break;
         model->advance(sys, forces, p.dt, p.rate);

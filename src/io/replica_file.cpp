@@ -45,23 +45,13 @@ void write_params(hid_t root, const ReplicaParams& p) {
 }
 
 void write_final(hid_t root, const System& sys) {
-    const Particles& p = sys.particles;
-    const std::size_t n = p.size();
-    std::vector<double> x(n), y(n), d(n);
-    for (std::size_t k = 0; k < n; ++k) {
-        const auto t = static_cast<std::size_t>(p.tag[k]);
-        double xw = p.x[k], yw = p.y[k];
-        sys.box.wrap_into_cell(xw, yw);
-        x[t] = xw;
-        y[t] = yw;
-        d[t] = p.diameter[k];
-    }
+    const FinalConfiguration fin = final_configuration(sys);
     auto g = h5::create_group(root, "final");
-    h5::write_dataset(g.get(), "x", x, "d_s", "sheared x in [0, L); lab x = x + box_strain * y");
-    h5::write_dataset(g.get(), "y", y, "d_s", "y in [0, L)");
-    h5::write_dataset(g.get(), "diameter", d, "d_s", "disk diameter");
-    h5::write_attribute(g.get(), "box_side", sys.box.side());
-    h5::write_attribute(g.get(), "box_strain", sys.box.strain());
+    h5::write_dataset(g.get(), "x", fin.x, "d_s", "sheared x in [0, L); lab x = x + box_strain * y");
+    h5::write_dataset(g.get(), "y", fin.y, "d_s", "y in [0, L)");
+    h5::write_dataset(g.get(), "diameter", fin.diameter, "d_s", "disk diameter");
+    h5::write_attribute(g.get(), "box_side", fin.box_side);
+    h5::write_attribute(g.get(), "box_strain", fin.box_strain);
     g.close("group final");
 }
 

@@ -1,5 +1,6 @@
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -61,11 +62,23 @@ struct ReplicaResult {
     double wall_seconds = 0.0;
 };
 
+/// The final configuration in output form: sheared coordinates folded into [0, L), ordered
+/// by particle tag (creation order), with the box.
+struct FinalConfiguration {
+    std::vector<double> x, y, diameter;  ///< shape [N], d_s
+    double box_side = 0.0;               ///< L
+    double box_strain = 0.0;             ///< γ; lab x = x + γ y
+};
+FinalConfiguration final_configuration(const System& sys);
+
 /// The initial configuration of a replica (random positions keyed by seed and replica id).
 System initial_system(const ReplicaParams& params);
 
 /// Run one replica from its initial configuration; throws std::runtime_error when the state
 /// becomes non-finite.
-ReplicaResult run_replica(const ReplicaParams& params);
+/// `after_sample`, if given, is called after every sample (the campaign farm uses it to
+/// answer work requests while rank 0 computes); it must not touch the replica.
+ReplicaResult run_replica(const ReplicaParams& params,
+                          const std::function<void()>& after_sample = {});
 
 } // namespace jamsim

@@ -1,0 +1,75 @@
+#pragma once
+#include <mpi.h>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "jamsim/dynamics/replica.hpp"
+#include "jamsim/io/campaign_spec.hpp"
+#include "jamsim/io/hdf5.hpp"
+
+namespace jamsim {
+
+/// Replica status codes stored in /replicas/status.
+enum class ReplicaStatus : std::int8_t { Pending = 0, Running = 1, Done = 2, Failed = 3 };
+const char* to_string(ReplicaStatus s);
+
+/// One campaign archive, opened by every rank of `comm` through the MPI-IO driver.
+///
+/// Crash safety by construction: create() makes every dataset collectively with its final
+/// shape (early allocation, NaN fill) and flushes; after that the run writes only raw data,
+/// independently, into space that already exists, so no metadata changes until the
+/// collective close. A replica's rows are written first and its status (done/failed) last,
+/// so after a SIGKILL the status column says which rows are valid. Layout: README.md,
+/// "Campaign archive".
+class Archive {
+  public:
+    /// Collective: new archive for `spec` (truncating `path`).
+    static Archive create(MPI_Comm comm, const std::string& path, const CampaignSpec& spec);
+    /// Collective: existing archive for read-write (its spec was checked with check_existing).
+    static Archive open(MPI_Comm comm, const std::string& path);
+
+    /// Serial, read-only check of an existing file against a spec. Returns an empty string when
+    /// the archive belongs to this campaign, otherwise why it does not.
+    static std::string check_existing(const std::string& path, const CampaignSpec& spec);
+
+    /// Independent writes, by the rank that runs the replica.
+    void mark_running(std::int64_t replica, int rank);
+    void write_done(std::int64_t replica, const ReplicaResult& result, int rank);
+    void write_failed(std::int64_t replica, const std::string& reason, double wall_seconds,
+                      int rank);
+
+    /// Independent read of every replica's status.
+    std::vector<ReplicaStatus> read_status() const;
+
+    /// Collective: record a time stamp attribute (e.g. run_started) and the number of ranks,
+    /// then flush.
+    void stamp(const std::string& attribute);
+    /// Collective close.
+    void close();
+
+  private:
+    Archive(h5::Handle file, std::int64_t replicas) : file_(std::move(file)), replicas_(replicas) {}
+    h5::Handle file_;
+    std::int64_t replicas_ = 0;
+    MPI_Comm comm_ = MPI_COMM_NULL;
+};
+
+/// Read-only summary of an archive for `jamsim status` and tests (serial driver).
+struct ArchiveSummary {
+    std::string campaign;
+    std::string started, finished;
+    std::int64_t pending = 0, running = 0, done = 0, failed = 0;
+    double wall_seconds_done = 0.0;
+    double cost_done = 0.0, cost_left = 0.0;  ///< estimated costs of done / unfinished replicas
+    std::int64_t ranks = 0;                   ///< ranks of the latest run (0 if never run)
+    std::vector<std::string> failures;  ///< "replica 3: reason"
+};
+ArchiveSummary summarize_archive(const std::string& path);
+
+/// Current UTC time as ISO 8601.
+std::string utc_now();
+
+} // namespace jamsim

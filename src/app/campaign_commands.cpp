@@ -1,0 +1,184 @@
+#include "campaign_commands.hpp"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include "jamsim/io/archive.hpp"
+#include "jamsim/io/campaign_spec.hpp"
+#include "jamsim/parallel/farm.hpp"
+#include "jamsim/parallel/mpi.hpp"
+
+namespace jamsim::app {
+
+namespace {
+
+struct RunOptions {
+    std::string spec_path;
+    std::string output;  // overrides [campaign] output
+    bool dry_run = false;
+    double progress_interval = 10.0;
+};
+
+/// A nominal throughput for time estimates in --dry-run (particle force evaluations/s, one
+/// core; measured RD0 figure, see README "Benchmarks").
+constexpr double kNominalRate = 7e7;
+
+std::string check_output(const std::string& path, const CampaignSpec& spec) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (fs::exists(path, ec)) {
+        if (fs::is_directory(path, ec))
+            return spec.path + ": [campaign] output = \"" + path +
+                   "\" is not allowed: a file path, not a directory";
+        const std::string why = Archive::check_existing(path, spec);
+        return why.empty() ? "" : spec.path + ": refusing to use the archive: " + why +
+                                      " (choose another [campaign] output or -o)";
+    }
+    const fs::path p(path);
+    const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
+    if (!fs::is_directory(dir, ec) || ::access(dir.c_str(), W_OK) != 0)
+        return spec.path + ": [campaign] output = \"" + path +
+               "\" is not allowed: a file in an existing writable directory ('" + dir.string() +
+               "' is not)";
+    return "";
+}
+
+void print_dry_run(const CampaignSpec& spec, const std::string& output) {
+    std::printf("campaign %s: %zu replicas -> %s (dry run: nothing written)\n", spec.name.c_str(),
+                spec.replicas.size(), output.c_str());
+    std::printf("%6s %7s %8s %10s %6s %9s %14s %10s\n", "id", "N", "phi", "rate", "seed",
+                "samples", "cost(p-evals)", "est. s");
+    double total = 0;
+    for (const auto& p : spec.replicas) {
+        const double c = estimated_cost(p);
+        total += c;
+        std::printf("%6u %7lld %8.4g %10.3g %6llu %9lld %14.4g %10.1f\n", p.replica,
+                    static_cast<long long>(p.n), p.phi, p.rate,
+                    static_cast<unsigned long long>(p.seed),
+                    static_cast<long long>(sample_count(p)), c, c / kNominalRate);
+    }
+    std::printf("total: %.4g particle force evaluations, about %.0f core-seconds at %.0e/s\n",
+                total, total / kNominalRate, kNominalRate);
+}
+
+int run(const RunOptions& opt, int& argc, char**& argv) {
+    mpi::Session session(argc, argv);
+    const MPI_Comm comm = MPI_COMM_WORLD;
+    const int rank = mpi::rank(comm);
+    // Rank 0 reads and checks everything before any rank starts work.
+    std::string text, error, output = opt.output;
+    if (rank == 0) {
+        try {
+            const CampaignSpec spec = load_campaign(opt.spec_path);
+            text = spec.text;
+            if (output.empty()) output = spec.output;
+            if (!opt.dry_run) error = check_output(output, spec);
+        } catch (const SpecError& e) {
+            error = e.what();
+        }
+    }
+    mpi::broadcast(error, 0, comm);
+    if (!error.empty()) {
+        if (rank == 0) std::fprintf(stderr, "jamsim run: %s\n", error.c_str());
+        return 2;
+    }
+    mpi::broadcast(text, 0, comm);
+    mpi::broadcast(output, 0, comm);
+    const CampaignSpec spec = parse_campaign(text, opt.spec_path);
+    if (opt.dry_run) {
+        if (rank == 0) print_dry_run(spec, output);
+        return 0;
+    }
+    try {
+        int exists = rank == 0 ? std::filesystem::exists(output) : 0;
+        mpi::broadcast(exists, 0, comm);
+        Archive archive = exists ? Archive::open(comm, output) : Archive::create(comm, output, spec);
+        archive.stamp("run_started");
+        ProgressOptions progress{isatty(STDOUT_FILENO) != 0, opt.progress_interval};
+        if (rank == 0)
+            std::printf("campaign %s: %zu replicas on %d ranks -> %s%s\n", spec.name.c_str(),
+                        spec.replicas.size(), mpi::size(comm), output.c_str(),
+                        exists ? " (resuming: finished replicas are skipped)" : "");
+        const FarmSummary s = run_farm(comm, spec, archive, progress);
+        archive.stamp("run_finished");
+        archive.close();
+        double io = 0, wall = 0, local_io = s.io_seconds, local_wall = s.wall_seconds;
+        long long failed = 0, local_failed = s.failed;
+        mpi::check(MPI_Reduce(&local_io, &io, 1, MPI_DOUBLE, MPI_SUM, 0, comm), "MPI_Reduce");
+        mpi::check(MPI_Reduce(&local_wall, &wall, 1, MPI_DOUBLE, MPI_SUM, 0, comm), "MPI_Reduce");
+        mpi::check(MPI_Reduce(&local_failed, &failed, 1, MPI_LONG_LONG, MPI_SUM, 0, comm),
+                   "MPI_Reduce");
+        if (rank == 0) {
+            std::printf("campaign %s finished: archive %s (%lld failed replicas; "
+                        "archive writes took %.2f%% of rank time)\n",
+                        spec.name.c_str(), output.c_str(), failed,
+                        wall > 0 ? 100.0 * io / wall : 0.0);
+            std::printf("inspect with: jamsim status %s\n", output.c_str());
+        }
+    } catch (const std::exception& e) {
+        // One rank cannot leave the others waiting in a collective call: abort the job.
+        std::fprintf(stderr, "jamsim run (rank %d): error: %s\n", rank, e.what());
+        MPI_Abort(comm, 1);
+    }
+    return 0;
+}
+
+int status(const std::string& path) {
+    const ArchiveSummary s = summarize_archive(path);
+    const long long total = s.pending + s.running + s.done + s.failed;
+    std::printf("campaign %s (%s): %lld/%lld done, %lld running, %lld failed, %lld pending\n",
+                s.campaign.c_str(), path.c_str(), static_cast<long long>(s.done), total,
+                static_cast<long long>(s.running), static_cast<long long>(s.failed),
+                static_cast<long long>(s.pending));
+    std::printf("last run started %s, finished %s\n", s.started.empty() ? "-" : s.started.c_str(),
+                s.finished.empty() || s.finished < s.started ? "- (running or interrupted)"
+                                                             : s.finished.c_str());
+    if (s.cost_done > 0 && s.cost_left > 0) {
+        const double per_cost = s.wall_seconds_done / s.cost_done;
+        const double ranks = s.ranks > 0 ? static_cast<double>(s.ranks) : 1.0;
+        std::printf("remaining: about %.0f s on %lld ranks (%.0f core-seconds)\n",
+                    per_cost * s.cost_left / ranks, static_cast<long long>(ranks),
+                    per_cost * s.cost_left);
+    }
+    for (const auto& f : s.failures) std::printf("failed %s\n", f.c_str());
+    return 0;
+}
+
+} // namespace
+
+CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
+    auto opt = std::make_shared<RunOptions>();
+    auto* cmd = app.add_subcommand("run", "Run a campaign over MPI ranks into one HDF5 archive");
+    cmd->add_option("campaign", opt->spec_path, "Campaign file (TOML)")->required();
+    cmd->add_option("-o,--output", opt->output, "Archive path (overrides [campaign] output)");
+    cmd->add_flag("--dry-run", opt->dry_run, "List replicas and costs; write nothing");
+    cmd->add_option("--progress-interval", opt->progress_interval,
+                    "Seconds between progress lines when not on a terminal")
+        ->capture_default_str();
+    cmd->callback([opt, &argc, &argv] {
+        const int rc = run(*opt, argc, argv);
+        if (rc != 0) throw CLI::RuntimeError(rc);
+    });
+    return cmd;
+}
+
+CLI::App* add_status_command(CLI::App& app) {
+    auto path = std::make_shared<std::string>();
+    auto* cmd = app.add_subcommand("status", "Summarise a campaign archive (also while running)");
+    cmd->add_option("archive", *path, "Campaign archive (HDF5)")->required();
+    cmd->callback([path] {
+        try {
+            status(*path);
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "jamsim status: %s\n", e.what());
+            throw CLI::RuntimeError(1);
+        }
+    });
+    return cmd;
+}
+
+} // namespace jamsim::app

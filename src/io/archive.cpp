@@ -1,0 +1,389 @@
+#include "jamsim/io/archive.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <limits>
+#include <sstream>
+
+#include "jamsim/core/version.hpp"
+#include "jamsim/parallel/mpi.hpp"
+
+namespace jamsim {
+
+namespace {
+
+using h5::check;
+using h5::Handle;
+
+constexpr std::size_t kReasonLength = 200;  // bytes of /replicas/failure_reason
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+Handle reason_type() {
+    Handle t(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
+    check(H5Tset_size(t.get(), kReasonLength), "string size");
+    check(H5Tset_strpad(t.get(), H5T_STR_NULLTERM), "string padding");
+    return t;
+}
+
+Handle independent_transfer() {
+    Handle dxpl(H5Pcreate(H5P_DATASET_XFER), H5Pclose, "transfer properties");
+    check(H5Pset_dxpl_mpio(dxpl.get(), H5FD_MPIO_INDEPENDENT), "independent transfer");
+    return dxpl;
+}
+
+/// Collective: a dataset of the given shape, allocated now and filled with `fill`.
+void create_dataset(hid_t file, const std::string& path, hid_t type, std::vector<hsize_t> dims,
+            const void* fill, const std::string& units, const std::string& description) {
+    Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose,
+                 "dataspace of " + path);
+    Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "creation properties");
+    check(H5Pset_alloc_time(dcpl.get(), H5D_ALLOC_TIME_EARLY), "early allocation");
+    check(H5Pset_fill_time(dcpl.get(), H5D_FILL_TIME_ALLOC), "fill time");
+    check(H5Pset_fill_value(dcpl.get(), type, fill), "fill value");
+    Handle set(H5Dcreate2(file, path.c_str(), type, space.get(), H5P_DEFAULT, dcpl.get(),
+                          H5P_DEFAULT),
+               H5Dclose, "create dataset " + path);
+    h5::write_attribute(set.get(), "units", units);
+    h5::write_attribute(set.get(), "description", description);
+    set.close(path);
+}
+
+/// Independent write of a block [start, start + count) of a dataset.
+void write_block(hid_t file, const std::string& path, hid_t memtype, std::vector<hsize_t> start,
+                 std::vector<hsize_t> count, const void* data) {
+    Handle set(H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose, "open " + path);
+    Handle space(H5Dget_space(set.get()), H5Sclose, "dataspace of " + path);
+    check(H5Sselect_hyperslab(space.get(), H5S_SELECT_SET, start.data(), nullptr, count.data(),
+                              nullptr),
+          "select in " + path);
+    Handle mem(H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr), H5Sclose,
+               "memory space");
+    const Handle dxpl = independent_transfer();
+    check(H5Dwrite(set.get(), memtype, mem.get(), space.get(), dxpl.get(), data),
+          "write " + path);
+    set.close(path);
+}
+
+template <class T> std::vector<T> read_all(hid_t file, const std::string& path, hid_t memtype,
+                                           hid_t dxpl = H5P_DEFAULT) {
+    Handle set(H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose, "open " + path);
+    Handle space(H5Dget_space(set.get()), H5Sclose, "dataspace of " + path);
+    const hssize_t n = H5Sget_simple_extent_npoints(space.get());
+    check(static_cast<hid_t>(n), "size of " + path);
+    std::vector<T> out(static_cast<std::size_t>(n));
+    if (n > 0) check(H5Dread(set.get(), memtype, H5S_ALL, H5S_ALL, dxpl, out.data()), "read " + path);
+    return out;
+}
+
+std::string read_string_attribute(hid_t obj, const std::string& name) {
+    if (H5Aexists(obj, name.c_str()) <= 0) return "";
+    Handle attr(H5Aopen(obj, name.c_str(), H5P_DEFAULT), H5Aclose, "open attribute " + name);
+    Handle type(H5Aget_type(attr.get()), H5Tclose, "type of " + name);
+    if (H5Tis_variable_str(type.get()) > 0) {
+        char* text = nullptr;
+        check(H5Aread(attr.get(), type.get(), &text), "read attribute " + name);
+        std::string out = text ? text : "";
+        H5free_memory(text);
+        return out;
+    }
+    std::string out(H5Tget_size(type.get()), '\0');
+    check(H5Aread(attr.get(), type.get(), out.data()), "read attribute " + name);
+    return out.substr(0, out.find('\0'));
+}
+
+/// Serial read-only open that works while another job writes the file.
+Handle open_readonly(const std::string& path) {
+    Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "file access properties");
+    check(H5Pset_file_locking(fapl.get(), false, true), "disable file locking");
+    return Handle(H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl.get()), H5Fclose,
+                  "open '" + path + "'");
+}
+
+Handle mpio_access(MPI_Comm comm) {
+    Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "file access properties");
+    check(H5Pset_fapl_mpio(fapl.get(), comm, MPI_INFO_NULL), "MPI-IO driver");
+    check(H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_SEMI), "close degree");
+    return fapl;
+}
+
+struct Column1D {
+    const char* name;
+    const char* units;
+    const char* description;
+    double (*get)(const ReplicaParams&);
+};
+const Column1D kParamColumns[] = {
+    {"N", "1", "number of disks", [](const ReplicaParams& p) { return double(p.n); }},
+    {"phi", "1", "packing fraction", [](const ReplicaParams& p) { return p.phi; }},
+    {"rate", "1/tau", "shear rate", [](const ReplicaParams& p) { return p.rate; }},
+    {"seed", "1", "random seed (with the replica id, the RNG key)",
+     [](const ReplicaParams& p) { return double(p.seed); }},
+    {"strain", "1", "total strain run", [](const ReplicaParams& p) { return p.strain; }},
+    {"time", "tau", "total time run (rate = 0)", [](const ReplicaParams& p) { return p.time; }},
+    {"transient", "1", "strain (time at rate 0) to discard",
+     [](const ReplicaParams& p) { return p.transient; }},
+    {"sample_interval", "1", "strain (time at rate 0) between samples",
+     [](const ReplicaParams& p) { return p.sample_interval; }},
+    {"dt", "tau", "time step", [](const ReplicaParams& p) { return p.dt; }},
+    {"alpha", "1", "potential exponent", [](const ReplicaParams& p) { return p.alpha; }},
+    {"size_ratio", "1", "large/small diameter", [](const ReplicaParams& p) { return p.size_ratio; }},
+    {"skin", "d_s", "neighbour-list skin", [](const ReplicaParams& p) { return p.skin; }},
+    {"kd", "k_e tau/d_s^2", "dissipation coefficient", [](const ReplicaParams& p) { return p.kd; }},
+    {"n_samples", "1", "rows of this replica in /timeseries",
+     [](const ReplicaParams& p) { return double(sample_count(p)); }},
+    {"estimated_cost", "particle force evaluations", "N x steps x evaluations per step",
+     [](const ReplicaParams& p) { return estimated_cost(p); }},
+};
+
+} // namespace
+
+const char* to_string(ReplicaStatus s) {
+    switch (s) {
+    case ReplicaStatus::Pending: return "pending";
+    case ReplicaStatus::Running: return "running";
+    case ReplicaStatus::Done: return "done";
+    case ReplicaStatus::Failed: return "failed";
+    }
+    return "unknown";
+}
+
+std::string utc_now() {
+    const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+    std::tm tm{};
+    gmtime_r(&now, &tm);
+    char buf[32];
+    std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+    return buf;
+}
+
+Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSpec& spec) {
+    h5::quiet_errors();
+    const auto fapl = mpio_access(comm);
+    Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose,
+                "create archive '" + path + "'");
+    const hid_t f = file.get();
+    const auto replicas = static_cast<hsize_t>(spec.replicas.size());
+    hsize_t samples = 1, particles = 1;
+    for (const auto& p : spec.replicas) {
+        samples = std::max<hsize_t>(samples, static_cast<hsize_t>(sample_count(p)));
+        particles = std::max<hsize_t>(particles, static_cast<hsize_t>(p.n));
+    }
+    std::string created = utc_now();
+    mpi::broadcast(created, 0, comm);  // attributes must be identical on every rank
+    h5::write_attribute(f, "campaign", spec.name);
+    h5::write_attribute(f, "spec_path", spec.path);
+    h5::write_attribute(f, "spec_text", spec.text);
+    h5::write_attribute(f, "spec_fingerprint", fingerprint(spec));
+    h5::write_attribute(f, "model", spec.replicas.front().model);
+    h5::write_attribute(f, "integrator", to_string(spec.replicas.front().integrator));
+    h5::write_attribute(f, "code_version", std::string(kVersion));
+    h5::write_attribute(f, "build_flags", std::string(kBuildFlags));
+    h5::write_attribute(f, "created", created);
+    h5::write_attribute(f, "layout_version", std::int64_t{1});
+    h5::write_attribute(f, "n_replicas", static_cast<std::int64_t>(replicas));
+    for (const char* g : {"replicas", "timeseries", "final"}) h5::create_group(f, g).close(g);
+
+    const double nan = kNaN;
+    const std::int8_t pending = 0;
+    const std::int32_t no_rank = -1;
+    const std::int64_t zero = 0;
+    for (const auto& c : kParamColumns)
+        create_dataset(f, std::string("/replicas/") + c.name, H5T_NATIVE_DOUBLE, {replicas}, &nan,
+               c.units, c.description);
+    create_dataset(f, "/replicas/status", H5T_NATIVE_INT8, {replicas}, &pending, "1",
+           "0 pending, 1 running, 2 done, 3 failed; written after the replica's data");
+    create_dataset(f, "/replicas/rank", H5T_NATIVE_INT32, {replicas}, &no_rank, "1",
+           "MPI rank that ran the replica (-1: not run)");
+    create_dataset(f, "/replicas/wall_seconds", H5T_NATIVE_DOUBLE, {replicas}, &nan, "s",
+           "wall time of the replica");
+    create_dataset(f, "/replicas/force_evaluations", H5T_NATIVE_INT64, {replicas}, &zero, "1",
+           "force evaluations of the replica");
+    {
+        const Handle rt = reason_type();
+        const char empty[kReasonLength] = {};
+        create_dataset(f, "/replicas/failure_reason", rt.get(), {replicas}, empty, "",
+               "why a failed replica failed (empty otherwise)");
+    }
+    for (const auto& c : kSampleColumns)
+        create_dataset(f, std::string("/timeseries/") + c.name, H5T_NATIVE_DOUBLE, {replicas, samples},
+               &nan, c.units, std::string(c.description) + "; row = replica, NaN past n_samples");
+    for (const char* name : {"x", "y", "diameter"})
+        create_dataset(f, std::string("/final/") + name, H5T_NATIVE_DOUBLE, {replicas, particles}, &nan,
+               "d_s",
+               std::string(name) + " of the final configuration by particle index (NaN past N); "
+                                   "x, y sheared coordinates in [0, L), lab x = x + box_strain y");
+    create_dataset(f, "/final/box_side", H5T_NATIVE_DOUBLE, {replicas}, &nan, "d_s", "cell side L");
+    create_dataset(f, "/final/box_strain", H5T_NATIVE_DOUBLE, {replicas}, &nan, "1",
+           "Lees-Edwards strain gamma in [-1/2, 1/2)");
+
+    // Parameter columns: rank 0 writes them (independently), then everyone flushes.
+    if (mpi::rank(comm) == 0)
+        for (const auto& c : kParamColumns) {
+            std::vector<double> v;
+            for (const auto& p : spec.replicas) v.push_back(c.get(p));
+            write_block(f, std::string("/replicas/") + c.name, H5T_NATIVE_DOUBLE, {0}, {replicas},
+                        v.data());
+        }
+    check(H5Fflush(f, H5F_SCOPE_GLOBAL), "flush '" + path + "'");
+    Archive a(std::move(file), static_cast<std::int64_t>(replicas));
+    a.comm_ = comm;
+    return a;
+}
+
+Archive Archive::open(MPI_Comm comm, const std::string& path) {
+    h5::quiet_errors();
+    const auto fapl = mpio_access(comm);
+    Handle file(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl.get()), H5Fclose,
+                "open archive '" + path + "'");
+    const auto replicas = read_all<std::int8_t>(file.get(), "/replicas/status", H5T_NATIVE_INT8);
+    Archive a(std::move(file), static_cast<std::int64_t>(replicas.size()));
+    a.comm_ = comm;
+    return a;
+}
+
+std::string Archive::check_existing(const std::string& path, const CampaignSpec& spec) {
+    h5::quiet_errors();
+    if (H5Fis_hdf5(path.c_str()) <= 0) return "'" + path + "' exists but is not an HDF5 file";
+    try {
+        const Handle file = open_readonly(path);
+        const std::string stored = read_string_attribute(file.get(), "spec_fingerprint");
+        if (stored.empty()) return "'" + path + "' is not a jamsim campaign archive";
+        const std::string wanted = fingerprint(spec);
+        if (stored == wanted) return "";
+        // Name the first difference for the person reading the message.
+        std::istringstream a(stored), b(wanted);
+        std::string la, lb;
+        while (std::getline(a, la) && std::getline(b, lb))
+            if (la != lb) break;
+        return "'" + path + "' belongs to a different campaign (archive: \"" + la +
+               "\", this spec: \"" + lb + "\")";
+    } catch (const h5::Error& e) {
+        return "'" + path + "' cannot be read as a campaign archive: " + e.what();
+    }
+}
+
+void Archive::mark_running(std::int64_t replica, int rank) {
+    const auto r = static_cast<hsize_t>(replica);
+    const std::int32_t who = rank;
+    write_block(file_.get(), "/replicas/rank", H5T_NATIVE_INT32, {r}, {1}, &who);
+    const auto s = static_cast<std::int8_t>(ReplicaStatus::Running);
+    write_block(file_.get(), "/replicas/status", H5T_NATIVE_INT8, {r}, {1}, &s);
+}
+
+void Archive::write_done(std::int64_t replica, const ReplicaResult& result, int rank) {
+    const hid_t f = file_.get();
+    const auto r = static_cast<hsize_t>(replica);
+    const auto rows = static_cast<hsize_t>(result.series.size());
+    for (const auto& c : kSampleColumns) {
+        const auto v = result.series.column(c.member);
+        if (rows > 0)
+            write_block(f, std::string("/timeseries/") + c.name, H5T_NATIVE_DOUBLE, {r, 0},
+                        {1, rows}, v.data());
+    }
+    const FinalConfiguration fin = final_configuration(result.final_state);
+    const auto n = static_cast<hsize_t>(fin.x.size());
+    write_block(f, "/final/x", H5T_NATIVE_DOUBLE, {r, 0}, {1, n}, fin.x.data());
+    write_block(f, "/final/y", H5T_NATIVE_DOUBLE, {r, 0}, {1, n}, fin.y.data());
+    write_block(f, "/final/diameter", H5T_NATIVE_DOUBLE, {r, 0}, {1, n}, fin.diameter.data());
+    write_block(f, "/final/box_side", H5T_NATIVE_DOUBLE, {r}, {1}, &fin.box_side);
+    write_block(f, "/final/box_strain", H5T_NATIVE_DOUBLE, {r}, {1}, &fin.box_strain);
+    write_block(f, "/replicas/wall_seconds", H5T_NATIVE_DOUBLE, {r}, {1}, &result.wall_seconds);
+    write_block(f, "/replicas/force_evaluations", H5T_NATIVE_INT64, {r}, {1},
+                &result.force_evaluations);
+    const std::int32_t who = rank;
+    write_block(f, "/replicas/rank", H5T_NATIVE_INT32, {r}, {1}, &who);
+    // Last: the flag that makes the rows above valid.
+    const auto s = static_cast<std::int8_t>(ReplicaStatus::Done);
+    write_block(f, "/replicas/status", H5T_NATIVE_INT8, {r}, {1}, &s);
+}
+
+void Archive::write_failed(std::int64_t replica, const std::string& reason, double wall_seconds,
+                           int rank) {
+    const hid_t f = file_.get();
+    const auto r = static_cast<hsize_t>(replica);
+    char text[kReasonLength] = {};
+    reason.copy(text, kReasonLength - 1);
+    const Handle rt = reason_type();
+    write_block(f, "/replicas/failure_reason", rt.get(), {r}, {1}, text);
+    write_block(f, "/replicas/wall_seconds", H5T_NATIVE_DOUBLE, {r}, {1}, &wall_seconds);
+    const std::int32_t who = rank;
+    write_block(f, "/replicas/rank", H5T_NATIVE_INT32, {r}, {1}, &who);
+    const auto s = static_cast<std::int8_t>(ReplicaStatus::Failed);
+    write_block(f, "/replicas/status", H5T_NATIVE_INT8, {r}, {1}, &s);
+}
+
+std::vector<ReplicaStatus> Archive::read_status() const {
+    const Handle dxpl = independent_transfer();
+    const auto raw = read_all<std::int8_t>(file_.get(), "/replicas/status", H5T_NATIVE_INT8,
+                                           dxpl.get());
+    std::vector<ReplicaStatus> out;
+    for (auto v : raw) out.push_back(static_cast<ReplicaStatus>(v));
+    return out;
+}
+
+void Archive::stamp(const std::string& attribute) {
+    std::string now = utc_now();
+    mpi::broadcast(now, 0, comm_);
+    const hid_t f = file_.get();
+    if (H5Aexists(f, attribute.c_str()) > 0)
+        check(H5Adelete(f, attribute.c_str()), "replace attribute " + attribute);
+    h5::write_attribute(f, attribute, now);
+    if (H5Aexists(f, "n_ranks") > 0) check(H5Adelete(f, "n_ranks"), "replace attribute n_ranks");
+    h5::write_attribute(f, "n_ranks", static_cast<std::int64_t>(mpi::size(comm_)));
+    check(H5Fflush(f, H5F_SCOPE_GLOBAL), "flush archive");
+}
+
+void Archive::close() { file_.close("archive"); }
+
+ArchiveSummary summarize_archive(const std::string& path) {
+    h5::quiet_errors();
+    const Handle file = open_readonly(path);
+    ArchiveSummary s;
+    s.campaign = read_string_attribute(file.get(), "campaign");
+    if (s.campaign.empty()) throw h5::Error("'" + path + "' is not a jamsim campaign archive");
+    s.started = read_string_attribute(file.get(), "run_started");
+    s.finished = read_string_attribute(file.get(), "run_finished");
+    const auto status = read_all<std::int8_t>(file.get(), "/replicas/status", H5T_NATIVE_INT8);
+    const auto wall = read_all<double>(file.get(), "/replicas/wall_seconds", H5T_NATIVE_DOUBLE);
+    const auto cost = read_all<double>(file.get(), "/replicas/estimated_cost", H5T_NATIVE_DOUBLE);
+    if (H5Aexists(file.get(), "n_ranks") > 0) {
+        Handle attr(H5Aopen(file.get(), "n_ranks", H5P_DEFAULT), H5Aclose, "open n_ranks");
+        check(H5Aread(attr.get(), H5T_NATIVE_INT64, &s.ranks), "read n_ranks");
+    }
+    const Handle rt = reason_type();
+    std::vector<char> reasons(status.size() * kReasonLength);
+    {
+        Handle set(H5Dopen2(file.get(), "/replicas/failure_reason", H5P_DEFAULT), H5Dclose,
+                   "open failure_reason");
+        if (!status.empty())
+            check(H5Dread(set.get(), rt.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, reasons.data()),
+                  "read failure_reason");
+    }
+    for (std::size_t r = 0; r < status.size(); ++r) {
+        switch (static_cast<ReplicaStatus>(status[r])) {
+        case ReplicaStatus::Pending:
+            ++s.pending;
+            s.cost_left += cost[r];
+            break;
+        case ReplicaStatus::Running:
+            ++s.running;
+            s.cost_left += cost[r];
+            break;
+        case ReplicaStatus::Done:
+            ++s.done;
+            s.wall_seconds_done += wall[r];
+            s.cost_done += cost[r];
+            break;
+        case ReplicaStatus::Failed:
+            ++s.failed;
+            s.failures.push_back("replica " + std::to_string(r) + ": " +
+                                 std::string(&reasons[r * kReasonLength]));
+            break;
+        }
+    }
+    return s;
+}
+
+} // namespace jamsim

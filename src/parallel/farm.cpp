@@ -1,0 +1,205 @@
+#include "jamsim/parallel/farm.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <numeric>
+
+#include "jamsim/parallel/mpi.hpp"
+
+namespace jamsim {
+
+namespace {
+
+constexpr int kTagRequest = 11;  // worker → rank 0: Report of the replica just finished
+constexpr int kTagAssign = 12;   // rank 0 → worker: replica id, or −1 for "no more work"
+
+/// What a worker tells rank 0 when it asks for work.
+struct Report {
+    std::int64_t replica;  ///< −1 on the first request
+    std::int64_t failed;   ///< 1 if that replica failed
+    double cost;           ///< its estimated cost (for the remaining-time estimate)
+};
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+std::string hms(double s) {
+    if (!(s >= 0) || s > 1e7) return "--:--:--";
+    const auto t = static_cast<long>(s + 0.5);
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%ld:%02ld:%02ld", t / 3600, (t / 60) % 60, t % 60);
+    return buf;
+}
+
+/// Rank 0's bookkeeping: the queue, who is running what, the progress line.
+class Dispatcher {
+  public:
+    Dispatcher(MPI_Comm comm, const CampaignSpec& spec, std::vector<std::int64_t> queue,
+               std::int64_t already_done, const ProgressOptions& progress)
+        : comm_(comm), spec_(spec), queue_(std::move(queue)), done_(already_done),
+          progress_(progress), start_(Clock::now()), last_print_(start_) {
+        for (auto id : queue_) cost_left_ += estimated_cost(spec_.replicas[id]);
+        cost_total_run_ = cost_left_;
+        workers_active_ = mpi::size(comm) - 1;
+    }
+
+    /// Next replica for rank 0 itself, or −1.
+    std::int64_t take() {
+        if (next_ >= queue_.size()) return -1;
+        ++running_;
+        return queue_[next_++];
+    }
+
+    void finished(std::int64_t replica, bool failed) {
+        --running_;
+        ++(failed ? failed_ : done_);
+        cost_done_ += estimated_cost(spec_.replicas[replica]);
+        print(false);
+    }
+
+    /// Answer every pending request without blocking (called between samples).
+    void serve_pending() {
+        int flag = 1;
+        while (workers_active_ > 0) {
+            MPI_Status st;
+            mpi::check(MPI_Iprobe(MPI_ANY_SOURCE, kTagRequest, comm_, &flag, &st), "MPI_Iprobe");
+            if (!flag) break;
+            serve_one(st.MPI_SOURCE);
+        }
+        print(false);
+    }
+
+    /// Serve until every worker has been told to stop (rank 0 has no work left).
+    void serve_until_workers_stop() {
+        while (workers_active_ > 0) {
+            MPI_Status st;
+            mpi::check(MPI_Probe(MPI_ANY_SOURCE, kTagRequest, comm_, &st), "MPI_Probe");
+            serve_one(st.MPI_SOURCE);
+        }
+        print(true);
+    }
+
+    std::int64_t failed() const { return failed_; }
+
+  private:
+    void serve_one(int source) {
+        Report r{};
+        mpi::check(MPI_Recv(&r, sizeof r, MPI_BYTE, source, kTagRequest, comm_,
+                            MPI_STATUS_IGNORE),
+                   "MPI_Recv (work request)");
+        if (r.replica >= 0) finished(r.replica, r.failed != 0);
+        std::int64_t next = take();
+        if (next < 0) --workers_active_;
+        mpi::check(MPI_Send(&next, 1, MPI_INT64_T, source, kTagAssign, comm_),
+                   "MPI_Send (assignment)");
+    }
+
+    void print(bool final_line) {
+        const double elapsed = seconds_since(start_);
+        const double every = progress_.terminal ? 0.5 : progress_.interval_seconds;
+        if (!final_line && std::chrono::duration<double>(Clock::now() - last_print_).count() < every)
+            return;
+        last_print_ = Clock::now();
+        const double remaining =
+            cost_done_ > 0 ? elapsed * (cost_total_run_ - cost_done_) / cost_done_ : -1;
+        const auto total = static_cast<long long>(spec_.replicas.size());
+        const long long pending = total - done_ - failed_ - running_;
+        std::fprintf(stdout, "%s[%s] %lld/%lld done, %lld running, %lld failed, %lld pending | "
+                             "elapsed %s | remaining ~%s%s",
+                     progress_.terminal ? "\r" : "", spec_.name.c_str(),
+                     static_cast<long long>(done_), total, static_cast<long long>(running_),
+                     static_cast<long long>(failed_), pending, hms(elapsed).c_str(),
+                     hms(remaining).c_str(),
+                     progress_.terminal && !final_line ? "   " : "\n");
+        std::fflush(stdout);
+    }
+
+    MPI_Comm comm_;
+    const CampaignSpec& spec_;
+    std::vector<std::int64_t> queue_;
+    std::size_t next_ = 0;
+    std::int64_t done_ = 0, failed_ = 0, running_ = 0;
+    int workers_active_ = 0;
+    double cost_left_ = 0, cost_total_run_ = 0, cost_done_ = 0;
+    ProgressOptions progress_;
+    Clock::time_point start_, last_print_;
+};
+
+/// Run one replica and record it; returns true if it failed.
+bool run_one(const CampaignSpec& spec, std::int64_t id, Archive& archive, int rank,
+             const std::function<void()>& between, FarmSummary& summary) {
+    const auto t0 = Clock::now();
+    double io = 0;
+    auto timed = [&](auto&& f) {
+        const auto a = Clock::now();
+        f();
+        io += seconds_since(a);
+    };
+    timed([&] { archive.mark_running(id, rank); });
+    bool failed = false;
+    try {
+        const ReplicaResult result = run_replica(spec.replicas[static_cast<std::size_t>(id)], between);
+        timed([&] { archive.write_done(id, result, rank); });
+    } catch (const h5::Error&) {
+        throw;  // the archive itself is broken: stop
+    } catch (const std::exception& e) {
+        failed = true;
+        timed([&] { archive.write_failed(id, e.what(), seconds_since(t0), rank); });
+    }
+    summary.io_seconds += io;
+    ++summary.ran;
+    summary.failed += failed;
+    return failed;
+}
+
+} // namespace
+
+FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
+                     const ProgressOptions& progress) {
+    const int rank = mpi::rank(comm);
+    const auto t0 = Clock::now();
+    FarmSummary summary;
+    if (rank == 0) {
+        const auto status = archive.read_status();
+        std::vector<std::int64_t> queue;
+        std::int64_t done = 0;
+        for (std::size_t r = 0; r < status.size(); ++r) {
+            if (status[r] == ReplicaStatus::Pending || status[r] == ReplicaStatus::Running)
+                queue.push_back(static_cast<std::int64_t>(r));
+            else
+                ++done;
+        }
+        summary.skipped = done;
+        // Longest estimated cost first; ties in id order (deterministic).
+        std::stable_sort(queue.begin(), queue.end(), [&](auto a, auto b) {
+            return estimated_cost(spec.replicas[a]) > estimated_cost(spec.replicas[b]);
+        });
+        Dispatcher d(comm, spec, std::move(queue), done, progress);
+        const std::function<void()> serve = [&d] { d.serve_pending(); };
+        for (std::int64_t id = d.take(); id >= 0; id = d.take()) {
+            const bool failed = run_one(spec, id, archive, rank, serve, summary);
+            d.finished(id, failed);
+            d.serve_pending();
+        }
+        d.serve_until_workers_stop();
+    } else {
+        Report report{-1, 0, 0.0};
+        for (;;) {
+            mpi::check(MPI_Send(&report, sizeof report, MPI_BYTE, 0, kTagRequest, comm),
+                       "MPI_Send (work request)");
+            std::int64_t id = -1;
+            mpi::check(MPI_Recv(&id, 1, MPI_INT64_T, 0, kTagAssign, comm, MPI_STATUS_IGNORE),
+                       "MPI_Recv (assignment)");
+            if (id < 0) break;
+            const bool failed = run_one(spec, id, archive, rank, {}, summary);
+            report = {id, failed ? 1 : 0, estimated_cost(spec.replicas[static_cast<std::size_t>(id)])};
+        }
+    }
+    summary.wall_seconds = seconds_since(t0);
+    return summary;
+}
+
+} // namespace jamsim
