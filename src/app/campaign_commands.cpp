@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -21,7 +22,15 @@ struct RunOptions {
     std::string output;  // overrides [campaign] output
     bool dry_run = false;
     double progress_interval = 10.0;
+    std::string progress = "auto";  // auto | lines | redraw
 };
+
+/// Under mpirun a rank's stdout is often a pseudo-terminal even when the job's output goes
+/// to a file, so `auto` redraws only on a terminal outside batch jobs and CI.
+bool redraw_progress(const std::string& mode) {
+    if (mode != "auto") return mode == "redraw";
+    return isatty(STDOUT_FILENO) != 0 && !std::getenv("SLURM_JOB_ID") && !std::getenv("CI");
+}
 
 /// A nominal throughput for time estimates in --dry-run (particle force evaluations/s, one
 /// core; measured RD0 figure, see README "Benchmarks").
@@ -98,7 +107,7 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
         mpi::broadcast(exists, 0, comm);
         Archive archive = exists ? Archive::open(comm, output) : Archive::create(comm, output, spec);
         archive.stamp("run_started");
-        ProgressOptions progress{isatty(STDOUT_FILENO) != 0, opt.progress_interval};
+        ProgressOptions progress{redraw_progress(opt.progress), opt.progress_interval};
         if (rank == 0)
             std::printf("campaign %s: %zu replicas on %d ranks -> %s%s\n", spec.name.c_str(),
                         spec.replicas.size(), mpi::size(comm), output.c_str(),
@@ -158,6 +167,10 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
     cmd->add_flag("--dry-run", opt->dry_run, "List replicas and costs; write nothing");
     cmd->add_option("--progress-interval", opt->progress_interval,
                     "Seconds between progress lines when not on a terminal")
+        ->capture_default_str();
+    cmd->add_option("--progress", opt->progress,
+                    "auto (redraw on a terminal), lines (log files) or redraw")
+        ->check(CLI::IsMember({"auto", "lines", "redraw"}))
         ->capture_default_str();
     cmd->callback([opt, &argc, &argv] {
         const int rc = run(*opt, argc, argv);

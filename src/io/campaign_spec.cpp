@@ -15,7 +15,11 @@ std::string show(const toml::node& node) {
     std::ostringstream os;
     if (auto s = node.as_string()) os << '"' << s->get() << '"';
     else if (node.is_table()) os << "{...}";
-    else if (node.is_array()) os << "[...]";
+    else if (auto a = node.as_array()) {
+        os << '[';
+        for (std::size_t k = 0; k < a->size(); ++k) os << (k ? ", " : "") << show(*a->get(k));
+        os << ']';
+    }
     else if (auto i = node.value<std::int64_t>(); i && node.is_integer()) os << *i;
     else if (auto d = node.value<double>()) os << *d;
     else if (auto b = node.value<bool>()) os << (*b ? "true" : "false");
@@ -40,7 +44,7 @@ class Reader {
             if (allowed.count(std::string(key.str()))) continue;
             std::string list;
             for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-            fail(name + " " + std::string(key.str()), show(node),
+            fail((name.empty() ? "" : name + " ") + std::string(key.str()), show(node),
                  "unknown key; known keys in " + (name.empty() ? "the top level" : name) +
                      ": " + list);
         }
