@@ -1,11 +1,19 @@
 #!/usr/bin/env bash
-# The main job: install what is missing, build, shear one replica (RD0, N = 1024, φ = 0.84,
-# γ̇ = 1e-4, strain 2) into out/quickstart.h5, print ⟨p⟩ and ⟨σ⟩, and draw out/quickstart.png.
+# The main job: install what is missing, build, run the quick-start campaign
+# (campaigns/quickstart.toml: RD0 across jamming, 56 replicas) on 2 MPI ranks into
+# out/quickstart.h5, and draw its figures into out/quickstart/.
+#   RANKS=4 tools/quickstart.sh     more ranks
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/install-deps.sh
 tools/build.sh
+if [[ $(id -u) -eq 0 ]]; then  # Open MPI refuses root unless told
+  export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+fi
+export OMPI_MCA_rmaps_base_oversubscribe=1  # RANKS may exceed the cores
 mkdir -p out
-build/${JAMSIM_PRESET:-release}/jamsim replica --model RD0 --N 1024 --phi 0.84 --rate 1e-4 \
-    --strain 2 --transient 0.5 --seed 1 -o out/quickstart.h5
-/usr/bin/python3 tools/plot_replica.py out/quickstart.h5 out/quickstart.png
+mpirun -n "${RANKS:-2}" build/${JAMSIM_PRESET:-release}/jamsim run campaigns/quickstart.toml \
+    -o out/quickstart.h5
+build/${JAMSIM_PRESET:-release}/jamsim status out/quickstart.h5
+/usr/bin/python3 tools/plot_campaign.py out/quickstart.h5 out/quickstart
+echo "archive: out/quickstart.h5   figures: out/quickstart/"

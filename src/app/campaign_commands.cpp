@@ -25,11 +25,13 @@ struct RunOptions {
     std::string progress = "auto";  // auto | lines | redraw
 };
 
-/// Under mpirun a rank's stdout is often a pseudo-terminal even when the job's output goes
-/// to a file, so `auto` redraws only on a terminal outside batch jobs and CI.
+/// Under mpirun a rank's stdout is a pseudo-terminal even when the job's output goes to a
+/// file, so `auto` redraws only for a single process on a terminal outside batch jobs and CI;
+/// `--progress redraw` asks for it explicitly.
 bool redraw_progress(const std::string& mode) {
     if (mode != "auto") return mode == "redraw";
-    return isatty(STDOUT_FILENO) != 0 && !std::getenv("SLURM_JOB_ID") && !std::getenv("CI");
+    return isatty(STDOUT_FILENO) != 0 && !std::getenv("OMPI_COMM_WORLD_SIZE") &&
+           !std::getenv("PMI_RANK") && !std::getenv("SLURM_JOB_ID") && !std::getenv("CI");
 }
 
 /// A nominal throughput for time estimates in --dry-run (particle force evaluations/s, one
@@ -122,9 +124,9 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
         mpi::check(MPI_Reduce(&local_failed, &failed, 1, MPI_LONG_LONG, MPI_SUM, 0, comm),
                    "MPI_Reduce");
         if (rank == 0) {
-            std::printf("campaign %s finished: archive %s (%lld failed replicas; "
+            std::printf("campaign %s finished in %.3f s: archive %s (%lld failed replicas; "
                         "archive writes took %.2f%% of rank time)\n",
-                        spec.name.c_str(), output.c_str(), failed,
+                        spec.name.c_str(), s.wall_seconds, output.c_str(), failed,
                         wall > 0 ? 100.0 * io / wall : 0.0);
             std::printf("inspect with: jamsim status %s\n", output.c_str());
         }
