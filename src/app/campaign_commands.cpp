@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <sstream>
 
 #include "jamsim/io/archive.hpp"
 #include "jamsim/io/campaign_spec.hpp"
@@ -23,7 +24,21 @@ struct RunOptions {
     bool dry_run = false;
     double progress_interval = 10.0;
     std::string progress = "auto";  // auto | lines | redraw
+    std::string shard;              // "K/N" or empty
 };
+
+/// "K/N" with 0 <= K < N, or an exception naming the value.
+Shard parse_shard(const std::string& text) {
+    Shard s;
+    char slash = 0;
+    std::istringstream in(text);
+    if (text.empty()) return s;
+    if (!(in >> s.index >> slash >> s.count) || slash != '/' || !in.eof() || s.count < 1 ||
+        s.index < 0 || s.index >= s.count)
+        throw CLI::ValidationError("jamsim run: --shard = " + text +
+                                   " is not allowed: K/N with 0 <= K < N (e.g. 3/16)");
+    return s;
+}
 
 /// Under mpirun a rank's stdout is a pseudo-terminal even when the job's output goes to a
 /// file, so `auto` redraws only for a single process on a terminal outside batch jobs and CI;
@@ -114,7 +129,7 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
             std::printf("campaign %s: %zu replicas on %d ranks -> %s%s\n", spec.name.c_str(),
                         spec.replicas.size(), mpi::size(comm), output.c_str(),
                         exists ? " (resuming: finished replicas are skipped)" : "");
-        const FarmSummary s = run_farm(comm, spec, archive, progress);
+        const FarmSummary s = run_farm(comm, spec, archive, progress, parse_shard(opt.shard));
         archive.stamp("run_finished");
         archive.close();
         double io = 0, wall = 0, local_io = s.io_seconds, local_wall = s.wall_seconds;
@@ -159,7 +174,77 @@ int status(const std::string& path) {
     return 0;
 }
 
+int merge(const std::string& output, const std::vector<std::string>& shards, int& argc,
+          char**& argv) {
+    mpi::Session session(argc, argv);
+    if (mpi::size(MPI_COMM_WORLD) != 1) {
+        std::fprintf(stderr, "jamsim merge: run it as one process (no mpirun -n > 1)\n");
+        return 2;
+    }
+    std::vector<StoredCampaign> stored;
+    for (const auto& path : shards) {
+        try {
+            stored.push_back(read_stored_campaign(path));
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "jamsim merge: shard '%s': %s\n", path.c_str(), e.what());
+            return 2;
+        }
+        if (fingerprint(stored.back().spec) != fingerprint(stored.front().spec)) {
+            std::fprintf(stderr, "jamsim merge: shard '%s' belongs to a different campaign than "
+                         "'%s'\n", path.c_str(), shards.front().c_str());
+            return 2;
+        }
+    }
+    const CampaignSpec& spec = stored.front().spec;
+    const bool exists = std::filesystem::exists(output);
+    if (exists) {
+        const std::string why = Archive::check_existing(output, spec);
+        if (!why.empty()) {
+            std::fprintf(stderr, "jamsim merge: refusing: %s\n", why.c_str());
+            return 2;
+        }
+    }
+    Archive out = exists ? Archive::open(MPI_COMM_SELF, output)
+                         : Archive::create(MPI_COMM_SELF, output, spec);
+    std::vector<ReplicaStatus> have = out.read_status();
+    long long copied = 0;
+    for (std::size_t k = 0; k < shards.size(); ++k)
+        for (std::size_t r = 0; r < have.size(); ++r) {
+            const ReplicaStatus s = stored[k].status[r];
+            const bool finished = s == ReplicaStatus::Done || s == ReplicaStatus::Failed;
+            if (!finished || have[r] == ReplicaStatus::Done) continue;
+            if (have[r] == ReplicaStatus::Failed && s == ReplicaStatus::Failed) continue;
+            out.import_replica(shards[k], static_cast<std::int64_t>(r));
+            have[r] = s;
+            ++copied;
+        }
+    out.stamp("merged");
+    out.close();
+    std::printf("merged %lld replicas from %zu shards into %s\n", copied, shards.size(),
+                output.c_str());
+    return status(output);
+}
+
 } // namespace
+
+CLI::App* add_merge_command(CLI::App& app, int& argc, char**& argv) {
+    auto output = std::make_shared<std::string>();
+    auto shards = std::make_shared<std::vector<std::string>>();
+    auto* cmd = app.add_subcommand("merge", "Merge shard archives of one campaign into one");
+    cmd->add_option("output", *output, "Merged archive (created, or completed if it exists)")
+        ->required();
+    cmd->add_option("shards", *shards, "Shard archives (jamsim run --shard K/N)")->required();
+    cmd->callback([output, shards, &argc, &argv] {
+        int rc = 1;
+        try {
+            rc = merge(*output, *shards, argc, argv);
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "jamsim merge: %s\n", e.what());
+        }
+        if (rc != 0) throw CLI::RuntimeError(rc);
+    });
+    return cmd;
+}
 
 CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
     auto opt = std::make_shared<RunOptions>();
@@ -170,11 +255,14 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
     cmd->add_option("--progress-interval", opt->progress_interval,
                     "Seconds between progress lines when not on a terminal")
         ->capture_default_str();
+    cmd->add_option("--shard", opt->shard,
+                    "K/N: run only replicas with id % N == K (merge shards with jamsim merge)");
     cmd->add_option("--progress", opt->progress,
                     "auto (redraw on a terminal), lines (log files) or redraw")
         ->check(CLI::IsMember({"auto", "lines", "redraw"}))
         ->capture_default_str();
     cmd->callback([opt, &argc, &argv] {
+        parse_shard(opt->shard);  // bad value: message and exit before MPI starts
         const int rc = run(*opt, argc, argv);
         if (rc != 0) throw CLI::RuntimeError(rc);
     });

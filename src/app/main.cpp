@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
     jamsim::app::add_replica_command(app);
     jamsim::app::add_run_command(app, argc, argv);
     jamsim::app::add_status_command(app);
+    jamsim::app::add_merge_command(app, argc, argv);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -314,6 +314,42 @@ void Archive::write_failed(std::int64_t replica, const std::string& reason, doub
     write_block(f, "/replicas/status", H5T_NATIVE_INT8, {r}, {1}, &s);
 }
 
+void Archive::import_replica(const std::string& source_path, std::int64_t replica) {
+    const Handle src = open_readonly(source_path);
+    const auto r = static_cast<hsize_t>(replica);
+    // Everything that belongs to one replica; the parameters are equal by the fingerprint.
+    std::vector<std::string> paths;
+    for (const auto& c : kSampleColumns) paths.push_back(std::string("/timeseries/") + c.name);
+    for (const char* p : {"/final/x", "/final/y", "/final/diameter", "/final/box_side",
+                          "/final/box_strain", "/replicas/rank", "/replicas/wall_seconds",
+                          "/replicas/force_evaluations", "/replicas/failure_reason",
+                          "/replicas/status"})  // status last: it validates the rest
+        paths.emplace_back(p);
+    for (const auto& path : paths) {
+        Handle set(H5Dopen2(src.get(), path.c_str(), H5P_DEFAULT), H5Dclose, "open " + path);
+        Handle space(H5Dget_space(set.get()), H5Sclose, "dataspace of " + path);
+        hsize_t dims[2] = {0, 1};
+        const int rank = H5Sget_simple_extent_ndims(space.get());
+        check(rank, "rank of " + path);
+        check(H5Sget_simple_extent_dims(space.get(), dims, nullptr), "shape of " + path);
+        Handle stored(H5Dget_type(set.get()), H5Tclose, "type of " + path);
+        Handle type(H5Tget_native_type(stored.get(), H5T_DIR_DEFAULT), H5Tclose, "native type");
+        std::vector<hsize_t> start{r}, count{1};
+        if (rank == 2) {
+            start.push_back(0);
+            count.push_back(dims[1]);
+        }
+        check(H5Sselect_hyperslab(space.get(), H5S_SELECT_SET, start.data(), nullptr,
+                                  count.data(), nullptr),
+              "select in " + path);
+        Handle mem(H5Screate_simple(rank, count.data(), nullptr), H5Sclose, "memory space");
+        std::vector<unsigned char> buffer(H5Tget_size(type.get()) * (rank == 2 ? dims[1] : 1));
+        check(H5Dread(set.get(), type.get(), mem.get(), space.get(), H5P_DEFAULT, buffer.data()),
+              "read " + path + " of '" + source_path + "'");
+        write_block(file_.get(), path, type.get(), start, count, buffer.data());
+    }
+}
+
 std::vector<ReplicaStatus> Archive::read_status() const {
     const Handle dxpl = independent_transfer();
     const auto raw = read_all<std::int8_t>(file_.get(), "/replicas/status", H5T_NATIVE_INT8,
@@ -336,6 +372,17 @@ void Archive::stamp(const std::string& attribute) {
 }
 
 void Archive::close() { file_.close("archive"); }
+
+StoredCampaign read_stored_campaign(const std::string& path) {
+    h5::quiet_errors();
+    const Handle file = open_readonly(path);
+    const std::string text = read_string_attribute(file.get(), "spec_text");
+    if (text.empty()) throw h5::Error("'" + path + "' is not a jamsim campaign archive");
+    StoredCampaign out{parse_campaign(text, read_string_attribute(file.get(), "spec_path")), {}};
+    for (auto v : read_all<std::int8_t>(file.get(), "/replicas/status", H5T_NATIVE_INT8))
+        out.status.push_back(static_cast<ReplicaStatus>(v));
+    return out;
+}
 
 ArchiveSummary summarize_archive(const std::string& path) {
     h5::quiet_errors();

@@ -39,7 +39,8 @@ class Dispatcher {
   public:
     Dispatcher(MPI_Comm comm, const CampaignSpec& spec, std::vector<std::int64_t> queue,
                std::int64_t already_done, const ProgressOptions& progress)
-        : comm_(comm), spec_(spec), queue_(std::move(queue)), done_(already_done),
+        : comm_(comm), spec_(spec), queue_(std::move(queue)),
+          total_(static_cast<std::int64_t>(queue_.size()) + already_done), done_(already_done),
           progress_(progress), start_(Clock::now()), last_print_(start_) {
         for (auto id : queue_) cost_left_ += estimated_cost(spec_.replicas[id]);
         cost_total_run_ = cost_left_;
@@ -105,7 +106,7 @@ class Dispatcher {
         last_print_ = Clock::now();
         const double remaining =
             cost_done_ > 0 ? elapsed * (cost_total_run_ - cost_done_) / cost_done_ : -1;
-        const auto total = static_cast<long long>(spec_.replicas.size());
+        const auto total = static_cast<long long>(total_);
         const long long pending = total - done_ - failed_ - running_;
         std::fprintf(stdout, "%s[%s] %lld/%lld done, %lld running, %lld failed, %lld pending | "
                              "elapsed %s | remaining ~%s%s",
@@ -121,6 +122,7 @@ class Dispatcher {
     const CampaignSpec& spec_;
     std::vector<std::int64_t> queue_;
     std::size_t next_ = 0;
+    std::int64_t total_;  ///< replicas of this run's shard
     std::int64_t done_ = 0, failed_ = 0, running_ = 0;
     int workers_active_ = 0;
     double cost_left_ = 0, cost_total_run_ = 0, cost_done_ = 0;
@@ -158,7 +160,7 @@ bool run_one(const CampaignSpec& spec, std::int64_t id, Archive& archive, int ra
 } // namespace
 
 FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
-                     const ProgressOptions& progress) {
+                     const ProgressOptions& progress, Shard shard) {
     const int rank = mpi::rank(comm);
     const auto t0 = Clock::now();
     FarmSummary summary;
@@ -167,6 +169,7 @@ FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
         std::vector<std::int64_t> queue;
         std::int64_t done = 0;
         for (std::size_t r = 0; r < status.size(); ++r) {
+            if (!shard.contains(static_cast<std::int64_t>(r))) continue;
             if (status[r] == ReplicaStatus::Pending || status[r] == ReplicaStatus::Running)
                 queue.push_back(static_cast<std::int64_t>(r));
             else

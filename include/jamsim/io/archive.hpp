@@ -41,6 +41,10 @@ class Archive {
     void write_failed(std::int64_t replica, const std::string& reason, double wall_seconds,
                       int rank);
 
+    /// Copy replica `replica` (its rows, final configuration, bookkeeping and, last, its
+    /// status) from another archive of the same campaign, opened serially read-only.
+    void import_replica(const std::string& source_path, std::int64_t replica);
+
     /// Independent read of every replica's status.
     std::vector<ReplicaStatus> read_status() const;
 
@@ -68,6 +72,13 @@ struct ArchiveSummary {
     std::vector<std::string> failures;  ///< "replica 3: reason"
 };
 ArchiveSummary summarize_archive(const std::string& path);
+
+/// Status column and campaign spec stored in an archive (serial read-only).
+struct StoredCampaign {
+    CampaignSpec spec;
+    std::vector<ReplicaStatus> status;
+};
+StoredCampaign read_stored_campaign(const std::string& path);
 
 /// Current UTC time as ISO 8601.
 std::string utc_now();
