@@ -1,0 +1,97 @@
+// The campaign archive written through the MPI-IO driver and read back in C++.
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "jamsim/io/archive.hpp"
+#include "jamsim/io/campaign_spec.hpp"
+
+using namespace jamsim;
+
+namespace {
+const char* kSpec = R"(
+[campaign]
+name = "archive-test"
+output = "unused.h5"
+[run]
+strain = 0.05
+sample_interval = 0.01
+[sweep]
+N = [64, 128]
+phi = [0.8]
+rate = [1e-2]
+)";
+} // namespace
+
+TEST(Archive, WriteReadBackFailAndImport) {
+    const CampaignSpec spec = parse_campaign(kSpec, "inline.toml");
+    ASSERT_EQ(spec.replicas.size(), 2u);
+    const std::string path = "archive_test.h5", copy = "archive_copy.h5";
+    std::filesystem::remove(path);
+    std::filesystem::remove(copy);
+    auto archive = Archive::create(MPI_COMM_SELF, path, spec);
+    for (auto s : archive.read_status()) EXPECT_EQ(s, ReplicaStatus::Pending);
+    const ReplicaResult result = run_replica(spec.replicas[1]);
+    archive.mark_running(1, 0);
+    EXPECT_EQ(archive.read_status()[1], ReplicaStatus::Running);
+    archive.write_done(1, result, 0);
+    archive.write_failed(0, "deliberate failure for the test", 0.5, 0);
+    archive.close();
+    EXPECT_EQ(Archive::check_existing(path, spec), "");
+
+    // Read back with the serial driver, independent of the writer's code path.
+    h5::quiet_errors();
+    {
+        const auto file = h5::open_file_readonly(path);
+        const auto pressure = h5::read_dataset(file.get(), "/timeseries/pressure");
+        const std::size_t width = pressure.size() / 2, rows = result.series.size();
+        ASSERT_EQ(rows, static_cast<std::size_t>(sample_count(spec.replicas[1])));
+        for (std::size_t k = 0; k < width; ++k) {
+            EXPECT_TRUE(std::isnan(pressure[k]));  // replica 0 failed: no rows
+            if (k < rows)
+                EXPECT_EQ(pressure[width + k], result.series[k].pressure);
+            else
+                EXPECT_TRUE(std::isnan(pressure[width + k]));
+        }
+        const auto x = h5::read_dataset(file.get(), "/final/x");
+        const auto fin = final_configuration(result.final_state);
+        for (std::size_t k = 0; k < fin.x.size(); ++k) EXPECT_EQ(x[x.size() / 2 + k], fin.x[k]);
+    }
+    const ArchiveSummary s = summarize_archive(path);
+    EXPECT_EQ(s.done, 1);
+    EXPECT_EQ(s.failed, 1);
+    ASSERT_EQ(s.failures.size(), 1u);
+    EXPECT_EQ(s.failures[0], "replica 0: deliberate failure for the test");
+    const StoredCampaign stored = read_stored_campaign(path);
+    EXPECT_EQ(fingerprint(stored.spec), fingerprint(spec));
+
+    // Import into a fresh archive of the same campaign: identical rows.
+    auto second = Archive::create(MPI_COMM_SELF, copy, spec);
+    second.import_replica(path, 1);
+    EXPECT_EQ(second.read_status()[1], ReplicaStatus::Done);
+    EXPECT_EQ(second.read_status()[0], ReplicaStatus::Pending);
+    second.close();
+    {
+        const auto a = h5::open_file_readonly(path), b = h5::open_file_readonly(copy);
+        const auto pa = h5::read_dataset(a.get(), "/timeseries/shear_stress");
+        const auto pb = h5::read_dataset(b.get(), "/timeseries/shear_stress");
+        for (std::size_t k = pa.size() / 2; k < pa.size(); ++k)
+            EXPECT_TRUE(pa[k] == pb[k] || (std::isnan(pa[k]) && std::isnan(pb[k])));
+    }
+
+    // Another campaign's spec is refused by check_existing.
+    std::string other = kSpec;
+    other.replace(other.find("0.8"), 3, "0.7");
+    const std::string why = Archive::check_existing(path, parse_campaign(other, "other.toml"));
+    EXPECT_NE(why.find("different campaign"), std::string::npos) << why;
+}
+
+int main(int argc, char** argv) {
+    MPI_Init(&argc, &argv);
+    ::testing::InitGoogleTest(&argc, argv);
+    const int rc = RUN_ALL_TESTS();
+    MPI_Finalize();
+    return rc;
+}
