@@ -227,9 +227,7 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
                         v.data());
         }
     check(H5Fflush(f, H5F_SCOPE_GLOBAL), "flush '" + path + "'");
-    Archive a(std::move(file), static_cast<std::int64_t>(replicas));
-    a.comm_ = comm;
-    return a;
+    return Archive(std::move(file), comm);
 }
 
 Archive Archive::open(MPI_Comm comm, const std::string& path) {
@@ -237,10 +235,7 @@ Archive Archive::open(MPI_Comm comm, const std::string& path) {
     const auto fapl = mpio_access(comm);
     Handle file(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl.get()), H5Fclose,
                 "open archive '" + path + "'");
-    const auto replicas = read_all<std::int8_t>(file.get(), "/replicas/status", H5T_NATIVE_INT8);
-    Archive a(std::move(file), static_cast<std::int64_t>(replicas.size()));
-    a.comm_ = comm;
-    return a;
+    return Archive(std::move(file), comm);
 }
 
 std::string Archive::check_existing(const std::string& path, const CampaignSpec& spec) {

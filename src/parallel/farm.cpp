@@ -18,7 +18,6 @@ constexpr int kTagAssign = 12;   // rank 0 → worker: replica id, or −1 for "
 struct Report {
     std::int64_t replica;  ///< −1 on the first request
     std::int64_t failed;   ///< 1 if that replica failed
-    double cost;           ///< its estimated cost (for the remaining-time estimate)
 };
 
 using Clock = std::chrono::steady_clock;
@@ -42,8 +41,7 @@ class Dispatcher {
         : comm_(comm), spec_(spec), queue_(std::move(queue)),
           total_(static_cast<std::int64_t>(queue_.size()) + already_done), done_(already_done),
           progress_(progress), start_(Clock::now()), last_print_(start_) {
-        for (auto id : queue_) cost_left_ += estimated_cost(spec_.replicas[id]);
-        cost_total_run_ = cost_left_;
+        for (auto id : queue_) cost_total_run_ += estimated_cost(spec_.replicas[id]);
         workers_active_ = mpi::size(comm) - 1;
     }
 
@@ -125,7 +123,7 @@ class Dispatcher {
     std::int64_t total_;  ///< replicas of this run's shard
     std::int64_t done_ = 0, failed_ = 0, running_ = 0;
     int workers_active_ = 0;
-    double cost_left_ = 0, cost_total_run_ = 0, cost_done_ = 0;
+    double cost_total_run_ = 0, cost_done_ = 0;  ///< estimated costs of this run's queue
     ProgressOptions progress_;
     Clock::time_point start_, last_print_;
 };
@@ -189,7 +187,7 @@ FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
         }
         d.serve_until_workers_stop();
     } else {
-        Report report{-1, 0, 0.0};
+        Report report{-1, 0};
         for (;;) {
             mpi::check(MPI_Send(&report, sizeof report, MPI_BYTE, 0, kTagRequest, comm),
                        "MPI_Send (work request)");
@@ -198,7 +196,7 @@ FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
                        "MPI_Recv (assignment)");
             if (id < 0) break;
             const bool failed = run_one(spec, id, archive, rank, {}, summary);
-            report = {id, failed ? 1 : 0, estimated_cost(spec.replicas[static_cast<std::size_t>(id)])};
+            report = {id, failed ? 1 : 0};
         }
     }
     summary.wall_seconds = seconds_since(t0);

@@ -55,9 +55,8 @@ class Archive {
     void close();
 
   private:
-    Archive(h5::Handle file, std::int64_t replicas) : file_(std::move(file)), replicas_(replicas) {}
+    Archive(h5::Handle file, MPI_Comm comm) : file_(std::move(file)), comm_(comm) {}
     h5::Handle file_;
-    std::int64_t replicas_ = 0;
     MPI_Comm comm_ = MPI_COMM_NULL;
 };
 
