@@ -19,6 +19,8 @@ void Particles::permute(std::span<const std::int32_t> order) {
     apply_order(fx, order);
     apply_order(fy, order);
     apply_order(tag, order);
+    apply_order(ux, order);
+    apply_order(uy, order);
 }
 
 double max_diameter(const Particles& p) {

@@ -2,6 +2,7 @@
 #include <string>
 
 #include "jamsim/dynamics/model.hpp"
+#include "jamsim/dynamics/cd0.hpp"
 #include "jamsim/dynamics/rd0.hpp"
 
 namespace jamsim {
@@ -14,6 +15,7 @@ struct Entry {
 // One line per model: adding a model is its own file plus a line here.
 constexpr Entry kModels[] = {
     {"RD0", [](const ModelParams& p) -> std::unique_ptr<Model> { return std::make_unique<Rd0>(p); }},
+    {"CD0", [](const ModelParams& p) -> std::unique_ptr<Model> { return std::make_unique<Cd0>(p); }},
 };
 } // namespace
 

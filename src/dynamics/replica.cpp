@@ -58,6 +58,7 @@ std::vector<ParamError> validate(const ReplicaParams& p) {
         e.push_back({"size-ratio", str(p.size_ratio), "size-ratio >= 1"});
     if (!finite_positive(p.skin)) e.push_back({"skin", str(p.skin), "skin > 0"});
     if (!finite_positive(p.kd)) e.push_back({"kd", str(p.kd), "kd > 0"});
+    if (!finite_positive(p.delta)) e.push_back({"delta", str(p.delta), "delta > 0"});
     return e;
 }
 
@@ -98,7 +99,7 @@ ReplicaResult run_replica(const ReplicaParams& p, const std::function<void()>& a
     ReplicaResult result{TimeSeries{}, initial_system(p)};
     System& sys = result.final_state;
     ForceField forces(potential::make_soft_sphere(p.alpha), p.skin);
-    auto model = make_model(p.model, ModelParams{p.kd, p.integrator});
+    auto model = make_model(p.model, ModelParams{p.kd, p.integrator, p.delta});
     const Schedule plan = schedule_of(p);
     const double inv_n = 1.0 / static_cast<double>(p.n);
     const std::int64_t evals_per_step = p.integrator == Integrator::Heun ? 2 : 1;
@@ -106,6 +107,7 @@ ReplicaResult run_replica(const ReplicaParams& p, const std::function<void()>& a
     for (std::int64_t step = 0;; ++step) {
         const bool sample_now = step % plan.sample_every == 0;
         const ForceResult f = forces.compute(sys, sample_now ? Tally::Full : Tally::ForcesOnly);
+        model->prepare(sys, forces, p.rate);
         if (sample_now) {
             const double t = static_cast<double>(step) * p.dt;
             const Sample s{t,

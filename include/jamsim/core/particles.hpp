@@ -16,6 +16,9 @@ struct Particles {
     std::vector<double> diameter;      ///< shape [N]
     std::vector<double> fx, fy;        ///< elastic force on each particle, lab frame, shape [N]
     std::vector<std::int32_t> tag;     ///< original index, shape [N]
+    /// Non-affine velocity u = v − γ̇ y x̂ (lab frame) for models that solve for it (CD0),
+    /// kept here so that it follows the particles when they are reordered. d_s/τ, shape [N].
+    std::vector<double> ux, uy;
 
     std::size_t size() const { return x.size(); }
 
@@ -26,6 +29,8 @@ struct Particles {
         fx.assign(n, 0.0);
         fy.assign(n, 0.0);
         tag.resize(n);
+        ux.assign(n, 0.0);
+        uy.assign(n, 0.0);
     }
 
     /// Reorder every array so that new index k holds old particle order[k].

@@ -16,10 +16,12 @@ enum class Integrator { Euler, Heun };
 struct ModelParams {
     double kd = 1.0;                          ///< dissipation coefficient k_d
     Integrator integrator = Integrator::Euler;
+    double delta = 1e-3;                      ///< CD0 substrate drag δ = k_0/k_d
 };
 
 /// A dynamical model advances a System under constant shear rate. The driver calls, per step:
 ///   forces.compute(sys)          (elastic forces of the current state into sys.particles)
+///   model.prepare(sys, forces, rate)
 ///   [observables of that state]
 ///   model.advance(sys, forces, dt, rate)
 /// so advance() may use the forces already in sys.particles.fx, fy as its first stage.
@@ -27,6 +29,10 @@ class Model {
   public:
     virtual ~Model() = default;
     virtual std::string_view name() const = 0;
+
+    /// Called after the forces of the current state are computed and before it is sampled;
+    /// models that solve for velocities (CD0) do so here. Default: nothing.
+    virtual void prepare(System& /*sys*/, ForceField& /*forces*/, double /*rate*/) {}
 
     /// Advance positions and γ by one step of length dt (time unit τ = k_d d_s² / k_e)
     /// at shear rate `rate` (1/τ).

@@ -28,6 +28,7 @@ struct ReplicaParams {
     double size_ratio = 1.4;        ///< large/small diameter (1 = monodisperse)
     double skin = 0.3;              ///< neighbour-list skin, d_s
     double kd = 1.0;                ///< dissipation coefficient k_d
+    double delta = 1e-3;            ///< CD0 substrate drag δ = k_0/k_d (on u, see Cd0)
     Integrator integrator = Integrator::Euler;
     std::uint64_t seed = 1;
     std::uint32_t replica = 0;      ///< replica id within a campaign (part of the RNG key)

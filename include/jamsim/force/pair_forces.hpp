@@ -140,6 +140,16 @@ ForceResult accumulate_pair_forces(const Evaluator& eval, const NeighborList& li
     return out;
 }
 
+/// A pair in contact (r_ij < d_ij) and its lab-frame y separation r_ij,y = [y_i − y_j]_L.
+struct Contact {
+    std::int32_t i, j;
+    double ry;
+};
+
+/// The contacts among the listed pairs, in list order (deterministic).
+std::vector<Contact> find_contacts(const NeighborList& list, const Box& box,
+                                   std::span<const double> x, std::span<const double> y);
+
 /// Run-time dispatch over the registered evaluators (one instantiation each).
 ForceResult compute_pair_forces(const potential::SoftSphere& pot, const NeighborList& list,
                                 const Box& box, std::span<const double> x,

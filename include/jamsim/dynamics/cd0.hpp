@@ -1,0 +1,41 @@
+#pragma once
+#include <memory>
+#include <vector>
+
+#include "jamsim/dynamics/model.hpp"
+#include "jamsim/force/pair_forces.hpp"
+#include "jamsim/linalg/contact_solver.hpp"
+
+namespace jamsim {
+
+/// CD0: Durian's overdamped bubble model with contact dissipation (thesis §4.5.1).
+/// Force balance per disk: f_i^el − k_d Σ_contacts (v_i − v_j) − k_0 u_i = 0 with
+/// v_i − v_j = u_i − u_j + γ̇ [y_i − y_j]_L x̂, which gives the contact-matrix systems
+///   A u_x = (f_x − k_d γ̇ Σ_j [y_i − y_j]_L) / k_d,   A u_y = f_y / k_d     (eqs. 4.17–4.18)
+/// with A_ii = z_i + δ, A_ij = −1 per contact, δ = k_0/k_d. The substrate drag −k_0 u_i
+/// acts on the *non-affine* velocity (drag relative to the shear flow, as in RD0): written
+/// literally, eq. 4.16 drags towards zero lab velocity, a force that grows with y_i and jumps
+/// when a disk crosses the Lees–Edwards boundary. Positions advance with eq. 4.19,
+/// ẋ = u_x − γ u_y, ẏ = u_y (Euler, or Heun with a second solve).
+class Cd0 final : public Model {
+  public:
+    explicit Cd0(const ModelParams& params) : params_(params) {}
+    std::string_view name() const override { return "CD0"; }
+    void prepare(System& sys, ForceField& forces, double rate) override;
+    void advance(System& sys, ForceField& forces, double dt, double rate) override;
+    double nonaffine_velocity_sq(const System& sys) const override;
+
+  private:
+    /// Solve for u at positions (x, y) with forces (fx, fy) into (ux, uy).
+    void solve(const ForceField& forces, const Box& box, std::span<const double> x,
+               std::span<const double> y, std::span<const double> fx,
+               std::span<const double> fy, double rate, std::span<double> ux,
+               std::span<double> uy);
+
+    ModelParams params_;
+    std::unique_ptr<linalg::ContactSolver> solver_;
+    std::vector<linalg::ContactPair> pairs_;
+    std::vector<double> bx_, by_, x0_, y0_, fx1_, fy1_, ux1_, uy1_;
+};
+
+} // namespace jamsim

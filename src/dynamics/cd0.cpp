@@ -1,0 +1,76 @@
+#include "jamsim/dynamics/cd0.hpp"
+
+namespace jamsim {
+
+void Cd0::solve(const ForceField& forces, const Box& box, std::span<const double> x,
+                std::span<const double> y, std::span<const double> fx,
+                std::span<const double> fy, double rate, std::span<double> ux,
+                std::span<double> uy) {
+    const std::size_t n = x.size();
+    if (!solver_) solver_ = std::make_unique<linalg::ContactSolver>(n, params_.delta);
+    const std::vector<Contact> contacts = find_contacts(forces.list(), box, x, y);
+    pairs_.resize(contacts.size());
+    bx_.resize(n);
+    by_.resize(n);
+    const double inv_kd = 1.0 / params_.kd;
+    for (std::size_t i = 0; i < n; ++i) {
+        bx_[i] = fx[i] * inv_kd;
+        by_[i] = fy[i] * inv_kd;
+    }
+    // the affine part of the contact drag: −γ̇ Σ_j [y_i − y_j] (the k_d cancels)
+    for (std::size_t k = 0; k < contacts.size(); ++k) {
+        const Contact& c = contacts[k];
+        pairs_[k] = {c.i, c.j};
+        bx_[static_cast<std::size_t>(c.i)] -= rate * c.ry;
+        bx_[static_cast<std::size_t>(c.j)] += rate * c.ry;
+    }
+    solver_->solve(pairs_, bx_, by_, ux, uy);
+}
+
+void Cd0::prepare(System& sys, ForceField& forces, double rate) {
+    Particles& p = sys.particles;
+    solve(forces, sys.box, p.x, p.y, p.fx, p.fy, rate, p.ux, p.uy);
+}
+
+void Cd0::advance(System& sys, ForceField& forces, double dt, double rate) {
+    Particles& p = sys.particles;
+    const std::size_t n = p.size();
+    const double gamma0 = sys.box.strain();
+    const double gamma1 = gamma0 + rate * dt;
+    if (params_.integrator == Integrator::Euler) {
+        for (std::size_t i = 0; i < n; ++i) {
+            p.x[i] += dt * (p.ux[i] - gamma0 * p.uy[i]);
+            p.y[i] += dt * p.uy[i];
+        }
+        apply_strain(sys, forces, gamma1);
+        return;
+    }
+    x0_.assign(p.x.begin(), p.x.end());
+    y0_.assign(p.y.begin(), p.y.end());
+    fx1_.resize(n);
+    fy1_.resize(n);
+    ux1_.assign(p.ux.begin(), p.ux.end());  // warm start of the second solve
+    uy1_.assign(p.uy.begin(), p.uy.end());
+    for (std::size_t i = 0; i < n; ++i) {
+        p.x[i] += dt * (p.ux[i] - gamma0 * p.uy[i]);
+        p.y[i] += dt * p.uy[i];
+    }
+    sys.box.set_strain_unwrapped(gamma1);
+    forces.compute_at(sys.box, p.x, p.y, p.diameter, fx1_, fy1_);
+    solve(forces, sys.box, p.x, p.y, fx1_, fy1_, rate, ux1_, uy1_);
+    const double half = 0.5 * dt;
+    for (std::size_t i = 0; i < n; ++i) {
+        p.x[i] = x0_[i] + half * ((p.ux[i] - gamma0 * p.uy[i]) + (ux1_[i] - gamma1 * uy1_[i]));
+        p.y[i] = y0_[i] + half * (p.uy[i] + uy1_[i]);
+    }
+    apply_strain(sys, forces, gamma1);
+}
+
+double Cd0::nonaffine_velocity_sq(const System& sys) const {
+    const Particles& p = sys.particles;
+    double sum = 0.0;
+    for (std::size_t i = 0; i < p.size(); ++i) sum += p.ux[i] * p.ux[i] + p.uy[i] * p.uy[i];
+    return p.size() ? sum / static_cast<double>(p.size()) : 0.0;
+}
+
+} // namespace jamsim

@@ -1,0 +1,166 @@
+#include "jamsim/linalg/contact_solver.hpp"
+
+#include <petscksp.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace jamsim::linalg {
+
+namespace {
+
+/// Every PETSc call goes through here: a non-zero code becomes an exception (PETSc's own
+/// handler is replaced by PetscReturnErrorHandler, so nothing aborts the MPI job).
+void check(PetscErrorCode rc, const char* what) {
+    if (rc == 0) return;
+    const char* text = nullptr;
+    PetscErrorMessage(rc, &text, nullptr);
+    throw std::runtime_error(std::string("PETSc: ") + what + " failed: " + (text ? text : "?"));
+}
+
+void ensure_petsc() {
+    PetscBool up = PETSC_FALSE;
+    check(PetscInitialized(&up), "PetscInitialized");
+    if (up) return;
+    check(PetscOptionsSetValue(nullptr, "-no_signal_handler", "true"), "PetscOptionsSetValue");
+    check(PetscInitializeNoArguments(), "PetscInitialize");
+    check(PetscPushErrorHandler(PetscReturnErrorHandler, nullptr), "PetscPushErrorHandler");
+}
+
+} // namespace
+
+PetscScope::~PetscScope() {
+    PetscBool up = PETSC_FALSE, down = PETSC_FALSE;
+    PetscInitialized(&up);
+    PetscFinalized(&down);
+    if (up && !down) PetscFinalize();
+}
+
+struct ContactSolver::Impl {
+    PetscInt n;
+    double delta;
+    Mat A = nullptr;
+    Vec b = nullptr, x = nullptr;
+    KSP ksp = nullptr;
+    std::vector<ContactPair> pattern;  // contact set the Mat's pattern was built for
+    // CSR of the current contacts (neighbours of each row, diagonal first)
+    std::vector<PetscInt> start, cols;
+    std::vector<PetscScalar> vals;
+
+    void build_rows(std::span<const ContactPair> contacts) {
+        std::vector<PetscInt> degree(static_cast<std::size_t>(n), 0);
+        for (const auto& c : contacts) {
+            ++degree[static_cast<std::size_t>(c.i)];
+            ++degree[static_cast<std::size_t>(c.j)];
+        }
+        start.assign(static_cast<std::size_t>(n) + 1, 0);
+        for (PetscInt r = 0; r < n; ++r)
+            start[static_cast<std::size_t>(r) + 1] = start[static_cast<std::size_t>(r)] + 1 +
+                                                     degree[static_cast<std::size_t>(r)];
+        cols.assign(static_cast<std::size_t>(start.back()), 0);
+        vals.assign(cols.size(), -1.0);
+        std::vector<PetscInt> fill(start.begin(), start.end() - 1);
+        for (PetscInt r = 0; r < n; ++r) {
+            const auto k = static_cast<std::size_t>(fill[static_cast<std::size_t>(r)]++);
+            cols[k] = r;
+            vals[k] = static_cast<PetscScalar>(degree[static_cast<std::size_t>(r)]) + delta;
+        }
+        for (const auto& c : contacts) {
+            cols[static_cast<std::size_t>(fill[static_cast<std::size_t>(c.i)]++)] = c.j;
+            cols[static_cast<std::size_t>(fill[static_cast<std::size_t>(c.j)]++)] = c.i;
+        }
+    }
+
+    void assemble(std::span<const ContactPair> contacts) {
+        const bool same = A && std::equal(contacts.begin(), contacts.end(), pattern.begin(),
+                                          pattern.end(), [](const auto& p, const auto& q) {
+                                              return p.i == q.i && p.j == q.j;
+                                          });
+        build_rows(contacts);
+        if (!same) {
+            if (A) check(MatDestroy(&A), "MatDestroy");
+            std::vector<PetscInt> nnz(static_cast<std::size_t>(n));
+            for (PetscInt r = 0; r < n; ++r)
+                nnz[static_cast<std::size_t>(r)] =
+                    start[static_cast<std::size_t>(r) + 1] - start[static_cast<std::size_t>(r)];
+            check(MatCreateSeqAIJ(PETSC_COMM_SELF, n, n, 0, nnz.data(), &A), "MatCreateSeqAIJ");
+            pattern.assign(contacts.begin(), contacts.end());
+        }
+        for (PetscInt r = 0; r < n; ++r) {
+            const auto s = static_cast<std::size_t>(start[static_cast<std::size_t>(r)]);
+            const auto m = start[static_cast<std::size_t>(r) + 1] - start[static_cast<std::size_t>(r)];
+            check(MatSetValues(A, 1, &r, m, &cols[s], &vals[s], INSERT_VALUES), "MatSetValues");
+        }
+        check(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+        check(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+        check(KSPSetOperators(ksp, A, A), "KSPSetOperators");
+    }
+
+    int solve_one(std::span<const double> rhs, std::span<double> u, const char* which) {
+        PetscScalar* p = nullptr;
+        check(VecGetArray(b, &p), "VecGetArray");
+        std::copy(rhs.begin(), rhs.end(), p);
+        check(VecRestoreArray(b, &p), "VecRestoreArray");
+        check(VecGetArray(x, &p), "VecGetArray");
+        std::copy(u.begin(), u.end(), p);
+        check(VecRestoreArray(x, &p), "VecRestoreArray");
+        check(KSPSolve(ksp, b, x), "KSPSolve");
+        KSPConvergedReason reason;
+        check(KSPGetConvergedReason(ksp, &reason), "KSPGetConvergedReason");
+        if (reason < 0)
+            throw std::runtime_error(std::string("CD0 contact solve for u_") + which +
+                                     " did not converge: " + KSPConvergedReasons[reason]);
+        PetscInt its = 0;
+        check(KSPGetIterationNumber(ksp, &its), "KSPGetIterationNumber");
+        const PetscScalar* q = nullptr;
+        check(VecGetArrayRead(x, &q), "VecGetArrayRead");
+        std::copy(q, q + n, u.begin());
+        check(VecRestoreArrayRead(x, &q), "VecRestoreArrayRead");
+        return static_cast<int>(its);
+    }
+};
+
+ContactSolver::ContactSolver(std::size_t n, double delta) : impl_(new Impl{}) {
+    try {
+        ensure_petsc();
+        impl_->n = static_cast<PetscInt>(n);
+        impl_->delta = delta;
+        check(VecCreateSeq(PETSC_COMM_SELF, impl_->n, &impl_->b), "VecCreateSeq");
+        check(VecDuplicate(impl_->b, &impl_->x), "VecDuplicate");
+        check(KSPCreate(PETSC_COMM_SELF, &impl_->ksp), "KSPCreate");
+        check(KSPSetOptionsPrefix(impl_->ksp, "cd0_"), "KSPSetOptionsPrefix");
+        check(KSPSetType(impl_->ksp, KSPCG), "KSPSetType");
+        PC pc;
+        check(KSPGetPC(impl_->ksp, &pc), "KSPGetPC");
+        check(PCSetType(pc, PCJACOBI), "PCSetType");
+        check(KSPSetTolerances(impl_->ksp, 1e-10, 1e-30, PETSC_DEFAULT, 10000),
+              "KSPSetTolerances");
+        check(KSPSetInitialGuessNonzero(impl_->ksp, PETSC_TRUE), "KSPSetInitialGuessNonzero");
+        check(KSPSetFromOptions(impl_->ksp), "KSPSetFromOptions");  // last: options win
+    } catch (...) {
+        this->~ContactSolver();
+        throw;
+    }
+}
+
+ContactSolver::~ContactSolver() {
+    if (!impl_) return;
+    if (impl_->ksp) KSPDestroy(&impl_->ksp);
+    if (impl_->A) MatDestroy(&impl_->A);
+    if (impl_->b) VecDestroy(&impl_->b);
+    if (impl_->x) VecDestroy(&impl_->x);
+    delete impl_;
+    impl_ = nullptr;
+}
+
+SolveInfo ContactSolver::solve(std::span<const ContactPair> contacts, std::span<const double> b_x,
+                               std::span<const double> b_y, std::span<double> u_x,
+                               std::span<double> u_y) {
+    impl_->assemble(contacts);
+    SolveInfo info;
+    info.iterations_x = impl_->solve_one(b_x, u_x, "x");
+    info.iterations_y = impl_->solve_one(b_y, u_y, "y");
+    return info;
+}
+
+} // namespace jamsim::linalg
