@@ -11,6 +11,7 @@
 
 #include "jamsim/io/archive.hpp"
 #include "jamsim/io/campaign_spec.hpp"
+#include "jamsim/linalg/contact_solver.hpp"
 #include "jamsim/parallel/farm.hpp"
 #include "jamsim/parallel/mpi.hpp"
 
@@ -93,6 +94,7 @@ void print_dry_run(const CampaignSpec& spec, const std::string& output) {
 
 int run(const RunOptions& opt, int& argc, char**& argv) {
     mpi::Session session(argc, argv);
+    const linalg::PetscScope petsc;  // finalised before MPI (declared after the session)
     const MPI_Comm comm = MPI_COMM_WORLD;
     const int rank = mpi::rank(comm);
     // Rank 0 reads and checks everything before any rank starts work.

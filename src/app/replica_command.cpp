@@ -10,6 +10,7 @@
 
 #include "jamsim/dynamics/replica.hpp"
 #include "jamsim/io/replica_file.hpp"
+#include "jamsim/linalg/contact_solver.hpp"
 #include "jamsim/observe/time_series.hpp"
 
 namespace jamsim::app {
@@ -52,6 +53,7 @@ void run(const ReplicaOptions& opt) {
     }
     for (const auto& e : validate(params)) usage_error(e.key, e.value, e.allowed);
     check_output_path(opt.output);
+    const linalg::PetscScope petsc;  // CD0 initialises PETSc on first use; finalise it here
 
     const ReplicaResult result = run_replica(params);
     write_replica_file(opt.output, params, result);
@@ -93,6 +95,8 @@ CLI::App* add_replica_command(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--skin", p.skin, "Neighbour-list skin (d_s)")->capture_default_str();
     cmd->add_option("--kd", p.kd, "Dissipation coefficient k_d")->capture_default_str();
+    cmd->add_option("--delta", p.delta, "CD0 substrate drag delta = k_0/k_d")
+        ->capture_default_str();
     cmd->add_option("--integrator", opt->integrator, "euler or heun")->capture_default_str();
     cmd->add_option("--seed", p.seed, "Random seed")->capture_default_str();
     cmd->add_option("--replica", p.replica, "Replica id (part of the random key)")

@@ -110,7 +110,7 @@ const std::map<std::string, std::string> kKeyLocation = {
     {"transient", "[run] transient"}, {"sample-interval", "[run] sample_interval"},
     {"dt", "[model] dt"},            {"alpha", "[potential] alpha"},
     {"size-ratio", "[system] size_ratio"}, {"skin", "[system] skin"},
-    {"kd", "[model] kd"},
+    {"kd", "[model] kd"},             {"delta", "[model] delta"},
 };
 
 struct Point {
@@ -142,7 +142,7 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path) {
     const auto* sweep = r.table(root, "sweep");
     if (!sweep) r.fail("[sweep]", "(missing)", "a [sweep] table");
     r.only_keys(*campaign, "[campaign]", {"name", "output"});
-    r.only_keys(model, "[model]", {"name", "integrator", "dt", "kd"});
+    r.only_keys(model, "[model]", {"name", "integrator", "dt", "kd", "delta"});
     r.only_keys(pot, "[potential]", {"name", "alpha"});
     r.only_keys(system, "[system]", {"size_ratio", "skin"});
     r.only_keys(run, "[run]", {"transient", "strain", "time", "sample_interval"});
@@ -166,6 +166,7 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path) {
     }
     base.dt = r.number(model, "[model]", "dt", base.dt);
     base.kd = r.number(model, "[model]", "kd", base.kd);
+    base.delta = r.number(model, "[model]", "delta", base.delta);
     const std::string pot_name = r.string(pot, "[potential]", "name", "");
     if (!pot_name.empty() && pot.get("alpha"))
         r.fail("[potential] alpha", show(*pot.get("alpha")),
@@ -265,12 +266,12 @@ CampaignSpec load_campaign(const std::string& path) {
 std::string fingerprint(const CampaignSpec& spec) {
     std::ostringstream os;
     os.precision(17);
-    os << "jamsim campaign v1 " << spec.name << " replicas " << spec.replicas.size() << '\n';
+    os << "jamsim campaign v2 " << spec.name << " replicas " << spec.replicas.size() << '\n';
     for (const auto& p : spec.replicas)
         os << p.replica << ' ' << p.model << ' ' << p.n << ' ' << p.phi << ' ' << p.rate << ' '
            << p.strain << ' ' << p.time << ' ' << p.transient << ' ' << p.sample_interval << ' '
            << p.dt << ' ' << p.alpha << ' ' << p.size_ratio << ' ' << p.skin << ' ' << p.kd
-           << ' ' << to_string(p.integrator) << ' ' << p.seed << '\n';
+           << ' ' << to_string(p.integrator) << ' ' << p.seed << ' ' << p.delta << '\n';
     return os.str();
 }
 
