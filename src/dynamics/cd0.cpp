@@ -24,7 +24,7 @@ void Cd0::solve(const ForceField& forces, const Box& box, std::span<const double
         bx_[static_cast<std::size_t>(c.i)] -= rate * c.ry;
         bx_[static_cast<std::size_t>(c.j)] += rate * c.ry;
     }
-    solver_->solve(pairs_, bx_, by_, ux, uy);
+    last_ = solver_->solve(pairs_, bx_, by_, ux, uy);
 }
 
 void Cd0::prepare(System& sys, ForceField& forces, double rate) {

@@ -25,6 +25,9 @@ class Cd0 final : public Model {
     void advance(System& sys, ForceField& forces, double dt, double rate) override;
     double nonaffine_velocity_sq(const System& sys) const override;
 
+    /// Krylov iterations of the most recent solve (diagnostics, benchmarks).
+    linalg::SolveInfo last_solve() const { return last_; }
+
   private:
     /// Solve for u at positions (x, y) with forces (fx, fy) into (ux, uy).
     void solve(const ForceField& forces, const Box& box, std::span<const double> x,
@@ -33,6 +36,7 @@ class Cd0 final : public Model {
                std::span<double> uy);
 
     ModelParams params_;
+    linalg::SolveInfo last_;
     std::unique_ptr<linalg::ContactSolver> solver_;
     std::vector<linalg::ContactPair> pairs_;
     std::vector<double> bx_, by_, x0_, y0_, fx1_, fy1_, ux1_, uy1_;

@@ -1,0 +1,51 @@
+// CD0 against RD0 per step at φ = 0.84 (harmonic, Euler, Δt = 0.2, γ̇ = 1e-4): particle-steps
+// per second and the Krylov iterations per solve. Solver options come from the command line
+// through PETSc's options database, e.g.  jamsim_bench_cd0 -cd0_pc_type icc
+#include <benchmark/benchmark.h>
+#include <petscsys.h>
+
+#include "jamsim/dynamics/cd0.hpp"
+#include "jamsim/dynamics/force_field.hpp"
+#include "jamsim/dynamics/rd0.hpp"
+#include "jamsim/dynamics/replica.hpp"
+
+using namespace jamsim;
+
+template <class ModelT> static void run_model(benchmark::State& state) {
+    ReplicaParams p;
+    p.n = state.range(0);
+    p.phi = 0.84;
+    p.rate = 1e-4;
+    System sys = initial_system(p);
+    ForceField ff(potential::make_soft_sphere(2.0), p.skin);
+    ModelT model(ModelParams{});
+    for (int s = 0; s < 1000; ++s) {  // untimed: leave the random start behind
+        ff.compute(sys, Tally::ForcesOnly);
+        model.prepare(sys, ff, p.rate);
+        model.advance(sys, ff, p.dt, p.rate);
+    }
+    double iterations = 0;
+    for (auto _ : state) {
+        ff.compute(sys, Tally::ForcesOnly);
+        model.prepare(sys, ff, p.rate);
+        model.advance(sys, ff, p.dt, p.rate);
+        if constexpr (std::is_same_v<ModelT, Cd0>)
+            iterations += model.last_solve().iterations_x + model.last_solve().iterations_y;
+    }
+    state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * p.n);
+    state.counters["krylov_its_per_solve"] = iterations / (2.0 * static_cast<double>(state.iterations()));
+}
+static void BM_Rd0Step(benchmark::State& s) { run_model<Rd0>(s); }
+static void BM_Cd0Step(benchmark::State& s) { run_model<Cd0>(s); }
+BENCHMARK(BM_Rd0Step)->ArgName("N")->Arg(1024)->Arg(16384)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Cd0Step)->ArgName("N")->Arg(1024)->Arg(16384)->Unit(benchmark::kMicrosecond);
+
+int main(int argc, char** argv) {
+    benchmark::Initialize(&argc, argv);
+    // Remaining arguments are PETSc options (-cd0_ksp_type, -cd0_pc_type, -cd0_ksp_rtol, ...).
+    PetscInitialize(&argc, &argv, nullptr, nullptr);
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    PetscFinalize();
+    return 0;
+}
