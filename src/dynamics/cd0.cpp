@@ -8,8 +8,15 @@ void Cd0::solve(const ForceField& forces, const Box& box, std::span<const double
                 std::span<double> uy) {
     const std::size_t n = x.size();
     if (!solver_) solver_ = std::make_unique<linalg::ContactSolver>(n, params_.delta);
-    const std::vector<Contact> contacts = find_contacts(forces.list(), box, x, y);
-    pairs_.resize(contacts.size());
+    // Candidate pairs = the neighbour list (its pattern changes only at a rebuild).
+    const NeighborList& list = forces.list();
+    if (list.builds() != pairs_version_) {
+        pairs_.resize(list.size());
+        for (std::size_t k = 0; k < list.size(); ++k)
+            pairs_[k] = {list.owner()[k], list.neighbor()[k]};
+        pairs_version_ = list.builds();
+    }
+    in_contact_.assign(list.size(), 0);
     bx_.resize(n);
     by_.resize(n);
     const double inv_kd = 1.0 / params_.kd;
@@ -17,14 +24,17 @@ void Cd0::solve(const ForceField& forces, const Box& box, std::span<const double
         bx_[i] = fx[i] * inv_kd;
         by_[i] = fy[i] * inv_kd;
     }
-    // the affine part of the contact drag: −γ̇ Σ_j [y_i − y_j] (the k_d cancels)
-    for (std::size_t k = 0; k < contacts.size(); ++k) {
-        const Contact& c = contacts[k];
-        pairs_[k] = {c.i, c.j};
-        bx_[static_cast<std::size_t>(c.i)] -= rate * c.ry;
-        bx_[static_cast<std::size_t>(c.j)] += rate * c.ry;
+    // Contacts and the affine part of the contact drag: −γ̇ Σ_j [y_i − y_j] (k_d cancels).
+    const auto sx = list.shift_x(), sy = list.shift_y(), contact = list.contact();
+    for (std::size_t k = 0; k < list.size(); ++k) {
+        const auto i = static_cast<std::size_t>(pairs_[k].i), j = static_cast<std::size_t>(pairs_[k].j);
+        const Vec2 r = box.lab(x[i] - x[j] + sx[k], y[i] - y[j] + sy[k]);
+        if (norm2(r) >= contact[k] * contact[k]) continue;
+        in_contact_[k] = 1;
+        bx_[i] -= rate * r.y;
+        bx_[j] += rate * r.y;
     }
-    last_ = solver_->solve(pairs_, bx_, by_, ux, uy);
+    last_ = solver_->solve(pairs_, in_contact_, pairs_version_, bx_, by_, ux, uy);
 }
 
 void Cd0::prepare(System& sys, ForceField& forces, double rate) {

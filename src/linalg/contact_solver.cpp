@@ -48,58 +48,70 @@ struct ContactSolver::Impl {
     Mat A = nullptr;
     Vec b = nullptr, x = nullptr;
     KSP ksp = nullptr;
-    std::vector<ContactPair> pattern;  // contact set the Mat's pattern was built for
-    // CSR of the current contacts (neighbours of each row, diagonal first)
+    std::size_t version = static_cast<std::size_t>(-1);  // pattern the Mat was built for
+    bool refresh_pc = true;
+    // CSR over the candidate pairs (diagonal first); slot[k] = positions of pair k's two
+    // off-diagonal entries, so values can be refilled without searching.
     std::vector<PetscInt> start, cols;
     std::vector<PetscScalar> vals;
+    std::vector<std::size_t> slot_ij, slot_ji;
 
-    void build_rows(std::span<const ContactPair> contacts) {
+    void build_pattern(std::span<const ContactPair> pairs) {
         std::vector<PetscInt> degree(static_cast<std::size_t>(n), 0);
-        for (const auto& c : contacts) {
+        for (const auto& c : pairs) {
             ++degree[static_cast<std::size_t>(c.i)];
             ++degree[static_cast<std::size_t>(c.j)];
         }
         start.assign(static_cast<std::size_t>(n) + 1, 0);
-        for (PetscInt r = 0; r < n; ++r)
-            start[static_cast<std::size_t>(r) + 1] = start[static_cast<std::size_t>(r)] + 1 +
-                                                     degree[static_cast<std::size_t>(r)];
+        for (std::size_t r = 0; r < static_cast<std::size_t>(n); ++r)
+            start[r + 1] = start[r] + 1 + degree[r];
         cols.assign(static_cast<std::size_t>(start.back()), 0);
-        vals.assign(cols.size(), -1.0);
+        vals.assign(cols.size(), 0.0);
         std::vector<PetscInt> fill(start.begin(), start.end() - 1);
-        for (PetscInt r = 0; r < n; ++r) {
-            const auto k = static_cast<std::size_t>(fill[static_cast<std::size_t>(r)]++);
-            cols[k] = r;
-            vals[k] = static_cast<PetscScalar>(degree[static_cast<std::size_t>(r)]) + delta;
+        for (PetscInt r = 0; r < n; ++r) cols[static_cast<std::size_t>(fill[static_cast<std::size_t>(r)]++)] = r;
+        slot_ij.resize(pairs.size());
+        slot_ji.resize(pairs.size());
+        for (std::size_t k = 0; k < pairs.size(); ++k) {
+            const auto i = static_cast<std::size_t>(pairs[k].i), j = static_cast<std::size_t>(pairs[k].j);
+            slot_ij[k] = static_cast<std::size_t>(fill[i]++);
+            cols[slot_ij[k]] = pairs[k].j;
+            slot_ji[k] = static_cast<std::size_t>(fill[j]++);
+            cols[slot_ji[k]] = pairs[k].i;
         }
-        for (const auto& c : contacts) {
-            cols[static_cast<std::size_t>(fill[static_cast<std::size_t>(c.i)]++)] = c.j;
-            cols[static_cast<std::size_t>(fill[static_cast<std::size_t>(c.j)]++)] = c.i;
-        }
+        if (A) check(MatDestroy(&A), "MatDestroy");
+        std::vector<PetscInt> nnz(static_cast<std::size_t>(n));
+        for (std::size_t r = 0; r < nnz.size(); ++r) nnz[r] = start[r + 1] - start[r];
+        check(MatCreateSeqAIJ(PETSC_COMM_SELF, n, n, 0, nnz.data(), &A), "MatCreateSeqAIJ");
+        // Keep explicit zeros: the pattern must hold every candidate pair.
+        check(MatSetOption(A, MAT_IGNORE_ZERO_ENTRIES, PETSC_FALSE), "MatSetOption");
+        refresh_pc = true;
     }
 
-    void assemble(std::span<const ContactPair> contacts) {
-        const bool same = A && std::equal(contacts.begin(), contacts.end(), pattern.begin(),
-                                          pattern.end(), [](const auto& p, const auto& q) {
-                                              return p.i == q.i && p.j == q.j;
-                                          });
-        build_rows(contacts);
-        if (!same) {
-            if (A) check(MatDestroy(&A), "MatDestroy");
-            std::vector<PetscInt> nnz(static_cast<std::size_t>(n));
-            for (PetscInt r = 0; r < n; ++r)
-                nnz[static_cast<std::size_t>(r)] =
-                    start[static_cast<std::size_t>(r) + 1] - start[static_cast<std::size_t>(r)];
-            check(MatCreateSeqAIJ(PETSC_COMM_SELF, n, n, 0, nnz.data(), &A), "MatCreateSeqAIJ");
-            pattern.assign(contacts.begin(), contacts.end());
+    void assemble(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,
+                  std::size_t pattern_version) {
+        if (!A || pattern_version != version) {
+            build_pattern(pairs);
+            version = pattern_version;
+        }
+        for (PetscInt r = 0; r < n; ++r) vals[static_cast<std::size_t>(start[static_cast<std::size_t>(r)])] = delta;
+        for (std::size_t k = 0; k < pairs.size(); ++k) {
+            const double v = in_contact[k] ? -1.0 : 0.0;
+            vals[slot_ij[k]] = v;
+            vals[slot_ji[k]] = v;
+            vals[static_cast<std::size_t>(start[static_cast<std::size_t>(pairs[k].i)])] -= v;
+            vals[static_cast<std::size_t>(start[static_cast<std::size_t>(pairs[k].j)])] -= v;
         }
         for (PetscInt r = 0; r < n; ++r) {
-            const auto s = static_cast<std::size_t>(start[static_cast<std::size_t>(r)]);
+            const auto s0 = static_cast<std::size_t>(start[static_cast<std::size_t>(r)]);
             const auto m = start[static_cast<std::size_t>(r) + 1] - start[static_cast<std::size_t>(r)];
-            check(MatSetValues(A, 1, &r, m, &cols[s], &vals[s], INSERT_VALUES), "MatSetValues");
+            check(MatSetValues(A, 1, &r, m, &cols[s0], &vals[s0], INSERT_VALUES), "MatSetValues");
         }
         check(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
         check(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
         check(KSPSetOperators(ksp, A, A), "KSPSetOperators");
+        check(KSPSetReusePreconditioner(ksp, refresh_pc ? PETSC_FALSE : PETSC_TRUE),
+              "KSPSetReusePreconditioner");
+        refresh_pc = false;
     }
 
     int solve_one(std::span<const double> rhs, std::span<double> u, const char* which) {
@@ -118,6 +130,7 @@ struct ContactSolver::Impl {
                                      " did not converge: " + KSPConvergedReasons[reason]);
         PetscInt its = 0;
         check(KSPGetIterationNumber(ksp, &its), "KSPGetIterationNumber");
+        if (its > ContactSolver::refresh_iterations) refresh_pc = true;
         const PetscScalar* q = nullptr;
         check(VecGetArrayRead(x, &q), "VecGetArrayRead");
         std::copy(q, q + n, u.begin());
@@ -138,7 +151,8 @@ ContactSolver::ContactSolver(std::size_t n, double delta) : impl_(new Impl{}) {
         check(KSPSetType(impl_->ksp, KSPCG), "KSPSetType");
         PC pc;
         check(KSPGetPC(impl_->ksp, &pc), "KSPGetPC");
-        check(PCSetType(pc, PCJACOBI), "PCSetType");
+        check(PCSetType(pc, PCCHOLESKY), "PCSetType");
+        check(PCFactorSetMatOrderingType(pc, MATORDERINGND), "PCFactorSetMatOrderingType");
         check(KSPSetTolerances(impl_->ksp, 1e-10, 1e-30, PETSC_DEFAULT, 10000),
               "KSPSetTolerances");
         check(KSPSetInitialGuessNonzero(impl_->ksp, PETSC_TRUE), "KSPSetInitialGuessNonzero");
@@ -159,10 +173,12 @@ ContactSolver::~ContactSolver() {
     impl_ = nullptr;
 }
 
-SolveInfo ContactSolver::solve(std::span<const ContactPair> contacts, std::span<const double> b_x,
+SolveInfo ContactSolver::solve(std::span<const ContactPair> pairs,
+                               std::span<const std::uint8_t> in_contact,
+                               std::size_t pattern_version, std::span<const double> b_x,
                                std::span<const double> b_y, std::span<double> u_x,
                                std::span<double> u_y) {
-    impl_->assemble(contacts);
+    impl_->assemble(pairs, in_contact, pattern_version);
     SolveInfo info;
     info.iterations_x = impl_->solve_one(b_x, u_x, "x");
     info.iterations_y = impl_->solve_one(b_y, u_y, "y");

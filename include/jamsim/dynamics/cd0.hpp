@@ -39,6 +39,8 @@ class Cd0 final : public Model {
     linalg::SolveInfo last_;
     std::unique_ptr<linalg::ContactSolver> solver_;
     std::vector<linalg::ContactPair> pairs_;
+    std::vector<std::uint8_t> in_contact_;
+    std::size_t pairs_version_ = static_cast<std::size_t>(-1);
     std::vector<double> bx_, by_, x0_, y0_, fx1_, fy1_, ux1_, uy1_;
 };
 

@@ -6,7 +6,7 @@
 
 namespace jamsim::linalg {
 
-/// One contact of the CD0 contact matrix (i < j not required).
+/// One candidate pair of the CD0 contact matrix (a neighbour-list pair).
 struct ContactPair {
     std::int32_t i, j;
 };
@@ -28,11 +28,17 @@ class PetscScope {
 };
 
 /// Solves A u = b for the CD0 contact matrix A (thesis eq. 4.15): A_ii = z_i + δ,
-/// A_ij = −1 per contact, with PETSc KSP on PETSC_COMM_SELF. The Mat (SeqAIJ) keeps its
-/// sparsity pattern while the contact set stays the same (values refilled) and is rebuilt
-/// when it changes; the KSP is reused and warm-started from the previous solution.
-/// Defaults: CG + Jacobi, rtol 1e-10; PETSc options with prefix "cd0_" override them
-/// (e.g. -cd0_ksp_type cg -cd0_pc_type icc -cd0_ksp_rtol 1e-8).
+/// A_ij = −1 per contact, with PETSc KSP on PETSC_COMM_SELF.
+///
+/// The Mat (SeqAIJ) has the sparsity pattern of the *neighbour list* (every pair that may
+/// touch before the next list rebuild), with explicit zeros for pairs not in contact, so its
+/// pattern changes only when the list is rebuilt; the values are refilled every step. The
+/// KSP is reused, warm-started from the previous solution, and keeps its preconditioner
+/// while it stays effective: it is recomputed when the pattern changes or when a solve
+/// needed more than `refresh_iterations` Krylov iterations.
+/// Defaults: CG preconditioned by a sparse Cholesky factorisation (nested-dissection
+/// ordering), rtol 1e-10. PETSc options with prefix "cd0_" override them, e.g.
+/// -cd0_pc_type icc, -cd0_pc_type jacobi, -cd0_ksp_rtol 1e-8.
 class ContactSolver {
   public:
     ContactSolver(std::size_t n, double delta);
@@ -41,9 +47,15 @@ class ContactSolver {
     ContactSolver& operator=(const ContactSolver&) = delete;
 
     /// Solve A u_x = b_x and A u_y = b_y; u_x, u_y hold the initial guess on entry.
+    /// `pairs` are the candidate pairs, `in_contact[k]` says whether pair k touches now;
+    /// `pattern_version` changes whenever `pairs` changes (the list's build count).
     /// Throws std::runtime_error naming the KSP converged reason when a solve diverges.
-    SolveInfo solve(std::span<const ContactPair> contacts, std::span<const double> b_x,
+    SolveInfo solve(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,
+                    std::size_t pattern_version, std::span<const double> b_x,
                     std::span<const double> b_y, std::span<double> u_x, std::span<double> u_y);
+
+    /// Iterations above which the preconditioner is recomputed for the next solve.
+    static constexpr int refresh_iterations = 20;
 
   private:
     struct Impl;
