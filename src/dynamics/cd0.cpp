@@ -7,7 +7,7 @@ void Cd0::solve(const ForceField& forces, const Box& box, std::span<const double
                 std::span<const double> fy, double rate, std::span<double> ux,
                 std::span<double> uy) {
     const std::size_t n = x.size();
-    if (!solver_) solver_ = std::make_unique<linalg::ContactSolver>(n, params_.delta);
+    if (!solver_) solver_ = std::make_unique<linalg::ContactSolver>(n, params_.delta, params_.petsc_options);
     // Candidate pairs = the neighbour list (its pattern changes only at a rebuild).
     const NeighborList& list = forces.list();
     if (list.builds() != pairs_version_) {

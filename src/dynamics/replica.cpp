@@ -99,7 +99,7 @@ ReplicaResult run_replica(const ReplicaParams& p, const std::function<void()>& a
     ReplicaResult result{TimeSeries{}, initial_system(p)};
     System& sys = result.final_state;
     ForceField forces(potential::make_soft_sphere(p.alpha), p.skin);
-    auto model = make_model(p.model, ModelParams{p.kd, p.integrator, p.delta});
+    auto model = make_model(p.model, ModelParams{p.kd, p.integrator, p.delta, p.petsc_options});
     const Schedule plan = schedule_of(p);
     const double inv_n = 1.0 / static_cast<double>(p.n);
     const std::int64_t evals_per_step = p.integrator == Integrator::Heun ? 2 : 1;

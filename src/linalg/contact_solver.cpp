@@ -139,9 +139,12 @@ struct ContactSolver::Impl {
     }
 };
 
-ContactSolver::ContactSolver(std::size_t n, double delta) : impl_(new Impl{}) {
+ContactSolver::ContactSolver(std::size_t n, double delta, const std::string& options)
+    : impl_(new Impl{}) {
     try {
         ensure_petsc();
+        if (!options.empty())
+            check(PetscOptionsInsertString(nullptr, options.c_str()), "PetscOptionsInsertString");
         impl_->n = static_cast<PetscInt>(n);
         impl_->delta = delta;
         check(VecCreateSeq(PETSC_COMM_SELF, impl_->n, &impl_->b), "VecCreateSeq");

@@ -17,6 +17,7 @@ struct ModelParams {
     double kd = 1.0;                          ///< dissipation coefficient k_d
     Integrator integrator = Integrator::Euler;
     double delta = 1e-3;                      ///< CD0 substrate drag δ = k_0/k_d
+    std::string petsc_options = "";           ///< CD0: extra PETSc options (prefix cd0_)
 };
 
 /// A dynamical model advances a System under constant shear rate. The driver calls, per step:

@@ -29,6 +29,7 @@ struct ReplicaParams {
     double skin = 0.3;              ///< neighbour-list skin, d_s
     double kd = 1.0;                ///< dissipation coefficient k_d
     double delta = 1e-3;            ///< CD0 substrate drag δ = k_0/k_d (on u, see Cd0)
+    std::string petsc_options;      ///< CD0 solver options, e.g. "-cd0_pc_type icc"
     Integrator integrator = Integrator::Euler;
     std::uint64_t seed = 1;
     std::uint32_t replica = 0;      ///< replica id within a campaign (part of the RNG key)

@@ -41,7 +41,9 @@ class PetscScope {
 /// -cd0_pc_type icc, -cd0_pc_type jacobi, -cd0_ksp_rtol 1e-8.
 class ContactSolver {
   public:
-    ContactSolver(std::size_t n, double delta);
+    /// `options`: extra PETSc options (e.g. "-cd0_pc_type icc"), inserted into the options
+    /// database before the KSP reads it.
+    ContactSolver(std::size_t n, double delta, const std::string& options = "");
     ~ContactSolver();
     ContactSolver(const ContactSolver&) = delete;
     ContactSolver& operator=(const ContactSolver&) = delete;
