@@ -7,7 +7,6 @@ void Cd0::solve(const ForceField& forces, const Box& box, std::span<const double
                 std::span<const double> fy, double rate, std::span<double> ux,
                 std::span<double> uy) {
     const std::size_t n = x.size();
-    if (!solver_) solver_ = std::make_unique<linalg::ContactSolver>(n, params_.delta, params_.petsc_options);
     // Candidate pairs = the neighbour list (its pattern changes only at a rebuild).
     const NeighborList& list = forces.list();
     if (list.builds() != pairs_version_) {
@@ -34,7 +33,14 @@ void Cd0::solve(const ForceField& forces, const Box& box, std::span<const double
         bx_[i] -= rate * r.y;
         bx_[j] += rate * r.y;
     }
-    last_ = solver_->solve(pairs_, in_contact_, pairs_version_, bx_, by_, ux, uy);
+    if (params_.solver == "eigen") {
+        if (!eigen_) eigen_ = std::make_unique<linalg::EigenContactSolver>(n, params_.delta);
+        last_ = eigen_->solve(pairs_, in_contact_, pairs_version_, bx_, by_, ux, uy);
+    } else {
+        if (!solver_)
+            solver_ = std::make_unique<linalg::ContactSolver>(n, params_.delta, params_.petsc_options);
+        last_ = solver_->solve(pairs_, in_contact_, pairs_version_, bx_, by_, ux, uy);
+    }
 }
 
 void Cd0::prepare(System& sys, ForceField& forces, double rate) {

@@ -59,6 +59,8 @@ std::vector<ParamError> validate(const ReplicaParams& p) {
     if (!finite_positive(p.skin)) e.push_back({"skin", str(p.skin), "skin > 0"});
     if (!finite_positive(p.kd)) e.push_back({"kd", str(p.kd), "kd > 0"});
     if (!finite_positive(p.delta)) e.push_back({"delta", str(p.delta), "delta > 0"});
+    if (p.solver != "petsc" && p.solver != "eigen")
+        e.push_back({"solver", p.solver, "petsc or eigen"});
     return e;
 }
 
@@ -99,7 +101,7 @@ ReplicaResult run_replica(const ReplicaParams& p, const std::function<void()>& a
     ReplicaResult result{TimeSeries{}, initial_system(p)};
     System& sys = result.final_state;
     ForceField forces(potential::make_soft_sphere(p.alpha), p.skin);
-    auto model = make_model(p.model, ModelParams{p.kd, p.integrator, p.delta, p.petsc_options});
+    auto model = make_model(p.model, ModelParams{p.kd, p.integrator, p.delta, p.petsc_options, p.solver});
     const Schedule plan = schedule_of(p);
     const double inv_n = 1.0 / static_cast<double>(p.n);
     const std::int64_t evals_per_step = p.integrator == Integrator::Heun ? 2 : 1;

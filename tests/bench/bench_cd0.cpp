@@ -11,14 +11,16 @@
 
 using namespace jamsim;
 
-template <class ModelT> static void run_model(benchmark::State& state) {
+template <class ModelT> static void run_model(benchmark::State& state, const char* solver = "petsc") {
     ReplicaParams p;
     p.n = state.range(0);
     p.phi = 0.84;
     p.rate = 1e-4;
     System sys = initial_system(p);
     ForceField ff(potential::make_soft_sphere(2.0), p.skin);
-    ModelT model(ModelParams{});
+    ModelParams params;
+    params.solver = solver;
+    ModelT model(params);
     for (int s = 0; s < 1000; ++s) {  // untimed: leave the random start behind
         ff.compute(sys, Tally::ForcesOnly);
         model.prepare(sys, ff, p.rate);
@@ -37,8 +39,10 @@ template <class ModelT> static void run_model(benchmark::State& state) {
 }
 static void BM_Rd0Step(benchmark::State& s) { run_model<Rd0>(s); }
 static void BM_Cd0Step(benchmark::State& s) { run_model<Cd0>(s); }
+static void BM_Cd0EigenStep(benchmark::State& s) { run_model<Cd0>(s, "eigen"); }
 BENCHMARK(BM_Rd0Step)->ArgName("N")->Arg(1024)->Arg(16384)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Cd0Step)->ArgName("N")->Arg(1024)->Arg(16384)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Cd0EigenStep)->ArgName("N")->Arg(1024)->Arg(16384)->Unit(benchmark::kMicrosecond);
 
 int main(int argc, char** argv) {
     benchmark::Initialize(&argc, argv);

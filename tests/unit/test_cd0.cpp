@@ -18,13 +18,16 @@ using jamsim::testing::random_configuration;
 TEST(Cd0, ContactSolveMatchesDenseEigen) {
     // Tight solver tolerance for the comparison (set before the solver is created).
     ASSERT_EQ(PetscOptionsSetValue(nullptr, "-cd0_ksp_rtol", "1e-14"), 0);
+    for (const char* solver : {"petsc", "eigen"})
     for (std::int64_t n : {40, 300})
         for (double gamma : {-0.45, 0.0, 0.3}) {
             System sys = random_configuration(n, 0.86, gamma, 17);
             ForceField ff(potential::make_soft_sphere(2.0), 0.3);
             ff.compute(sys);
             const double rate = 0.01, kd = 1.5, delta = 1e-2;
-            Cd0 model(ModelParams{kd, Integrator::Euler, delta});
+            ModelParams params{kd, Integrator::Euler, delta};
+            params.solver = solver;
+            Cd0 model(params);
             model.prepare(sys, ff, rate);
             const Particles& p = sys.particles;
             const auto N = static_cast<Eigen::Index>(p.size());
@@ -57,7 +60,7 @@ TEST(Cd0, ContactSolveMatchesDenseEigen) {
             const Eigen::VectorXd ux = ldlt.solve(bx), uy = ldlt.solve(by);
             const double scale = std::max(ux.cwiseAbs().maxCoeff(), uy.cwiseAbs().maxCoeff());
             for (Eigen::Index i = 0; i < N; ++i) {
-                EXPECT_NEAR(p.ux[static_cast<std::size_t>(i)], ux[i], 1e-9 * scale);
+                EXPECT_NEAR(p.ux[static_cast<std::size_t>(i)], ux[i], 1e-9 * scale) << solver;
                 EXPECT_NEAR(p.uy[static_cast<std::size_t>(i)], uy[i], 1e-9 * scale);
             }
             // Σ_i (A u)_i = δ Σ_i u_i = Σ_i b_i = 0: no net non-affine motion.

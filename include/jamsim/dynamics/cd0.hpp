@@ -5,6 +5,7 @@
 #include "jamsim/dynamics/model.hpp"
 #include "jamsim/force/pair_forces.hpp"
 #include "jamsim/linalg/contact_solver.hpp"
+#include "jamsim/linalg/eigen_contact_solver.hpp"
 
 namespace jamsim {
 
@@ -38,6 +39,7 @@ class Cd0 final : public Model {
     ModelParams params_;
     linalg::SolveInfo last_;
     std::unique_ptr<linalg::ContactSolver> solver_;
+    std::unique_ptr<linalg::EigenContactSolver> eigen_;
     std::vector<linalg::ContactPair> pairs_;
     std::vector<std::uint8_t> in_contact_;
     std::size_t pairs_version_ = static_cast<std::size_t>(-1);
