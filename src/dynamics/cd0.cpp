@@ -16,6 +16,8 @@ void Cd0::solve(const ForceField& forces, const Box& box, std::span<const double
         pairs_version_ = list.builds();
     }
     in_contact_.assign(list.size(), 0);
+    contact_rx_.resize(list.size());
+    contact_ry_.resize(list.size());
     bx_.resize(n);
     by_.resize(n);
     const double inv_kd = 1.0 / params_.kd;
@@ -28,6 +30,8 @@ void Cd0::solve(const ForceField& forces, const Box& box, std::span<const double
     for (std::size_t k = 0; k < list.size(); ++k) {
         const auto i = static_cast<std::size_t>(pairs_[k].i), j = static_cast<std::size_t>(pairs_[k].j);
         const Vec2 r = box.lab(x[i] - x[j] + sx[k], y[i] - y[j] + sy[k]);
+        contact_rx_[k] = r.x;
+        contact_ry_[k] = r.y;
         if (norm2(r) >= contact[k] * contact[k]) continue;
         in_contact_[k] = 1;
         bx_[i] -= rate * r.y;
@@ -80,6 +84,27 @@ void Cd0::advance(System& sys, ForceField& forces, double dt, double rate) {
         p.y[i] = y0_[i] + half * (p.uy[i] + uy1_[i]);
     }
     apply_strain(sys, forces, gamma1);
+}
+
+Dissipation Cd0::dissipation(const System& sys, double rate) const {
+    const Particles& p = sys.particles;
+    Dissipation d;
+    double vxx = 0, vyy = 0, vyx = 0;
+    for (std::size_t k = 0; k < pairs_.size(); ++k) {
+        if (!in_contact_[k]) continue;
+        const auto i = static_cast<std::size_t>(pairs_[k].i), j = static_cast<std::size_t>(pairs_[k].j);
+        const double wx = p.ux[i] - p.ux[j] + rate * contact_ry_[k];  // relative lab velocity
+        const double wy = p.uy[i] - p.uy[j];
+        d.power += params_.kd * (wx * wx + wy * wy);
+        const double fx = -params_.kd * wx, fy = -params_.kd * wy;  // on i from j
+        vxx += contact_rx_[k] * fx;
+        vyy += contact_ry_[k] * fy;
+        vyx += contact_ry_[k] * fx;
+    }
+    d.power += params_.kd * params_.delta * static_cast<double>(p.size()) * nonaffine_velocity_sq(sys);
+    d.pressure = 0.5 * (vxx + vyy) / sys.box.area();
+    d.shear_stress = -vyx / sys.box.area();
+    return d;
 }
 
 double Cd0::nonaffine_velocity_sq(const System& sys) const {

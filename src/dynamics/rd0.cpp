@@ -36,6 +36,11 @@ void Rd0::advance(System& sys, ForceField& forces, double dt, double rate) {
     apply_strain(sys, forces, gamma1);
 }
 
+Dissipation Rd0::dissipation(const System& sys, double /*rate*/) const {
+    return {params_.kd * static_cast<double>(sys.particles.size()) * nonaffine_velocity_sq(sys),
+            0.0, 0.0};
+}
+
 double Rd0::nonaffine_velocity_sq(const System& sys) const {
     const Particles& p = sys.particles;
     double sum = 0.0;

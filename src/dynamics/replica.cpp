@@ -112,13 +112,19 @@ ReplicaResult run_replica(const ReplicaParams& p, const std::function<void()>& a
         model->prepare(sys, forces, p.rate);
         if (sample_now) {
             const double t = static_cast<double>(step) * p.dt;
+            const Dissipation dis = model->dissipation(sys, p.rate);
+            const double sigma = f.shear_stress(sys.box);
             const Sample s{t,
                            p.rate * t,
                            f.energy * inv_n,
                            f.pressure(sys.box),
-                           f.shear_stress(sys.box),
+                           sigma,
                            2.0 * static_cast<double>(f.contacts) * inv_n,
-                           model->nonaffine_velocity_sq(sys)};
+                           model->nonaffine_velocity_sq(sys),
+                           dis.pressure,
+                           dis.shear_stress,
+                           (sigma + dis.shear_stress) * p.rate * sys.box.area() * inv_n,
+                           dis.power * inv_n};
             if (!std::isfinite(s.energy_per_particle) || !std::isfinite(s.pressure))
                 throw std::runtime_error("non-finite state at t = " + str(t) +
                                          " (time step too large?)");

@@ -25,6 +25,9 @@ class Cd0 final : public Model {
     void prepare(System& sys, ForceField& forces, double rate) override;
     void advance(System& sys, ForceField& forces, double dt, double rate) override;
     double nonaffine_velocity_sq(const System& sys) const override;
+    /// P = k_d Σ_contacts |u_i − u_j + γ̇ [y_i − y_j] x̂|² + k_0 Σ |u_i|²; the contact
+    /// dissipative forces f^dis_ij = −k_d (u_i − u_j + γ̇ r_ij,y x̂) give the stress.
+    Dissipation dissipation(const System& sys, double rate) const override;
 
     /// Krylov iterations of the most recent solve (diagnostics, benchmarks).
     linalg::SolveInfo last_solve() const { return last_; }
@@ -42,6 +45,7 @@ class Cd0 final : public Model {
     std::unique_ptr<linalg::EigenContactSolver> eigen_;
     std::vector<linalg::ContactPair> pairs_;
     std::vector<std::uint8_t> in_contact_;
+    std::vector<double> contact_rx_, contact_ry_;  // lab separation of each candidate pair
     std::size_t pairs_version_ = static_cast<std::size_t>(-1);
     std::vector<double> bx_, by_, x0_, y0_, fx1_, fy1_, ux1_, uy1_;
 };

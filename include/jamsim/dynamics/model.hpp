@@ -9,6 +9,13 @@
 
 namespace jamsim {
 
+/// Dissipation of the state whose forces and velocities are current.
+struct Dissipation {
+    double power = 0.0;         ///< total dissipated power, k_e/τ
+    double pressure = 0.0;      ///< dissipative contact-force pressure, k_e/d_s²
+    double shear_stress = 0.0;  ///< −(1/A) Σ_contacts r_ij,y f^dis_ij,x (does work with the flow)
+};
+
 /// Time integration scheme for first-order (overdamped) models.
 enum class Integrator { Euler, Heun };
 
@@ -43,6 +50,10 @@ class Model {
     /// Mean square non-affine velocity (1/N) Σ |u_i|², u = v − γ̇ y x̂, of the state whose
     /// forces are in sys.particles (units (d_s/τ)²).
     virtual double nonaffine_velocity_sq(const System& sys) const = 0;
+
+    /// Dissipated power and the stress of dissipative *contact* forces (zero for drag
+    /// against the reservoir, which is a one-body force), for the state after prepare().
+    virtual Dissipation dissipation(const System& sys, double rate) const = 0;
 };
 
 /// Registry: a model by name ("RD0"); throws std::invalid_argument listing the known names.

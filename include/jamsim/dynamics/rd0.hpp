@@ -15,6 +15,8 @@ class Rd0 final : public Model {
     std::string_view name() const override { return "RD0"; }
     void advance(System& sys, ForceField& forces, double dt, double rate) override;
     double nonaffine_velocity_sq(const System& sys) const override;
+    /// P = k_d Σ |u_i|² (drag against the reservoir); no contact stress.
+    Dissipation dissipation(const System& sys, double rate) const override;
 
   private:
     ModelParams params_;

@@ -14,6 +14,10 @@ struct Sample {
     double shear_stress;           ///< σ = −(1/A) Σ_pairs r_ij,x f_ij,y, k_e/d_s²
     double contact_number;         ///< z = 2 N_c / N, contacts per particle (rattlers included)
     double nonaffine_velocity_sq;  ///< (1/N) Σ |u_i|², u = v − γ̇ y x̂, (d_s/τ)²
+    double pressure_dissipative;   ///< p of the dissipative contact forces, k_e/d_s²
+    double shear_stress_dissipative;  ///< −(1/A) Σ r_ij,y f^dis_ij,x, k_e/d_s²
+    double input_power;            ///< (σ + σ_dis) γ̇ A / N: work of the shear, k_e/τ per disk
+    double dissipated_power;       ///< dissipated power / N, k_e/τ per disk
 };
 
 /// A named column of a time series, as written to the archive.
@@ -35,6 +39,15 @@ inline constexpr ColumnInfo kSampleColumns[] = {
     {"contact_number", "1", "z = 2 N_contacts / N (rattlers included)", &Sample::contact_number},
     {"nonaffine_velocity_sq", "d_s^2/tau^2", "(1/N) sum_i |v_i - rate y_i x|^2",
      &Sample::nonaffine_velocity_sq},
+    {"pressure_dissipative", "k_e/d_s^2", "pressure of the dissipative contact forces (CD0)",
+     &Sample::pressure_dissipative},
+    {"shear_stress_dissipative", "k_e/d_s^2",
+     "-(1/A) sum_contacts r_ij,y f^dis_ij,x (CD0; 0 for reservoir drag)",
+     &Sample::shear_stress_dissipative},
+    {"input_power", "k_e/tau", "(shear_stress + shear_stress_dissipative) rate A / N",
+     &Sample::input_power},
+    {"dissipated_power", "k_e/tau", "dissipated power per disk (RD0: k_d |u|^2 averaged)",
+     &Sample::dissipated_power},
 };
 
 /// Rows of samples, stored by column.
