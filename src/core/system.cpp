@@ -19,6 +19,12 @@ double disk_area_sum(const Particles& p) {
 
 double box_side_for(const Particles& p, double phi) { return std::sqrt(disk_area_sum(p) / phi); }
 
+double box_side_for(std::int64_t n, double phi, double size_ratio) {
+    const double small = static_cast<double>(size_ratio == 1.0 ? n : n - n / 2);
+    const double large = static_cast<double>(size_ratio == 1.0 ? 0 : n / 2);
+    return std::sqrt(std::numbers::pi / 4.0 * (small + large * size_ratio * size_ratio) / phi);
+}
+
 double packing_fraction(const Particles& p, const Box& box) {
     return disk_area_sum(p) / box.area();
 }

@@ -36,6 +36,14 @@ void Rd0::advance(System& sys, ForceField& forces, double dt, double rate) {
     apply_strain(sys, forces, gamma1);
 }
 
+void Rd0::store_velocities(System& sys) const {
+    Particles& p = sys.particles;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        p.ux[i] = p.fx[i] / params_.kd;
+        p.uy[i] = p.fy[i] / params_.kd;
+    }
+}
+
 Dissipation Rd0::dissipation(const System& sys, double /*rate*/) const {
     return {params_.kd * static_cast<double>(sys.particles.size()) * nonaffine_velocity_sq(sys),
             0.0, 0.0};

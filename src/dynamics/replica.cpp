@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "jamsim/dynamics/force_field.hpp"
+#include "jamsim/observe/velocity_correlation.hpp"
 
 namespace jamsim {
 
@@ -104,6 +105,7 @@ ReplicaResult run_replica(const ReplicaParams& p, const std::function<void()>& a
     auto model = make_model(p.model, ModelParams{p.kd, p.integrator, p.delta, p.petsc_options, p.solver});
     const Schedule plan = schedule_of(p);
     const double inv_n = 1.0 / static_cast<double>(p.n);
+    VelocityCorrelation correlation(sys.box.side());
     const std::int64_t evals_per_step = p.integrator == Integrator::Heun ? 2 : 1;
 
     for (std::int64_t step = 0;; ++step) {
@@ -129,6 +131,11 @@ ReplicaResult run_replica(const ReplicaParams& p, const std::function<void()>& a
                 throw std::runtime_error("non-finite state at t = " + str(t) +
                                          " (time step too large?)");
             result.series.push(s);
+            const bool steady = p.rate > 0.0 ? s.strain >= p.transient : s.time >= p.transient;
+            if (steady) {
+                model->store_velocities(sys);
+                correlation.accumulate(sys);
+            }
             if (after_sample) after_sample();
         }
         if (step == plan.steps) break;
@@ -137,6 +144,8 @@ ReplicaResult run_replica(const ReplicaParams& p, const std::function<void()>& a
     }
     result.force_evaluations += 1;  // the final state's evaluation
     result.list_builds = static_cast<std::int64_t>(forces.list().builds());
+    result.correlation_x = correlation.bin_centres();
+    result.correlation_g = correlation.g();
     result.wall_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;

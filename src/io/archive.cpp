@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "jamsim/core/version.hpp"
+#include "jamsim/observe/velocity_correlation.hpp"
 #include "jamsim/parallel/mpi.hpp"
 
 namespace jamsim {
@@ -216,6 +217,14 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
                "d_s",
                std::string(name) + " of the final configuration by particle index (NaN past N); "
                                    "x, y sheared coordinates in [0, L), lab x = x + box_strain y");
+    hsize_t bins = 1;
+    for (const auto& p : spec.replicas)
+        bins = std::max<hsize_t>(bins, VelocityCorrelation::bins_for(box_side_for(p.n, p.phi, p.size_ratio)));
+    h5::create_group(f, "correlation").close("correlation");
+    create_dataset(f, "/correlation/x", H5T_NATIVE_DOUBLE, {replicas, bins}, &nan, "d_s",
+                   "bin centres of g_y: lab x distance of disks within a strip |dy| < 1/2");
+    create_dataset(f, "/correlation/g_y", H5T_NATIVE_DOUBLE, {replicas, bins}, &nan, "1",
+                   "g_y(x) = <u_y(r) u_y(r + x)>/<u_y^2> over the steady state (thesis eq. 4.23)");
     create_dataset(f, "/final/box_side", H5T_NATIVE_DOUBLE, {replicas}, &nan, "d_s", "cell side L");
     create_dataset(f, "/final/box_strain", H5T_NATIVE_DOUBLE, {replicas}, &nan, "1",
            "Lees-Edwards strain gamma in [-1/2, 1/2)");
@@ -285,6 +294,13 @@ void Archive::write_done(std::int64_t replica, const ReplicaResult& result, int 
     write_block(f, "/final/y", H5T_NATIVE_DOUBLE, {r, 0}, {1, n}, fin.y.data());
     write_block(f, "/final/diameter", H5T_NATIVE_DOUBLE, {r, 0}, {1, n}, fin.diameter.data());
     write_block(f, "/final/box_side", H5T_NATIVE_DOUBLE, {r}, {1}, &fin.box_side);
+    const auto bins = static_cast<hsize_t>(result.correlation_g.size());
+    if (bins > 0) {
+        write_block(f, "/correlation/x", H5T_NATIVE_DOUBLE, {r, 0}, {1, bins},
+                    result.correlation_x.data());
+        write_block(f, "/correlation/g_y", H5T_NATIVE_DOUBLE, {r, 0}, {1, bins},
+                    result.correlation_g.data());
+    }
     write_block(f, "/final/box_strain", H5T_NATIVE_DOUBLE, {r}, {1}, &fin.box_strain);
     write_block(f, "/replicas/wall_seconds", H5T_NATIVE_DOUBLE, {r}, {1}, &result.wall_seconds);
     write_block(f, "/replicas/force_evaluations", H5T_NATIVE_INT64, {r}, {1},
@@ -317,7 +333,7 @@ void Archive::import_replica(const std::string& source_path, std::int64_t replic
     // Everything that belongs to one replica; the parameters are equal by the fingerprint.
     std::vector<std::string> paths;
     for (const auto& c : kSampleColumns) paths.push_back(std::string("/timeseries/") + c.name);
-    for (const char* p : {"/final/x", "/final/y", "/final/diameter", "/final/box_side",
+    for (const char* p : {"/correlation/x", "/correlation/g_y", "/final/x", "/final/y", "/final/diameter", "/final/box_side",
                           "/final/box_strain", "/replicas/rank", "/replicas/wall_seconds",
                           "/replicas/force_evaluations", "/replicas/failure_reason",
                           "/replicas/status"})  // status last: it validates the rest

@@ -85,6 +85,14 @@ void write_replica_file(const std::string& path, const ReplicaParams& params,
             ts.close("group timeseries");
         }
         write_final(root, result.final_state);
+        {
+            auto g = h5::create_group(root, "correlation");
+            h5::write_dataset(g.get(), "x", result.correlation_x, "d_s",
+                              "bin centres: lab x distance within a strip |dy| < 1/2");
+            h5::write_dataset(g.get(), "g_y", result.correlation_g, "1",
+                              "g_y(x) = <u_y(r) u_y(r + x)>/<u_y^2> over strain >= transient");
+            g.close("group correlation");
+        }
         h5::check(H5Fflush(root, H5F_SCOPE_GLOBAL), "flush '" + tmp + "'");
         file.close("file '" + tmp + "'");
         sync_to_disk(tmp);

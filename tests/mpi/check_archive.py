@@ -17,7 +17,7 @@ with h5py.File(path, "r") as f:
     assert (r["status"][...] == 2).all(), r["status"][...]
     assert set(r["rank"][...]) == set(range(ranks)), ("every rank computes", r["rank"][...])
     assert (r["wall_seconds"][...] > 0).all()
-    for name in ("timeseries", "final", "replicas"):
+    for name in ("timeseries", "final", "replicas", "correlation"):
         for key, d in f[name].items():
             assert "units" in d.attrs and "description" in d.attrs, (name, key)
     ts = f["timeseries"]

@@ -12,7 +12,7 @@ for f, name in ((a, sys.argv[1]), (b, sys.argv[2])):
     status = f["replicas/status"][...]
     assert (status == 2).all(), f"{name}: not all replicas done: {status}"
 compared = 0
-for group in ("timeseries", "final"):
+for group in ("timeseries", "final", "correlation"):
     for key in a[group]:
         x, y = a[group][key][...], b[group][key][...]
         assert x.shape == y.shape, (group, key)

@@ -15,6 +15,9 @@ struct SizeMix {
 /// Side L of the square cell that gives packing fraction phi = Σ π d_i² / (4 L²).
 double box_side_for(const Particles& p, double phi);
 
+/// Side L for n disks of the 50:50 mixture (size_ratio 1: monodisperse) at phi.
+double box_side_for(std::int64_t n, double phi, double size_ratio);
+
 /// Packing fraction of the particles in the box: Σ π d_i² / (4 L²).
 double packing_fraction(const Particles& p, const Box& box);
 

@@ -54,6 +54,10 @@ class Model {
     /// Dissipated power and the stress of dissipative *contact* forces (zero for drag
     /// against the reservoir, which is a one-body force), for the state after prepare().
     virtual Dissipation dissipation(const System& sys, double rate) const = 0;
+
+    /// Make particles.ux, uy hold the non-affine velocity of the current state (called only
+    /// at samples; models that solve for u have it already).
+    virtual void store_velocities(System& /*sys*/) const {}
 };
 
 /// Registry: a model by name ("RD0"); throws std::invalid_argument listing the known names.

@@ -17,6 +17,7 @@ class Rd0 final : public Model {
     double nonaffine_velocity_sq(const System& sys) const override;
     /// P = k_d Σ |u_i|² (drag against the reservoir); no contact stress.
     Dissipation dissipation(const System& sys, double rate) const override;
+    void store_velocities(System& sys) const override;
 
   private:
     ModelParams params_;

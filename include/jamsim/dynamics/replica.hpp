@@ -60,6 +60,8 @@ Integrator integrator_from_string(const std::string& name);  ///< throws std::in
 struct ReplicaResult {
     TimeSeries series;
     System final_state;
+    std::vector<double> correlation_x = {};  ///< bin centres of g_y(x), d_s
+    std::vector<double> correlation_g = {};  ///< g_y(x) over the steady state (strain ≥ transient)
     std::int64_t force_evaluations = 0;
     std::int64_t list_builds = 0;
     double wall_seconds = 0.0;

@@ -1,0 +1,67 @@
+#include "jamsim/observe/velocity_correlation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+namespace jamsim {
+
+std::size_t VelocityCorrelation::bins_for(double side, double bin_width) {
+    return static_cast<std::size_t>(std::floor(0.5 * side / bin_width));
+}
+
+VelocityCorrelation::VelocityCorrelation(double side, double bin_width, double strip)
+    : side_(side), bin_width_(bin_width), strip_(strip), sum_(bins_for(side, bin_width), 0.0),
+      count_(sum_.size(), 0.0) {}
+
+void VelocityCorrelation::accumulate(const System& sys) {
+    const Particles& p = sys.particles;
+    const std::size_t n = p.size();
+    std::vector<double> yw(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        double xw = p.x[i];
+        yw[i] = p.y[i];
+        sys.box.wrap_into_cell(xw, yw[i]);
+        uy2_sum_ += p.uy[i] * p.uy[i];
+    }
+    uy2_count_ += static_cast<double>(n);
+    std::vector<std::size_t> order(n);
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::sort(order.begin(), order.end(), [&](auto a, auto b) { return yw[a] < yw[b]; });
+    const double half_strip = 0.5 * strip_, half_side = 0.5 * side_;
+    for (std::size_t a = 0; a < n; ++a) {
+        const std::size_t i = order[a];
+        // partners above i in y (wrapping past the top), each unordered pair once
+        for (std::size_t step = 1; step < n; ++step) {
+            const std::size_t j = order[(a + step) % n];
+            double dy = yw[j] - yw[i];
+            if (dy < 0) dy += side_;
+            if (dy >= half_strip) break;
+            const Vec2 r = sys.box.min_image(p.x[i] - p.x[j], p.y[i] - p.y[j]);
+            const double ax = std::abs(r.x);
+            if (std::abs(r.y) >= half_strip || ax >= half_side) continue;
+            const auto bin = static_cast<std::size_t>(ax / bin_width_);
+            if (bin >= sum_.size()) continue;
+            sum_[bin] += p.uy[i] * p.uy[j];
+            count_[bin] += 1.0;
+        }
+    }
+}
+
+std::vector<double> VelocityCorrelation::bin_centres() const {
+    std::vector<double> x(sum_.size());
+    for (std::size_t k = 0; k < x.size(); ++k) x[k] = (static_cast<double>(k) + 0.5) * bin_width_;
+    return x;
+}
+
+std::vector<double> VelocityCorrelation::g() const {
+    std::vector<double> out(sum_.size(), std::numeric_limits<double>::quiet_NaN());
+    if (uy2_count_ == 0 || uy2_sum_ == 0) return out;
+    const double norm = uy2_sum_ / uy2_count_;
+    for (std::size_t k = 0; k < out.size(); ++k)
+        if (count_[k] > 0) out[k] = sum_[k] / count_[k] / norm;
+    return out;
+}
+
+} // namespace jamsim
