@@ -86,7 +86,8 @@ void Cd0::advance(System& sys, ForceField& forces, double dt, double rate) {
     apply_strain(sys, forces, gamma1);
 }
 
-Dissipation Cd0::dissipation(const System& sys, double rate) const {
+Dissipation Cd0::dissipation(const System& sys, const ForceField& /*forces*/,
+                             double rate) const {
     const Particles& p = sys.particles;
     Dissipation d;
     double vxx = 0, vyy = 0, vyx = 0;

@@ -4,6 +4,7 @@
 #include "jamsim/dynamics/model.hpp"
 #include "jamsim/dynamics/cd0.hpp"
 #include "jamsim/dynamics/rd0.hpp"
+#include "jamsim/dynamics/sllod.hpp"
 
 namespace jamsim {
 
@@ -16,6 +17,10 @@ struct Entry {
 constexpr Entry kModels[] = {
     {"RD0", [](const ModelParams& p) -> std::unique_ptr<Model> { return std::make_unique<Rd0>(p); }},
     {"CD0", [](const ModelParams& p) -> std::unique_ptr<Model> { return std::make_unique<Cd0>(p); }},
+    {"RD", [](const ModelParams& p) -> std::unique_ptr<Model> { return std::make_unique<Sllod>(p, Damping::RD, "RD"); }},
+    {"CD", [](const ModelParams& p) -> std::unique_ptr<Model> { return std::make_unique<Sllod>(p, Damping::CD, "CD"); }},
+    {"CDn", [](const ModelParams& p) -> std::unique_ptr<Model> { return std::make_unique<Sllod>(p, Damping::CDn, "CDn"); }},
+    {"CDt", [](const ModelParams& p) -> std::unique_ptr<Model> { return std::make_unique<Sllod>(p, Damping::CDt, "CDt"); }},
 };
 } // namespace
 

@@ -44,7 +44,8 @@ void Rd0::store_velocities(System& sys) const {
     }
 }
 
-Dissipation Rd0::dissipation(const System& sys, double /*rate*/) const {
+Dissipation Rd0::dissipation(const System& sys, const ForceField& /*forces*/,
+                             double /*rate*/) const {
     return {params_.kd * static_cast<double>(sys.particles.size()) * nonaffine_velocity_sq(sys),
             0.0, 0.0};
 }

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "jamsim/dynamics/force_field.hpp"
+#include "jamsim/dynamics/sllod.hpp"
 #include "jamsim/observe/velocity_correlation.hpp"
 
 namespace jamsim {
@@ -60,6 +61,16 @@ std::vector<ParamError> validate(const ReplicaParams& p) {
     if (!finite_positive(p.skin)) e.push_back({"skin", str(p.skin), "skin > 0"});
     if (!finite_positive(p.kd)) e.push_back({"kd", str(p.kd), "kd > 0"});
     if (!finite_positive(p.delta)) e.push_back({"delta", str(p.delta), "delta > 0"});
+    if (!finite_positive(p.mass)) e.push_back({"mass", str(p.mass), "mass > 0"});
+    const std::pair<const char*, Damping> massive[] = {
+        {"RD", Damping::RD}, {"CD", Damping::CD}, {"CDn", Damping::CDn}, {"CDt", Damping::CDt}};
+    for (const auto& [name, damping] : massive)
+        if (p.model == name && finite_positive(p.dt) && finite_positive(p.mass) &&
+            finite_positive(p.kd) && p.dt > sllod_stable_dt(damping, p.mass, p.kd))
+            e.push_back({"dt", str(p.dt),
+                         "dt <= " + str(sllod_stable_dt(damping, p.mass, p.kd)) + " for " + name +
+                             " with mass " + str(p.mass) + " and kd " + str(p.kd) +
+                             " (stability of the integrator)"});
     if (p.solver != "petsc" && p.solver != "eigen")
         e.push_back({"solver", p.solver, "petsc or eigen"});
     return e;
@@ -102,7 +113,7 @@ ReplicaResult run_replica(const ReplicaParams& p, const std::function<void()>& a
     ReplicaResult result{TimeSeries{}, initial_system(p)};
     System& sys = result.final_state;
     ForceField forces(potential::make_soft_sphere(p.alpha), p.skin);
-    auto model = make_model(p.model, ModelParams{p.kd, p.integrator, p.delta, p.petsc_options, p.solver});
+    auto model = make_model(p.model, ModelParams{p.kd, p.integrator, p.delta, p.petsc_options, p.solver, p.mass});
     const Schedule plan = schedule_of(p);
     const double inv_n = 1.0 / static_cast<double>(p.n);
     VelocityCorrelation correlation(sys.box.side());
@@ -114,8 +125,9 @@ ReplicaResult run_replica(const ReplicaParams& p, const std::function<void()>& a
         model->prepare(sys, forces, p.rate);
         if (sample_now) {
             const double t = static_cast<double>(step) * p.dt;
-            const Dissipation dis = model->dissipation(sys, p.rate);
+            const Dissipation dis = model->dissipation(sys, forces, p.rate);
             const double sigma = f.shear_stress(sys.box);
+            const double sigma_total = sigma + dis.shear_stress + dis.shear_stress_kinetic;
             const Sample s{t,
                            p.rate * t,
                            f.energy * inv_n,
@@ -125,8 +137,11 @@ ReplicaResult run_replica(const ReplicaParams& p, const std::function<void()>& a
                            model->nonaffine_velocity_sq(sys),
                            dis.pressure,
                            dis.shear_stress,
-                           (sigma + dis.shear_stress) * p.rate * sys.box.area() * inv_n,
-                           dis.power * inv_n};
+                           sigma_total * p.rate * sys.box.area() * inv_n,
+                           dis.power * inv_n,
+                           dis.kinetic_energy * inv_n,
+                           dis.pressure_kinetic,
+                           dis.shear_stress_kinetic};
             if (!std::isfinite(s.energy_per_particle) || !std::isfinite(s.pressure))
                 throw std::runtime_error("non-finite state at t = " + str(t) +
                                          " (time step too large?)");

@@ -31,7 +31,7 @@ std::vector<Contact> find_contacts(const NeighborList& list, const Box& box,
     for (std::size_t k = 0; k < list.size(); ++k) {
         const auto i = static_cast<std::size_t>(owner[k]), j = static_cast<std::size_t>(neighbor[k]);
         const Vec2 r = box.lab(x[i] - x[j] + sx[k], y[i] - y[j] + sy[k]);
-        if (norm2(r) < contact[k] * contact[k]) out.push_back({owner[k], neighbor[k], r.y});
+        if (norm2(r) < contact[k] * contact[k]) out.push_back({i, j, r.x, r.y});
     }
     return out;
 }

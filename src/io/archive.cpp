@@ -132,6 +132,8 @@ const Column1D kParamColumns[] = {
     {"size_ratio", "1", "large/small diameter", [](const ReplicaParams& p) { return p.size_ratio; }},
     {"skin", "d_s", "neighbour-list skin", [](const ReplicaParams& p) { return p.skin; }},
     {"kd", "k_e tau/d_s^2", "dissipation coefficient", [](const ReplicaParams& p) { return p.kd; }},
+    {"mass", "small-disk mass", "mass of a small disk (massive models; large disks by area)",
+     [](const ReplicaParams& p) { return p.mass; }},
     {"delta", "1", "CD0 substrate drag k_0/k_d (on the non-affine velocity)",
      [](const ReplicaParams& p) { return p.delta; }},
     {"n_samples", "1", "rows of this replica in /timeseries",

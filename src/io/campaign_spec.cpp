@@ -110,7 +110,7 @@ const std::map<std::string, std::string> kKeyLocation = {
     {"transient", "[run] transient"}, {"sample-interval", "[run] sample_interval"},
     {"dt", "[model] dt"},            {"alpha", "[potential] alpha"},
     {"size-ratio", "[system] size_ratio"}, {"skin", "[system] skin"},
-    {"kd", "[model] kd"},             {"delta", "[model] delta"}, {"solver", "[model] solver"},
+    {"kd", "[model] kd"},             {"delta", "[model] delta"}, {"solver", "[model] solver"}, {"mass", "[model] mass"},
 };
 
 struct Point {
@@ -142,7 +142,7 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path) {
     const auto* sweep = r.table(root, "sweep");
     if (!sweep) r.fail("[sweep]", "(missing)", "a [sweep] table");
     r.only_keys(*campaign, "[campaign]", {"name", "output"});
-    r.only_keys(model, "[model]", {"name", "integrator", "dt", "kd", "delta", "petsc_options", "solver"});
+    r.only_keys(model, "[model]", {"name", "integrator", "dt", "kd", "delta", "petsc_options", "solver", "mass"});
     r.only_keys(pot, "[potential]", {"name", "alpha"});
     r.only_keys(system, "[system]", {"size_ratio", "skin"});
     r.only_keys(run, "[run]", {"transient", "strain", "time", "sample_interval"});
@@ -169,6 +169,7 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path) {
     base.delta = r.number(model, "[model]", "delta", base.delta);
     base.petsc_options = r.string(model, "[model]", "petsc_options", "");
     base.solver = r.string(model, "[model]", "solver", base.solver);
+    base.mass = r.number(model, "[model]", "mass", base.mass);
     const std::string pot_name = r.string(pot, "[potential]", "name", "");
     if (!pot_name.empty() && pot.get("alpha"))
         r.fail("[potential] alpha", show(*pot.get("alpha")),
@@ -273,7 +274,7 @@ std::string fingerprint(const CampaignSpec& spec) {
         os << p.replica << ' ' << p.model << ' ' << p.n << ' ' << p.phi << ' ' << p.rate << ' '
            << p.strain << ' ' << p.time << ' ' << p.transient << ' ' << p.sample_interval << ' '
            << p.dt << ' ' << p.alpha << ' ' << p.size_ratio << ' ' << p.skin << ' ' << p.kd
-           << ' ' << to_string(p.integrator) << ' ' << p.seed << ' ' << p.delta << ' ' << p.solver << " [" << p.petsc_options << "]\n";
+           << ' ' << to_string(p.integrator) << ' ' << p.seed << ' ' << p.delta << ' ' << p.solver << ' ' << p.mass << " [" << p.petsc_options << "]\n";
     return os.str();
 }
 

@@ -42,6 +42,7 @@ void write_params(hid_t root, const ReplicaParams& p) {
     h5::write_attribute(root, "delta", p.delta);
     h5::write_attribute(root, "petsc_options", p.petsc_options);
     h5::write_attribute(root, "solver", p.solver);
+    h5::write_attribute(root, "mass", p.mass);
     h5::write_attribute(root, "integrator", to_string(p.integrator));
     h5::write_attribute(root, "seed", static_cast<std::int64_t>(p.seed));
     h5::write_attribute(root, "replica", static_cast<std::int64_t>(p.replica));

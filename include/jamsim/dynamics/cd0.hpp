@@ -27,7 +27,8 @@ class Cd0 final : public Model {
     double nonaffine_velocity_sq(const System& sys) const override;
     /// P = k_d Σ_contacts |u_i − u_j + γ̇ [y_i − y_j] x̂|² + k_0 Σ |u_i|²; the contact
     /// dissipative forces f^dis_ij = −k_d (u_i − u_j + γ̇ r_ij,y x̂) give the stress.
-    Dissipation dissipation(const System& sys, double rate) const override;
+    Dissipation dissipation(const System& sys, const ForceField& forces,
+                            double rate) const override;
 
     /// Krylov iterations of the most recent solve (diagnostics, benchmarks).
     linalg::SolveInfo last_solve() const { return last_; }

@@ -14,6 +14,9 @@ struct Dissipation {
     double power = 0.0;         ///< total dissipated power, k_e/τ
     double pressure = 0.0;      ///< dissipative contact-force pressure, k_e/d_s²
     double shear_stress = 0.0;  ///< −(1/A) Σ_contacts r_ij,y f^dis_ij,x (does work with the flow)
+    double kinetic_energy = 0.0;        ///< ½ Σ m_i |u_i|² (massive models), k_e
+    double pressure_kinetic = 0.0;      ///< (1/2A) Σ m_i |u_i|², k_e/d_s²
+    double shear_stress_kinetic = 0.0;  ///< −(1/A) Σ m_i u_ix u_iy, k_e/d_s²
 };
 
 /// Time integration scheme for first-order (overdamped) models.
@@ -26,6 +29,7 @@ struct ModelParams {
     double delta = 1e-3;                      ///< CD0 substrate drag δ = k_0/k_d
     std::string petsc_options = "";           ///< CD0: extra PETSc options (prefix cd0_)
     std::string solver = "petsc";             ///< CD0 backend: "petsc" (KSP) or "eigen" (LDLT)
+    double mass = 1.0;                        ///< massive models: mass of a small disk
 };
 
 /// A dynamical model advances a System under constant shear rate. The driver calls, per step:
@@ -53,7 +57,8 @@ class Model {
 
     /// Dissipated power and the stress of dissipative *contact* forces (zero for drag
     /// against the reservoir, which is a one-body force), for the state after prepare().
-    virtual Dissipation dissipation(const System& sys, double rate) const = 0;
+    virtual Dissipation dissipation(const System& sys, const ForceField& forces,
+                                    double rate) const = 0;
 
     /// Make particles.ux, uy hold the non-affine velocity of the current state (called only
     /// at samples; models that solve for u have it already).

@@ -16,7 +16,8 @@ class Rd0 final : public Model {
     void advance(System& sys, ForceField& forces, double dt, double rate) override;
     double nonaffine_velocity_sq(const System& sys) const override;
     /// P = k_d Σ |u_i|² (drag against the reservoir); no contact stress.
-    Dissipation dissipation(const System& sys, double rate) const override;
+    Dissipation dissipation(const System& sys, const ForceField& forces,
+                            double rate) const override;
     void store_velocities(System& sys) const override;
 
   private:

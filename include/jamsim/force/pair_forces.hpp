@@ -140,10 +140,10 @@ ForceResult accumulate_pair_forces(const Evaluator& eval, const NeighborList& li
     return out;
 }
 
-/// A pair in contact (r_ij < d_ij) and its lab-frame y separation r_ij,y = [y_i − y_j]_L.
+/// A pair in contact (r_ij < d_ij) and its lab-frame separation (r_y = [y_i − y_j]_L).
 struct Contact {
-    std::int32_t i, j;
-    double ry;
+    std::size_t i, j;
+    double rx, ry;  ///< lab separation r_i − r_j
 };
 
 /// The contacts among the listed pairs, in list order (deterministic).

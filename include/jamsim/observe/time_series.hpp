@@ -16,8 +16,11 @@ struct Sample {
     double nonaffine_velocity_sq;  ///< (1/N) Σ |u_i|², u = v − γ̇ y x̂, (d_s/τ)²
     double pressure_dissipative;   ///< p of the dissipative contact forces, k_e/d_s²
     double shear_stress_dissipative;  ///< −(1/A) Σ r_ij,y f^dis_ij,x, k_e/d_s²
-    double input_power;            ///< (σ + σ_dis) γ̇ A / N: work of the shear, k_e/τ per disk
+    double input_power;            ///< (σ + σ_dis + σ_kin) γ̇ A / N: work of the shear, k_e/τ per disk
     double dissipated_power;       ///< dissipated power / N, k_e/τ per disk
+    double kinetic_energy_per_particle;  ///< ½ Σ m|u|² / N (co-moving frame), k_e
+    double pressure_kinetic;             ///< (1/2A) Σ m |u|², k_e/d_s²
+    double shear_stress_kinetic;         ///< −(1/A) Σ m u_x u_y, k_e/d_s²
 };
 
 /// A named column of a time series, as written to the archive.
@@ -44,10 +47,14 @@ inline constexpr ColumnInfo kSampleColumns[] = {
     {"shear_stress_dissipative", "k_e/d_s^2",
      "-(1/A) sum_contacts r_ij,y f^dis_ij,x (CD0; 0 for reservoir drag)",
      &Sample::shear_stress_dissipative},
-    {"input_power", "k_e/tau", "(shear_stress + shear_stress_dissipative) rate A / N",
+    {"input_power", "k_e/tau", "(shear_stress + shear_stress_dissipative + shear_stress_kinetic) rate A / N",
      &Sample::input_power},
     {"dissipated_power", "k_e/tau", "dissipated power per disk (RD0: k_d |u|^2 averaged)",
      &Sample::dissipated_power},
+    {"kinetic_energy_per_particle", "k_e", "(1/N) sum m_i |u_i|^2 / 2, co-moving frame (massive models)",
+     &Sample::kinetic_energy_per_particle},
+    {"pressure_kinetic", "k_e/d_s^2", "(1/2A) sum m_i |u_i|^2", &Sample::pressure_kinetic},
+    {"shear_stress_kinetic", "k_e/d_s^2", "-(1/A) sum m_i u_ix u_iy", &Sample::shear_stress_kinetic},
 };
 
 /// Rows of samples, stored by column.
