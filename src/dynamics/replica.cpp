@@ -100,6 +100,11 @@ FinalConfiguration final_configuration(const System& sys) {
     return out;
 }
 
+int evaluations_per_step(const ReplicaParams& p) {
+    const bool massive = p.model == "RD" || p.model == "CD" || p.model == "CDn" || p.model == "CDt";
+    return massive || p.integrator == Integrator::Heun ? 2 : 1;
+}
+
 System initial_system(const ReplicaParams& p) {
     return random_system(p.n, p.phi, SizeMix{p.size_ratio}, p.seed, p.replica);
 }
@@ -117,7 +122,7 @@ ReplicaResult run_replica(const ReplicaParams& p, const std::function<void()>& a
     const Schedule plan = schedule_of(p);
     const double inv_n = 1.0 / static_cast<double>(p.n);
     VelocityCorrelation correlation(sys.box.side());
-    const std::int64_t evals_per_step = p.integrator == Integrator::Heun ? 2 : 1;
+    const std::int64_t evals_per_step = evaluations_per_step(p);
 
     for (std::int64_t step = 0;; ++step) {
         const bool sample_now = step % plan.sample_every == 0;

@@ -280,8 +280,7 @@ std::string fingerprint(const CampaignSpec& spec) {
 
 double estimated_cost(const ReplicaParams& p) {
     const Schedule s = schedule_of(p);
-    const double evals = p.integrator == Integrator::Heun ? 2.0 : 1.0;
-    return static_cast<double>(p.n) * static_cast<double>(s.steps) * evals;
+    return static_cast<double>(p.n) * static_cast<double>(s.steps) * evaluations_per_step(p);
 }
 
 std::int64_t sample_count(const ReplicaParams& p) {

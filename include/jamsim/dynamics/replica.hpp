@@ -54,6 +54,9 @@ struct Schedule {
 };
 Schedule schedule_of(const ReplicaParams& params);
 
+/// Force evaluations per step: 2 for Heun and for the massive models (always Heun), else 1.
+int evaluations_per_step(const ReplicaParams& params);
+
 std::string to_string(Integrator integrator);
 Integrator integrator_from_string(const std::string& name);  ///< throws std::invalid_argument
 

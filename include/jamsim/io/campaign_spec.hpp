@@ -17,7 +17,7 @@ struct SpecError : std::runtime_error {
 ///
 /// File format (TOML; every key optional unless marked):
 ///   [campaign] name (required), output (archive path, relative to the working directory)
-///   [model]    name = "RD0" | "CD0", integrator = "euler" | "heun", dt = 0.2, kd = 1.0,
+///   [model]    name = "RD0" | "CD0" | "RD" | "CD" | "CDn" | "CDt", mass = 1.0, integrator = "euler" | "heun", dt = 0.2, kd = 1.0,
 ///              delta = 1e-3, petsc_options = "-cd0_pc_type icc" (CD0)
 ///   [potential] name = "harmonic" | "hertzian" (sets alpha), or alpha = 2.0
 ///   [system]   size_ratio = 1.4, skin = 0.3
