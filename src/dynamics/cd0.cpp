@@ -58,10 +58,7 @@ void Cd0::advance(System& sys, ForceField& forces, double dt, double rate) {
     const double gamma0 = sys.box.strain();
     const double gamma1 = gamma0 + rate * dt;
     if (params_.integrator == Integrator::Euler) {
-        for (std::size_t i = 0; i < n; ++i) {
-            p.x[i] += dt * (p.ux[i] - gamma0 * p.uy[i]);
-            p.y[i] += dt * p.uy[i];
-        }
+        drift(p.x, p.y, p.ux, p.uy, gamma0, dt);
         apply_strain(sys, forces, gamma1);
         return;
     }
@@ -71,10 +68,7 @@ void Cd0::advance(System& sys, ForceField& forces, double dt, double rate) {
     fy1_.resize(n);
     ux1_.assign(p.ux.begin(), p.ux.end());  // warm start of the second solve
     uy1_.assign(p.uy.begin(), p.uy.end());
-    for (std::size_t i = 0; i < n; ++i) {
-        p.x[i] += dt * (p.ux[i] - gamma0 * p.uy[i]);
-        p.y[i] += dt * p.uy[i];
-    }
+    drift(p.x, p.y, p.ux, p.uy, gamma0, dt);
     sys.box.set_strain_unwrapped(gamma1);
     forces.compute_at(sys.box, p.x, p.y, p.diameter, fx1_, fy1_);
     solve(forces, sys.box, p.x, p.y, fx1_, fy1_, rate, ux1_, uy1_);

@@ -20,6 +20,14 @@ ForceResult ForceField::compute_at(const Box& box, std::span<const double> x,
     return compute_pair_forces(pot_, list_, box, x, y, fx, fy, scratch_, tally);
 }
 
+void drift(std::span<double> x, std::span<double> y, std::span<const double> vx,
+           std::span<const double> vy, double gamma, double scale) {
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        x[i] += scale * (vx[i] - gamma * vy[i]);
+        y[i] += scale * vy[i];
+    }
+}
+
 void apply_strain(System& sys, ForceField& forces, double strain) {
     sys.box.set_strain_unwrapped(strain);
     const int wraps = sys.box.finish_shear();

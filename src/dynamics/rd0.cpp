@@ -9,10 +9,7 @@ void Rd0::advance(System& sys, ForceField& forces, double dt, double rate) {
     const double gamma0 = sys.box.strain();
     const double gamma1 = gamma0 + rate * dt;
     if (params_.integrator == Integrator::Euler) {
-        for (std::size_t i = 0; i < n; ++i) {
-            p.x[i] += step * (p.fx[i] - gamma0 * p.fy[i]);
-            p.y[i] += step * p.fy[i];
-        }
+        drift(p.x, p.y, p.fx, p.fy, gamma0, step);  // u = f/k_d
         apply_strain(sys, forces, gamma1);
         return;
     }
@@ -21,10 +18,7 @@ void Rd0::advance(System& sys, ForceField& forces, double dt, double rate) {
     y0_.assign(p.y.begin(), p.y.end());
     fx1_.resize(n);
     fy1_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        p.x[i] += step * (p.fx[i] - gamma0 * p.fy[i]);
-        p.y[i] += step * p.fy[i];
-    }
+    drift(p.x, p.y, p.fx, p.fy, gamma0, step);
     // ... corrector with the forces at the predicted positions and the end-of-step strain.
     sys.box.set_strain_unwrapped(gamma1);
     forces.compute_at(sys.box, p.x, p.y, p.diameter, fx1_, fy1_);

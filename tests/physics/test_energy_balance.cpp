@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "jamsim/dynamics/replica.hpp"
+#include "support/statistics.hpp"
 
 using namespace jamsim;
 
@@ -34,13 +35,8 @@ void check_balance(const std::string& model, const std::string& solver) {
         diff.push_back(in - out);
         input.push_back(in);
     }
-    double m = 0, s2 = 0, in = 0;
-    for (std::size_t k = 0; k < diff.size(); ++k) {
-        m += diff[k] / static_cast<double>(diff.size());
-        in += input[k] / static_cast<double>(diff.size());
-    }
-    for (double d : diff) s2 += (d - m) * (d - m) / static_cast<double>(diff.size() - 1);
-    const double se = std::sqrt(s2 / static_cast<double>(diff.size()));
+    const auto [m, se] = jamsim::testing::mean_and_error(diff);
+    const double in = jamsim::testing::mean_and_error(input).mean;
     std::printf("%s: P_in = %.4g, <P_in - P_dis> = %.3g +- %.2g\n", model.c_str(), in, m, se);
     EXPECT_LT(std::abs(m), 3 * se + 1e-12);
     EXPECT_LT(std::abs(m), 0.03 * in);

@@ -8,20 +8,14 @@
 #include "jamsim/dynamics/force_field.hpp"
 #include "jamsim/dynamics/replica.hpp"
 #include "jamsim/dynamics/sllod.hpp"
+#include "support/statistics.hpp"
 
 using namespace jamsim;
 
 namespace {
 
-struct Stat {
-    double mean, error;
-};
-Stat over(const std::vector<double>& v) {
-    double m = 0, s2 = 0;
-    for (double x : v) m += x / static_cast<double>(v.size());
-    for (double x : v) s2 += (x - m) * (x - m) / static_cast<double>(v.size() - 1);
-    return {m, std::sqrt(s2 / static_cast<double>(v.size()))};
-}
+using Stat = jamsim::testing::Estimate;
+Stat over(const std::vector<double>& v) { return jamsim::testing::mean_and_error(v); }
 
 ReplicaParams massive(const std::string& model, std::uint64_t seed) {
     ReplicaParams p;

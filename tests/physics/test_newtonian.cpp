@@ -14,24 +14,14 @@
 #include <vector>
 
 #include "jamsim/dynamics/replica.hpp"
+#include "support/statistics.hpp"
 
 using namespace jamsim;
 
 namespace {
 
-struct Estimate {
-    double mean, error;
-};
-
-Estimate over_seeds(const std::vector<double>& v) {
-    double m = 0.0;
-    for (double x : v) m += x;
-    m /= static_cast<double>(v.size());
-    double s2 = 0.0;
-    for (double x : v) s2 += (x - m) * (x - m);
-    s2 /= static_cast<double>(v.size() - 1);
-    return {m, std::sqrt(s2 / static_cast<double>(v.size()))};
-}
+using jamsim::testing::Estimate;
+Estimate over_seeds(const std::vector<double>& v) { return jamsim::testing::mean_and_error(v); }
 
 struct Rheology {
     Estimate p_over_rate, sigma_over_rate;

@@ -10,13 +10,12 @@
 #include <vector>
 
 #include "jamsim/dynamics/replica.hpp"
+#include "support/statistics.hpp"
 
 using namespace jamsim;
 
 namespace {
-struct Stat {
-    double mean, error;
-};
+using Stat = jamsim::testing::Estimate;
 
 Stat pressure(const std::string& model, double rate) {
     std::vector<double> v;
@@ -37,10 +36,7 @@ Stat pressure(const std::string& model, double rate) {
         }
         v.push_back(mean_after(run_replica(p).series, &Sample::pressure, p.transient));
     }
-    double m = 0, s2 = 0;
-    for (double x : v) m += x / static_cast<double>(v.size());
-    for (double x : v) s2 += (x - m) * (x - m) / static_cast<double>(v.size() - 1);
-    return {m, std::sqrt(s2 / static_cast<double>(v.size()))};
+    return jamsim::testing::mean_and_error(v);
 }
 
 Stat slope(const std::string& model, double high, double low) {

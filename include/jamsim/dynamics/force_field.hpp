@@ -37,6 +37,11 @@ class ForceField {
     PairScratch scratch_;
 };
 
+/// Move sheared positions with a lab-frame non-affine velocity field (v_x, v_y) at strain γ
+/// for a time `scale`: x += scale (v_x − γ v_y), y += scale v_y (thesis eq. 4.5).
+void drift(std::span<double> x, std::span<double> y, std::span<const double> vx,
+           std::span<const double> vy, double gamma, double scale);
+
 /// Set γ to `strain` (it may leave [−1/2, 1/2) by at most one step's worth), then wrap it
 /// back and remap the positions if it crossed ±1/2, invalidating the neighbour list.
 void apply_strain(System& sys, ForceField& forces, double strain);
