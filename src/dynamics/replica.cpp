@@ -146,7 +146,8 @@ ReplicaResult run_replica(const ReplicaParams& p, const std::function<void()>& a
                            dis.power * inv_n,
                            dis.kinetic_energy * inv_n,
                            dis.pressure_kinetic,
-                           dis.shear_stress_kinetic};
+                           dis.shear_stress_kinetic,
+                           model->solver_iterations()};
             if (!std::isfinite(s.energy_per_particle) || !std::isfinite(s.pressure))
                 throw std::runtime_error("non-finite state at t = " + str(t) +
                                          " (time step too large?)");

@@ -32,6 +32,9 @@ class Cd0 final : public Model {
 
     /// Krylov iterations of the most recent solve (diagnostics, benchmarks).
     linalg::SolveInfo last_solve() const { return last_; }
+    double solver_iterations() const override {
+        return 0.5 * (last_.iterations_x + last_.iterations_y);
+    }
 
   private:
     /// Solve for u at positions (x, y) with forces (fx, fy) into (ux, uy).

@@ -63,6 +63,9 @@ class Model {
     /// Make particles.ux, uy hold the non-affine velocity of the current state (called only
     /// at samples; models that solve for u have it already).
     virtual void store_velocities(System& /*sys*/) const {}
+
+    /// Krylov iterations per solve in the last prepare() (CD0 with PETSc; 0 otherwise).
+    virtual double solver_iterations() const { return 0.0; }
 };
 
 /// Registry: a model by name ("RD0"); throws std::invalid_argument listing the known names.

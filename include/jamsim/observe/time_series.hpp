@@ -21,6 +21,7 @@ struct Sample {
     double kinetic_energy_per_particle;  ///< ½ Σ m|u|² / N (co-moving frame), k_e
     double pressure_kinetic;             ///< (1/2A) Σ m |u|², k_e/d_s²
     double shear_stress_kinetic;         ///< −(1/A) Σ m u_x u_y, k_e/d_s²
+    double solver_iterations;            ///< CD0: Krylov iterations per solve (diagnostic)
 };
 
 /// A named column of a time series, as written to the archive.
@@ -55,6 +56,8 @@ inline constexpr ColumnInfo kSampleColumns[] = {
      &Sample::kinetic_energy_per_particle},
     {"pressure_kinetic", "k_e/d_s^2", "(1/2A) sum m_i |u_i|^2", &Sample::pressure_kinetic},
     {"shear_stress_kinetic", "k_e/d_s^2", "-(1/A) sum m_i u_ix u_iy", &Sample::shear_stress_kinetic},
+    {"solver_iterations", "1", "CD0: Krylov iterations per contact solve at this sample (0: direct or none)",
+     &Sample::solver_iterations},
 };
 
 /// Rows of samples, stored by column.
