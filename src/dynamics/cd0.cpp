@@ -37,7 +37,7 @@ void Cd0::solve(const ForceField& forces, const Box& box, std::span<const double
         bx_[i] -= rate * r.y;
         bx_[j] += rate * r.y;
     }
-    if (params_.solver == "eigen") {
+    if (params_.solver == "eigen" || (params_.solver == "auto" && n <= auto_eigen_max_n)) {
         if (!eigen_) eigen_ = std::make_unique<linalg::EigenContactSolver>(n, params_.delta);
         last_ = eigen_->solve(pairs_, in_contact_, pairs_version_, bx_, by_, ux, uy);
     } else {

@@ -71,8 +71,8 @@ std::vector<ParamError> validate(const ReplicaParams& p) {
                          "dt <= " + str(sllod_stable_dt(damping, p.mass, p.kd)) + " for " + name +
                              " with mass " + str(p.mass) + " and kd " + str(p.kd) +
                              " (stability of the integrator)"});
-    if (p.solver != "petsc" && p.solver != "eigen")
-        e.push_back({"solver", p.solver, "petsc or eigen"});
+    if (p.solver != "auto" && p.solver != "petsc" && p.solver != "eigen")
+        e.push_back({"solver", p.solver, "auto, petsc or eigen"});
     return e;
 }
 

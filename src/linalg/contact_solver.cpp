@@ -50,6 +50,8 @@ struct ContactSolver::Impl {
     KSP ksp = nullptr;
     std::size_t version = static_cast<std::size_t>(-1);  // pattern the Mat was built for
     bool refresh_pc = true;
+    bool refreshed = false;  // the preconditioner is recomputed in this solve
+    std::vector<std::uint8_t> assembled;  // contact set the Mat holds now
     // CSR over the candidate pairs (diagonal first); slot[k] = positions of pair k's two
     // off-diagonal entries, so values can be refilled without searching.
     std::vector<PetscInt> start, cols;
@@ -92,7 +94,14 @@ struct ContactSolver::Impl {
         if (!A || pattern_version != version) {
             build_pattern(pairs);
             version = pattern_version;
+            assembled.clear();
         }
+        // The values depend only on the contact set: an unchanged set leaves the Mat (and its
+        // state counter) alone, so an up-to-date preconditioner is kept as it is.
+        if (!refresh_pc && std::equal(in_contact.begin(), in_contact.end(), assembled.begin(),
+                                      assembled.end()))
+            return;
+        assembled.assign(in_contact.begin(), in_contact.end());
         for (PetscInt r = 0; r < n; ++r) vals[static_cast<std::size_t>(start[static_cast<std::size_t>(r)])] = delta;
         for (std::size_t k = 0; k < pairs.size(); ++k) {
             const double v = in_contact[k] ? -1.0 : 0.0;
@@ -111,6 +120,7 @@ struct ContactSolver::Impl {
         check(KSPSetOperators(ksp, A, A), "KSPSetOperators");
         check(KSPSetReusePreconditioner(ksp, refresh_pc ? PETSC_FALSE : PETSC_TRUE),
               "KSPSetReusePreconditioner");
+        refreshed = refresh_pc;
         refresh_pc = false;
     }
 
@@ -159,6 +169,9 @@ ContactSolver::ContactSolver(std::size_t n, double delta, const std::string& opt
         check(KSPSetTolerances(impl_->ksp, 1e-10, 1e-30, PETSC_DEFAULT, 10000),
               "KSPSetTolerances");
         check(KSPSetInitialGuessNonzero(impl_->ksp, PETSC_TRUE), "KSPSetInitialGuessNonzero");
+        // Converge on the true residual ‖b − A u‖ ≤ rtol ‖b‖ (units of velocity), not the
+        // preconditioned one, whose meaning changes with a stale preconditioner.
+        check(KSPSetNormType(impl_->ksp, KSP_NORM_UNPRECONDITIONED), "KSPSetNormType");
         check(KSPSetFromOptions(impl_->ksp), "KSPSetFromOptions");  // last: options win
     } catch (...) {
         this->~ContactSolver();
@@ -181,8 +194,10 @@ SolveInfo ContactSolver::solve(std::span<const ContactPair> pairs,
                                std::size_t pattern_version, std::span<const double> b_x,
                                std::span<const double> b_y, std::span<double> u_x,
                                std::span<double> u_y) {
+    impl_->refreshed = false;
     impl_->assemble(pairs, in_contact, pattern_version);
     SolveInfo info;
+    info.refactored = impl_->refreshed;
     info.iterations_x = impl_->solve_one(b_x, u_x, "x");
     info.iterations_y = impl_->solve_one(b_y, u_y, "y");
     return info;

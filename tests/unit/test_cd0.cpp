@@ -15,6 +15,50 @@ using namespace jamsim;
 using jamsim::testing::image_separation;
 using jamsim::testing::random_configuration;
 
+namespace {
+
+/// The CD0 systems A u_x = b_x, A u_y = b_y built densely from a brute-force contact search
+/// over explicit images (no neighbour list, no sparse pattern).
+struct DenseSystem {
+    Eigen::MatrixXd A;
+    Eigen::VectorXd bx, by;
+    int crossing = 0;  // contacts across the sheared boundary
+};
+
+DenseSystem dense_system(const System& sys, double rate, double kd, double delta) {
+    const Particles& p = sys.particles;
+    const auto N = static_cast<Eigen::Index>(p.size());
+    DenseSystem d{Eigen::MatrixXd::Zero(N, N), Eigen::VectorXd(N), Eigen::VectorXd(N)};
+    for (Eigen::Index i = 0; i < N; ++i) {
+        d.bx[i] = p.fx[static_cast<std::size_t>(i)] / kd;
+        d.by[i] = p.fy[static_cast<std::size_t>(i)] / kd;
+        d.A(i, i) = delta;
+    }
+    for (std::size_t i = 0; i < p.size(); ++i)
+        for (std::size_t j = i + 1; j < p.size(); ++j)
+            for (int m = -2; m <= 2; ++m)
+                for (int k = -2; k <= 2; ++k) {
+                    const auto r = image_separation(sys, i, j, m, k);
+                    const double dij = 0.5 * (p.diameter[i] + p.diameter[j]);
+                    if (r.rx * r.rx + r.ry * r.ry >= dij * dij) continue;
+                    const auto a = static_cast<Eigen::Index>(i), b = static_cast<Eigen::Index>(j);
+                    d.A(a, a) += 1;
+                    d.A(b, b) += 1;
+                    d.A(a, b) -= 1;
+                    d.A(b, a) -= 1;
+                    d.bx[a] -= rate * r.ry;
+                    d.bx[b] += rate * r.ry;
+                    d.crossing += k != 0;
+                }
+    return d;
+}
+
+Eigen::Map<const Eigen::VectorXd> as_vector(std::span<const double> v) {
+    return {v.data(), static_cast<Eigen::Index>(v.size())};
+}
+
+} // namespace
+
 TEST(Cd0, ContactSolveMatchesDenseEigen) {
     // Tight solver tolerance for the comparison (set before the solver is created).
     ASSERT_EQ(PetscOptionsSetValue(nullptr, "-cd0_ksp_rtol", "1e-14"), 0);
@@ -31,33 +75,10 @@ TEST(Cd0, ContactSolveMatchesDenseEigen) {
             model.prepare(sys, ff, rate);
             const Particles& p = sys.particles;
             const auto N = static_cast<Eigen::Index>(p.size());
-            Eigen::MatrixXd A = Eigen::MatrixXd::Zero(N, N);
-            Eigen::VectorXd bx(N), by(N);
-            for (Eigen::Index i = 0; i < N; ++i) {
-                bx[i] = p.fx[static_cast<std::size_t>(i)] / kd;
-                by[i] = p.fy[static_cast<std::size_t>(i)] / kd;
-                A(i, i) = delta;
-            }
-            int crossing = 0;
-            for (std::size_t i = 0; i < p.size(); ++i)
-                for (std::size_t j = i + 1; j < p.size(); ++j)
-                    for (int m = -2; m <= 2; ++m)
-                        for (int k = -2; k <= 2; ++k) {
-                            const auto r = image_separation(sys, i, j, m, k);
-                            const double d = 0.5 * (p.diameter[i] + p.diameter[j]);
-                            if (r.rx * r.rx + r.ry * r.ry >= d * d) continue;
-                            const auto a = static_cast<Eigen::Index>(i), b = static_cast<Eigen::Index>(j);
-                            A(a, a) += 1;
-                            A(b, b) += 1;
-                            A(a, b) -= 1;
-                            A(b, a) -= 1;
-                            bx[a] -= rate * r.ry;
-                            bx[b] += rate * r.ry;
-                            crossing += k != 0;
-                        }
-            ASSERT_GT(crossing, 0) << "no contact across the sheared boundary";
-            const Eigen::LDLT<Eigen::MatrixXd> ldlt(A);
-            const Eigen::VectorXd ux = ldlt.solve(bx), uy = ldlt.solve(by);
+            const DenseSystem d = dense_system(sys, rate, kd, delta);
+            ASSERT_GT(d.crossing, 0) << "no contact across the sheared boundary";
+            const Eigen::LDLT<Eigen::MatrixXd> ldlt(d.A);
+            const Eigen::VectorXd ux = ldlt.solve(d.bx), uy = ldlt.solve(d.by);
             const double scale = std::max(ux.cwiseAbs().maxCoeff(), uy.cwiseAbs().maxCoeff());
             for (Eigen::Index i = 0; i < N; ++i) {
                 EXPECT_NEAR(p.ux[static_cast<std::size_t>(i)], ux[i], 1e-9 * scale) << solver;
@@ -72,4 +93,38 @@ TEST(Cd0, ContactSolveMatchesDenseEigen) {
             EXPECT_NEAR(sx / static_cast<double>(n), 0.0, 1e-9 * scale);
             EXPECT_NEAR(sy / static_cast<double>(n), 0.0, 1e-9 * scale);
         }
+}
+
+TEST(Cd0, StaleFactorSolvesMeetTheTolerance) {
+    // Both backends keep their factorisation while contacts form and break, and reach the
+    // tolerance with CG preconditioned by the stale factor. Every solve along a sheared run
+    // must leave a true residual ‖b − A u‖ ≤ rtol ‖b‖ for the *current* contacts (checked
+    // against the dense system), and the run must exercise the stale-factor path.
+    ASSERT_EQ(PetscOptionsSetValue(nullptr, "-cd0_ksp_rtol", "1e-10"), 0);
+    const double rtol = 1e-10, rate = 1e-3, kd = 1.0, delta = 1e-3;
+    for (const char* solver : {"petsc", "eigen"}) {
+        System sys = random_configuration(200, 0.85, 0.0, 5);
+        ForceField ff(potential::make_soft_sphere(2.0), 0.3);
+        ModelParams params{kd, Integrator::Euler, delta};
+        params.solver = solver;
+        Cd0 model(params);
+        int stale_solves = 0, checked = 0;
+        for (int step = 0; step < 400; ++step) {
+            ff.compute(sys);
+            model.prepare(sys, ff, rate);
+            const auto info = model.last_solve();
+            if (!info.refactored && info.iterations_x + info.iterations_y > 0) ++stale_solves;
+            if (step % 20 == 19) {
+                const DenseSystem d = dense_system(sys, rate, kd, delta);
+                const auto ux = as_vector(sys.particles.ux), uy = as_vector(sys.particles.uy);
+                // Round-off in A u is ~ ‖A‖ ‖u‖ ε with ‖A‖ ≤ 2 z_max + δ; far below rtol here.
+                EXPECT_LE((d.bx - d.A * ux).norm(), rtol * d.bx.norm() * (1 + 1e-6)) << solver << " step " << step;
+                EXPECT_LE((d.by - d.A * uy).norm(), rtol * d.by.norm() * (1 + 1e-6)) << solver << " step " << step;
+                ++checked;
+            }
+            model.advance(sys, ff, 0.2, rate);
+        }
+        EXPECT_GT(stale_solves, 10) << solver << ": the stale-factor path was not exercised";
+        EXPECT_EQ(checked, 20);
+    }
 }

@@ -28,7 +28,7 @@ struct ModelParams {
     Integrator integrator = Integrator::Euler;
     double delta = 1e-3;                      ///< CD0 substrate drag δ = k_0/k_d
     std::string petsc_options = "";           ///< CD0: extra PETSc options (prefix cd0_)
-    std::string solver = "petsc";             ///< CD0 backend: "petsc" (KSP) or "eigen" (LDLT)
+    std::string solver = "auto";              ///< CD0 backend: "auto", "petsc" (KSP) or "eigen" (LDLT)
     double mass = 1.0;                        ///< massive models: mass of a small disk
 };
 

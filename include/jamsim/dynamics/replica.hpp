@@ -30,7 +30,7 @@ struct ReplicaParams {
     double kd = 1.0;                ///< dissipation coefficient k_d
     double delta = 1e-3;            ///< CD0 substrate drag δ = k_0/k_d (on u, see Cd0)
     std::string petsc_options;      ///< CD0 solver options, e.g. "-cd0_pc_type icc"
-    std::string solver = "petsc";   ///< CD0 backend: "petsc" or "eigen"
+    std::string solver = "auto";    ///< CD0 backend: "auto" (by N), "petsc" or "eigen"
     double mass = 1.0;              ///< massive models (RD, CD, CDn, CDt): small-disk mass
     Integrator integrator = Integrator::Euler;
     std::uint64_t seed = 1;

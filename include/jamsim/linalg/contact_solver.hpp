@@ -14,6 +14,7 @@ struct ContactPair {
 /// Outcome of one solve, for diagnostics and failure messages.
 struct SolveInfo {
     int iterations_x = 0, iterations_y = 0;
+    bool refactored = false;  // the preconditioner / factor was recomputed for this solve
 };
 
 /// PETSc is initialised on first use (on PETSC_COMM_SELF problems only) and finalised by
@@ -57,7 +58,7 @@ class ContactSolver {
                     std::span<const double> b_y, std::span<double> u_x, std::span<double> u_y);
 
     /// Iterations above which the preconditioner is recomputed for the next solve.
-    static constexpr int refresh_iterations = 20;
+    static constexpr int refresh_iterations = 2;
 
   private:
     struct Impl;
