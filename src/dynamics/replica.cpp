@@ -101,8 +101,8 @@ FinalConfiguration final_configuration(const System& sys) {
 }
 
 int evaluations_per_step(const ReplicaParams& p) {
-    const bool massive = p.model == "RD" || p.model == "CD" || p.model == "CDn" || p.model == "CDt";
-    return massive || p.integrator == Integrator::Heun ? 2 : 1;
+    const bool heun_massive = p.model == "CD" || p.model == "CDn" || p.model == "CDt";
+    return heun_massive || p.integrator == Integrator::Heun ? 2 : 1;
 }
 
 System initial_system(const ReplicaParams& p) {
@@ -126,7 +126,13 @@ ReplicaResult run_replica(const ReplicaParams& p, const std::function<void()>& a
 
     for (std::int64_t step = 0;; ++step) {
         const bool sample_now = step % plan.sample_every == 0;
-        const ForceResult f = forces.compute(sys, sample_now ? Tally::Full : Tally::ForcesOnly);
+        // Models that evaluate the new state's forces themselves (RD's splitting) need the
+        // driver's evaluation only for the first state and for the tallies of a sample.
+        ForceResult f{};
+        if (step == 0 || sample_now || !model->leaves_forces_current()) {
+            f = forces.compute(sys, sample_now ? Tally::Full : Tally::ForcesOnly);
+            if (step > 0 && model->leaves_forces_current()) result.force_evaluations += 1;
+        }
         model->prepare(sys, forces, p.rate);
         if (sample_now) {
             const double t = static_cast<double>(step) * p.dt;

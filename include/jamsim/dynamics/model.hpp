@@ -66,6 +66,11 @@ class Model {
 
     /// Krylov iterations per solve in the last prepare() (CD0 with PETSc; 0 otherwise).
     virtual double solver_iterations() const { return 0.0; }
+
+    /// True when advance() leaves sys.particles.fx, fy holding the elastic forces of the new
+    /// state (it evaluated them itself), so the driver may skip its own evaluation on steps
+    /// that need no energy or stress tally.
+    virtual bool leaves_forces_current() const { return false; }
 };
 
 /// Registry: a model by name ("RD0"); throws std::invalid_argument listing the known names.

@@ -13,16 +13,24 @@ namespace jamsim {
 ///   CDt: f_i = −k_d Σ_contacts (w_ij − (w_ij·n̂) n̂)  (tangential part, eq. 4.30)
 enum class Damping { RD, CD, CDn, CDt };
 
-/// Largest stable Δt for a massive model (Heun: decay rate λΔt ≤ 2 with up to 8 damped
-/// contacts on a small disk, oscillation ωΔt ≤ 1.5 with stiffness up to 8 k_e/d_s²).
+/// Largest stable Δt for a massive model: oscillation ωΔt ≤ 1.5 with stiffness up to
+/// 8 k_e/d_s² on a small disk; for CD, CDn, CDt (Heun) also a decay rate λΔt ≤ 2 with up to 8
+/// damped contacts (RD's drag is integrated exactly and sets no limit).
 double sllod_stable_dt(Damping damping, double mass, double kd);
 
 /// Massive disks under the SLLOD equations in sheared coordinates (thesis eq. 4.25):
 ///   ẋ = u_x − γ u_y,  ẏ = u_y,  u̇_x = (f^el_x + f^dis_x)/m_i − γ̇ u_y,  u̇_y = (f^el_y + f^dis_y)/m_i
-/// with m_i = m d_i² (mass of a small disk m, scaled by area). Integrated with Heun's method
-/// on the whole state (x, y, u): second order, and the velocity-dependent dissipation is
-/// evaluated consistently at both stages (two force evaluations per step). Velocities start
-/// at zero (the affine flow).
+/// with m_i = m d_i² (mass of a small disk m, scaled by area). Velocities start at zero (the
+/// affine flow).
+///  - CD, CDn, CDt: Heun's method on the whole state (x, y, u): second order, the pairwise,
+///    position-dependent dissipation evaluated consistently at both stages (two force
+///    evaluations per step).
+///  - RD: the drag −k_d u_i is one-body and linear, so a symmetric (Strang) splitting
+///    B(Δt/2) A(Δt/2) O(Δt) A(Δt/2) B(Δt/2) is second order with one force evaluation per
+///    step: B kicks u with the elastic force, A drifts x (with the mid-interval γ, exact for
+///    constant u), O solves u̇_x = −γ̇ u_y − c u_x, u̇_y = −c u_y (c = k_d/m_i) exactly:
+///    u_y ← e^{−cΔt} u_y, u_x ← e^{−cΔt} (u_x − γ̇ Δt u_y). The forces of the new state are
+///    evaluated inside advance() for the closing kick.
 class Sllod final : public Model {
   public:
     Sllod(const ModelParams& params, Damping damping, std::string_view name)
@@ -37,7 +45,12 @@ class Sllod final : public Model {
     /// small disk with up to 8 contacts); advance() refuses a larger Δt.
     double stable_dt() const;
 
+    bool leaves_forces_current() const override { return damping_ == Damping::RD; }
+
   private:
+    void advance_heun(System& sys, ForceField& forces, double dt, double rate);
+    void advance_split_rd(System& sys, ForceField& forces, double dt, double rate);
+
     /// Time derivatives (dx, dy, dux, duy) at state (x, y, ux, uy) with elastic forces
     /// (fx, fy) and strain γ.
     void rates(const System& sys, const ForceField& forces, double gamma, double rate,
