@@ -98,7 +98,7 @@ CLI::App* add_replica_command(CLI::App& app) {
     cmd->add_option("--delta", p.delta, "CD0 substrate drag delta = k_0/k_d")
         ->capture_default_str();
     cmd->add_option("--mass", p.mass, "Small-disk mass (RD, CD, CDn, CDt)")->capture_default_str();
-    cmd->add_option("--solver", p.solver, "CD0 backend: auto (eigen up to N = 8192, petsc above), petsc (KSP) or eigen (sparse LDLT)")
+    cmd->add_option("--solver", p.solver, "CD0 backend: auto (eigen up to N = 65536, petsc above), petsc (KSP) or eigen (sparse LDLT)")
         ->capture_default_str();
     cmd->add_option("--petsc-options", p.petsc_options,
                     "CD0 solver options, e.g. \"-cd0_pc_type icc -cd0_ksp_rtol 1e-8\"");

@@ -9,19 +9,128 @@
 
 namespace jamsim::linalg {
 
+namespace {
+
+/// A copy of Eigen's LDLᵀ factor (P A Pᵀ = L D Lᵀ, L unit lower, CSC with sorted rows) that
+/// can be modified in place: a contact (i, j) forming adds (e_i − e_j)(e_i − e_j)ᵀ to A,
+/// breaking subtracts it. Rank-one update/downdate by method C1 of Gill, Golub, Murray and
+/// Saunders (1974), restricted to the elimination-tree paths from P i and P j (Davis and
+/// Hager 1999). The symbolic pattern was analysed for every neighbour-list pair, so a change
+/// of contacts among them never needs fill outside it.
+struct UpdatableLdlt {
+    std::vector<int> perm;      // perm[i] = row of P A Pᵀ holding original row i
+    std::vector<int> Lp, Li;    // CSC of the strictly lower part of L
+    std::vector<double> Lx, D;
+    std::vector<double> work;   // dense scratch, all zero between calls
+    std::vector<int> path_a, path_b, path;
+
+    template <class Ldlt> void copy_from(const Ldlt& ldlt) {
+        const auto& L = ldlt.matrixL().nestedExpression();
+        const auto n = static_cast<std::size_t>(L.outerSize());
+        Lp.assign(L.outerIndexPtr(), L.outerIndexPtr() + n + 1);
+        Li.assign(L.innerIndexPtr(), L.innerIndexPtr() + Lp.back());
+        Lx.assign(L.valuePtr(), L.valuePtr() + Lp.back());
+        const Eigen::VectorXd d = ldlt.vectorD();
+        D.assign(d.data(), d.data() + n);
+        const auto& P = ldlt.permutationP().indices();
+        perm.resize(n);
+        for (std::size_t i = 0; i < n; ++i)
+            perm[i] = P.size() ? static_cast<int>(P[static_cast<Eigen::Index>(i)]) : static_cast<int>(i);
+        work.assign(n, 0.0);
+    }
+
+    int parent(int j) const { return Lp[j] < Lp[j + 1] ? Li[Lp[j]] : -1; }
+
+    void walk(int j, std::vector<int>& out) const {
+        out.clear();
+        for (; j >= 0; j = parent(j)) out.push_back(j);
+    }
+
+    /// L D Lᵀ ← L D Lᵀ + σ w wᵀ with w = e_{P i} − e_{P j}.
+    void modify(int i, int j, double sigma) {
+        const int a = perm[static_cast<std::size_t>(i)], b = perm[static_cast<std::size_t>(j)];
+        walk(a, path_a);
+        walk(b, path_b);
+        path.clear();
+        std::set_union(path_a.begin(), path_a.end(), path_b.begin(), path_b.end(),
+                       std::back_inserter(path));
+        work[static_cast<std::size_t>(a)] = 1.0;
+        work[static_cast<std::size_t>(b)] = -1.0;
+        double alpha = sigma;
+        for (const int c : path) {
+            const double p = work[static_cast<std::size_t>(c)];
+            work[static_cast<std::size_t>(c)] = 0.0;
+            if (p == 0.0) continue;
+            const double d = D[static_cast<std::size_t>(c)];
+            const double dbar = d + alpha * p * p;
+            const double beta = p * alpha / dbar;
+            alpha *= d / dbar;
+            D[static_cast<std::size_t>(c)] = dbar;
+            for (int k = Lp[c]; k < Lp[c + 1]; ++k) {
+                double& w = work[static_cast<std::size_t>(Li[k])];
+                w -= p * Lx[k];
+                Lx[k] += beta * w;
+            }
+        }
+    }
+
+    /// u_x, u_y = A⁻¹ (b_x, b_y): both right-hand sides in one pass over L.
+    void solve(const double* bx, const double* by, double* ux, double* uy) {
+        const std::size_t n = D.size();
+        y2.resize(2 * n);
+        for (std::size_t i = 0; i < n; ++i) {
+            const auto r = static_cast<std::size_t>(perm[i]);
+            y2[2 * r] = bx[i];
+            y2[2 * r + 1] = by[i];
+        }
+        for (std::size_t c = 0; c < n; ++c) {  // L y = P b
+            const double y0 = y2[2 * c], y1 = y2[2 * c + 1];
+            for (int k = Lp[c]; k < Lp[c + 1]; ++k) {
+                const auto r = static_cast<std::size_t>(Li[k]);
+                y2[2 * r] -= Lx[k] * y0;
+                y2[2 * r + 1] -= Lx[k] * y1;
+            }
+        }
+        for (std::size_t c = 0; c < n; ++c) {
+            y2[2 * c] /= D[c];
+            y2[2 * c + 1] /= D[c];
+        }
+        for (std::size_t c = n; c-- > 0;) {  // Lᵀ x = y
+            double s0 = y2[2 * c], s1 = y2[2 * c + 1];
+            for (int k = Lp[c]; k < Lp[c + 1]; ++k) {
+                const auto r = static_cast<std::size_t>(Li[k]);
+                s0 -= Lx[k] * y2[2 * r];
+                s1 -= Lx[k] * y2[2 * r + 1];
+            }
+            y2[2 * c] = s0;
+            y2[2 * c + 1] = s1;
+        }
+        for (std::size_t i = 0; i < n; ++i) {
+            const auto r = static_cast<std::size_t>(perm[i]);
+            ux[i] = y2[2 * r];
+            uy[i] = y2[2 * r + 1];
+        }
+    }
+    std::vector<double> y2;  // interleaved (x, y) work vector in the permuted order
+};
+
+} // namespace
+
 struct EigenContactSolver::Impl {
     using Matrix = Eigen::SparseMatrix<double>;  // column-major; lower triangle is used
     Eigen::Index n;
     double delta;
     double rtol;
     Matrix A;
-    Eigen::SimplicialLDLT<Matrix, Eigen::Lower> ldlt;
+    Eigen::SimplicialLDLT<Matrix, Eigen::Lower> ldlt;  // analysis and fresh factorisations
+    UpdatableLdlt factor;                               // the factor in use, kept up to date
     std::size_t version = static_cast<std::size_t>(-1);
     std::vector<Eigen::Index> diag_slot, pair_slot;  // positions in A.valuePtr()
-    std::vector<std::uint8_t> factored;              // contact set of the current factor
+    std::vector<std::uint8_t> factored;              // contact set the factor represents
     bool have_factor = false;
     std::size_t factorizations = 0;
-    Eigen::VectorXd r, z, p, q;  // PCG work vectors
+    std::vector<ContactPair> contacts;  // current contacts, compacted for the residual check
+    std::vector<double> rx, ry;
 
     Eigen::Index slot(Eigen::Index row, Eigen::Index col) const {
         const auto* outer = A.outerIndexPtr();
@@ -37,7 +146,7 @@ struct EigenContactSolver::Impl {
         std::vector<Eigen::Triplet<double>> t;
         t.reserve(static_cast<std::size_t>(n) + pairs.size());
         for (Eigen::Index i = 0; i < n; ++i) t.emplace_back(i, i, 1.0);
-        for (const auto& c : pairs)  // lower triangle: row > col
+        for (const auto& c : pairs)  // lower triangle: row > col; explicit zeros kept
             t.emplace_back(std::max(c.i, c.j), std::min(c.i, c.j), 0.0);
         A.resize(n, n);
         A.setFromTriplets(t.begin(), t.end());
@@ -64,54 +173,40 @@ struct EigenContactSolver::Impl {
         ldlt.factorize(A);
         if (ldlt.info() != Eigen::Success)
             throw std::runtime_error("CD0 Eigen solver: factorisation failed");
+        factor.copy_from(ldlt);
         factored.assign(in_contact.begin(), in_contact.end());
         have_factor = true;
         ++factorizations;
     }
 
-    /// Contacts (i, j) of the current solve, compacted so the products below are branch-free.
-    std::vector<ContactPair> contacts;
-    void collect(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact) {
-        contacts.clear();
-        for (std::size_t k = 0; k < pairs.size(); ++k)
-            if (in_contact[k]) contacts.push_back(pairs[k]);
-    }
-
-    /// out = A u for the current contacts: (A u)_i = δ u_i + Σ_{j in contact} (u_i − u_j).
-    void multiply(const Eigen::VectorXd& u, Eigen::VectorXd& out) const {
-        out = delta * u;
-        double* o = out.data();
-        const double* v = u.data();
+    /// Whether ‖b − A u‖ ≤ rtol ‖b‖ for both right-hand sides and the current contacts:
+    /// (A u)_i = δ u_i + Σ_{j in contact} (u_i − u_j).
+    bool converged(std::span<const double> bx, std::span<const double> by,
+                   std::span<const double> ux, std::span<const double> uy) {
+        const std::size_t size = bx.size();
+        rx.resize(size);
+        ry.resize(size);
+        for (std::size_t i = 0; i < size; ++i) {
+            rx[i] = bx[i] - delta * ux[i];
+            ry[i] = by[i] - delta * uy[i];
+        }
         for (const auto& c : contacts) {
-            const double d = v[c.i] - v[c.j];
-            o[c.i] += d;
-            o[c.j] -= d;
+            const auto i = static_cast<std::size_t>(c.i), j = static_cast<std::size_t>(c.j);
+            const double dx = ux[i] - ux[j], dy = uy[i] - uy[j];
+            rx[i] -= dx;
+            rx[j] += dx;
+            ry[i] -= dy;
+            ry[j] += dy;
         }
-    }
-
-    /// Conjugate gradients preconditioned by the (stale) factor: the contact set differs from
-    /// the factored one by a few contacts, a low-rank change, so CG needs about one iteration
-    /// per changed contact. Returns the iterations, or −1 when they exceed `limit`.
-    int pcg(const Eigen::Map<const Eigen::VectorXd>& b, Eigen::Map<Eigen::VectorXd>& u, int limit) {
-        const double target = rtol * b.norm();
-        multiply(u, q);
-        r = b - q;
-        if (r.norm() <= target) return 0;
-        z = ldlt.solve(r);
-        p = z;
-        double rz = r.dot(z);
-        for (int it = 1; it <= limit; ++it) {
-            multiply(p, q);
-            const double alpha = rz / p.dot(q);
-            u += alpha * p;
-            r -= alpha * q;
-            if (r.norm() <= target) return it;
-            z = ldlt.solve(r);
-            const double rz_next = r.dot(z);
-            p = z + (rz_next / rz) * p;
-            rz = rz_next;
+        double r2x = 0, r2y = 0, b2x = 0, b2y = 0;
+        for (std::size_t i = 0; i < size; ++i) {
+            r2x += rx[i] * rx[i];
+            r2y += ry[i] * ry[i];
+            b2x += bx[i] * bx[i];
+            b2y += by[i] * by[i];
         }
-        return -1;
+        const double tol2 = rtol * rtol;
+        return r2x <= tol2 * b2x && r2y <= tol2 * b2y;
     }
 };
 
@@ -136,28 +231,25 @@ SolveInfo EigenContactSolver::solve(std::span<const ContactPair> pairs,
         m.build_pattern(pairs);
         m.version = pattern_version;
     }
-    const Eigen::Map<const Eigen::VectorXd> bx(b_x.data(), m.n), by(b_y.data(), m.n);
-    Eigen::Map<Eigen::VectorXd> ux(u_x.data(), m.n), uy(u_y.data(), m.n);
-    const bool same = m.have_factor && std::equal(in_contact.begin(), in_contact.end(),
-                                                  m.factored.begin(), m.factored.end());
-    if (same) {  // the factor is exact for this contact set
-        ux = m.ldlt.solve(bx);
-        uy = m.ldlt.solve(by);
-        return {0, 0};
-    }
-    if (m.have_factor) {  // warm-started PCG on the stale factor; refactorise if it struggles
-        const Eigen::VectorXd ux0 = ux, uy0 = uy;
-        m.collect(pairs, in_contact);
-        const int itx = m.pcg(bx, ux, refresh_iterations);
-        const int ity = itx < 0 ? -1 : m.pcg(by, uy, refresh_iterations);
-        if (itx >= 0 && ity >= 0) return {itx, ity};
-        ux = ux0;
-        uy = uy0;
+    if (m.have_factor) {  // bring the factor to the current contacts by rank-one changes
+        int changes = 0;
+        m.contacts.clear();
+        for (std::size_t k = 0; k < pairs.size(); ++k) {
+            if (in_contact[k]) m.contacts.push_back(pairs[k]);
+            if (in_contact[k] == m.factored[k]) continue;
+            m.factor.modify(pairs[k].i, pairs[k].j, in_contact[k] ? 1.0 : -1.0);
+            m.factored[k] = in_contact[k];
+            ++changes;
+        }
+        m.factor.solve(b_x.data(), b_y.data(), u_x.data(), u_y.data());
+        if (changes == 0) return {0, 0, false, 0};
+        // Accumulated updates and downdates lose accuracy slowly: check the true residual,
+        // and refactorise from scratch if it misses the tolerance.
+        if (m.converged(b_x, b_y, u_x, u_y)) return {0, 0, false, changes};
     }
     m.factorize(pairs, in_contact);
-    ux = m.ldlt.solve(bx);
-    uy = m.ldlt.solve(by);
-    return {0, 0, true};
+    m.factor.solve(b_x.data(), b_y.data(), u_x.data(), u_y.data());
+    return {0, 0, true, 0};
 }
 
 } // namespace jamsim::linalg

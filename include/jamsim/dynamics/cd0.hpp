@@ -32,10 +32,11 @@ class Cd0 final : public Model {
 
     /// Krylov iterations of the most recent solve (diagnostics, benchmarks).
     linalg::SolveInfo last_solve() const { return last_; }
-    /// `solver = "auto"` uses Eigen up to this N and PETSc above (jamsim_bench_cd0 at φ = 0.84:
-    /// Eigen 230 µs against PETSc 261 µs per step at N = 1024, 3.3 ms against 3.6 ms at 4096,
-    /// 39 ms against 35 ms at 16384).
-    static constexpr std::size_t auto_eigen_max_n = 8192;
+    /// `solver = "auto"` uses Eigen (factor updated in place) up to this N, the largest size
+    /// measured, and PETSc above (jamsim_bench_cd0 at φ = 0.84, per step: Eigen 61 µs against
+    /// PETSc 267 µs at N = 1024, 0.35 ms against 3.4 ms at 4096, 3.2 ms against 36 ms at 16384,
+    /// Eigen 48 ms at 65536).
+    static constexpr std::size_t auto_eigen_max_n = 65536;
 
     double solver_iterations() const override {
         return 0.5 * (last_.iterations_x + last_.iterations_y);

@@ -15,6 +15,7 @@ struct ContactPair {
 struct SolveInfo {
     int iterations_x = 0, iterations_y = 0;
     bool refactored = false;  // the preconditioner / factor was recomputed for this solve
+    int factor_updates = 0;   // rank-one updates/downdates applied to the factor (Eigen)
 };
 
 /// PETSc is initialised on first use (on PETSC_COMM_SELF problems only) and finalised by

@@ -5,16 +5,16 @@
 
 namespace jamsim::linalg {
 
-/// The CD0 contact matrix solved with Eigen's sparse Cholesky (SimplicialLDLT, AMD
-/// ordering). The matrix depends only on the contact set (entries are integers plus δ), so:
-///  - the symbolic analysis is done once per neighbour-list pattern;
-///  - while the contacts are those of the current factor, a solve is two triangular solves
-///    (exact to round-off);
-///  - when a few contacts have formed or broken (a low-rank change), CG preconditioned by the
-///    stale factor and warm-started from the previous velocities converges in about one
-///    iteration per changed contact, to ‖b − A u‖ ≤ rtol ‖b‖;
-///  - when a solve needs more than `refresh_iterations` (measured best: 2 at N = 1024 and
-///    16384, against 1, 3, 8 and 16), the values are refilled and refactorised.
+/// The CD0 contact matrix solved with a sparse LDLᵀ factorisation (Eigen's SimplicialLDLT
+/// with AMD ordering for the analysis and fresh factorisations). The matrix depends only on
+/// the contact set (entries are integers plus δ), and the pattern analysed at a neighbour-list
+/// rebuild holds every pair that may touch, so:
+///  - a solve is one pass of triangular solves for both right-hand sides;
+///  - a contact that forms or breaks is a rank-one change of A, applied to the factor in place
+///    (update/downdate along the elimination tree) instead of refactorising;
+///  - after changes the true residual ‖b − A u‖ ≤ rtol ‖b‖ is checked, and the factor is
+///    rebuilt from scratch if round-off accumulated by the changes makes it miss;
+///  - a new neighbour-list pattern starts with a fresh analysis and factorisation.
 /// Same interface and matrix as ContactSolver (PETSc).
 class EigenContactSolver {
   public:
@@ -30,9 +30,6 @@ class EigenContactSolver {
     /// Numerical factorisations so far (diagnostics, benchmarks).
     std::size_t factorizations() const;
 
-
-    /// PCG iterations on a stale factor above which it is refactorised.
-    static constexpr int refresh_iterations = 2;
 
   private:
     struct Impl;
