@@ -20,6 +20,19 @@ ForceResult ForceField::compute_at(const Box& box, std::span<const double> x,
     return compute_pair_forces(pot_, list_, box, x, y, fx, fy, scratch_, tally);
 }
 
+ForceResult ForceField::compute_split(const Box& box, std::span<const double> x_total,
+                                      std::span<const double> y_total,
+                                      std::span<const double> base_x,
+                                      std::span<const double> base_y,
+                                      std::span<const double> off_x,
+                                      std::span<const double> off_y,
+                                      std::span<const double> diameter, std::span<double> fx,
+                                      std::span<double> fy, Tally tally) {
+    if (list_.needs_rebuild(x_total, y_total, box)) list_.build(x_total, y_total, diameter, box);
+    return compute_pair_forces_split(pot_, list_, box, base_x, base_y, off_x, off_y, fx, fy,
+                                     scratch_, tally);
+}
+
 void drift(std::span<double> x, std::span<double> y, std::span<const double> vx,
            std::span<const double> vy, double gamma, double scale) {
     for (std::size_t i = 0; i < x.size(); ++i) {

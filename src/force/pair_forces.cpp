@@ -52,4 +52,21 @@ ForceResult compute_pair_forces(const potential::SoftSphere& pot, const Neighbor
         pot);
 }
 
+ForceResult compute_pair_forces_split(const potential::SoftSphere& pot, const NeighborList& list,
+                                      const Box& box, std::span<const double> x,
+                                      std::span<const double> y, std::span<const double> ox,
+                                      std::span<const double> oy, std::span<double> fx,
+                                      std::span<double> fy, PairScratch& scratch, Tally tally) {
+    return std::visit(
+        [&](const auto& eval) {
+            using E = std::decay_t<decltype(eval)>;
+            return tally == Tally::Full
+                       ? accumulate_pair_forces<Tally::Full, E, true>(eval, list, box, x, y, fx, fy,
+                                                                     scratch, ox.data(), oy.data())
+                       : accumulate_pair_forces<Tally::ForcesOnly, E, true>(
+                             eval, list, box, x, y, fx, fy, scratch, ox.data(), oy.data());
+        },
+        pot);
+}
+
 } // namespace jamsim

@@ -25,6 +25,15 @@ class ForceField {
                            std::span<const double> diameter, std::span<double> fx,
                            std::span<double> fy, Tally tally = Tally::ForcesOnly);
 
+    /// Forces for positions split as base + offset (a minimiser's coordinates): the list is
+    /// kept valid for the total positions (x_total = base + offset, which the caller keeps
+    /// current), separations are formed as (base difference) + (offset difference).
+    ForceResult compute_split(const Box& box, std::span<const double> x_total,
+                              std::span<const double> y_total, std::span<const double> base_x,
+                              std::span<const double> base_y, std::span<const double> off_x,
+                              std::span<const double> off_y, std::span<const double> diameter,
+                              std::span<double> fx, std::span<double> fy, Tally tally);
+
     /// Forget the list (after a Lees–Edwards wrap remapped the positions).
     void invalidate() { list_.invalidate(); }
 

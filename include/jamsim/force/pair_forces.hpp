@@ -78,12 +78,18 @@ void evaluate_block(const potential::Hertzian& eval, const double* r2, const dou
 /// square roots and divisions vectorise), and the scatter of forces and sums. A branch on
 /// "in contact?" per pair would mispredict at a quarter of the pairs and serialise the
 /// divider; this form keeps it busy.
-template <Tally kTally, class Evaluator>
+///
+/// With offsets (ox, oy non-null) the positions are x + ox, y + oy and a separation is formed
+/// as (x_i − x_j + shift) + (ox_i − ox_j): a minimiser keeps x fixed (the base) and moves the
+/// small offsets, so every disk gets the same absolute positional resolution, ~ε |offset|,
+/// instead of ~ε |x| growing across the cell (thesis §4.7).
+template <Tally kTally, class Evaluator, bool kOffsets = false>
 ForceResult accumulate_pair_forces(const Evaluator& eval, const NeighborList& list,
                                    const Box& box, std::span<const double> x,
                                    std::span<const double> y,
                                    std::span<double> fx, std::span<double> fy,
-                                   PairScratch& scratch) {
+                                   PairScratch& scratch, const double* ox = nullptr,
+                                   const double* oy = nullptr) {
     const std::size_t n = x.size();
     for (std::size_t i = 0; i < n; ++i) fx[i] = fy[i] = 0.0;
     const std::int32_t* owner = list.owner().data();
@@ -105,8 +111,13 @@ ForceResult accumulate_pair_forces(const Evaluator& eval, const NeighborList& li
         for (std::size_t k = 0; k < m; ++k) {
             const auto i = static_cast<std::size_t>(owner[k0 + k]);
             const auto j = static_cast<std::size_t>(neighbor[k0 + k]);
-            const double sy = y[i] - y[j] + shift_y[k0 + k];
-            const double sx = x[i] - x[j] + shift_x[k0 + k] + gamma * sy;
+            double sy = y[i] - y[j] + shift_y[k0 + k];
+            double sxs = x[i] - x[j] + shift_x[k0 + k];
+            if constexpr (kOffsets) {
+                sy += oy[i] - oy[j];
+                sxs += ox[i] - ox[j];
+            }
+            const double sx = sxs + gamma * sy;
             rx[k] = sx;
             ry[k] = sy;
             r2[k] = sx * sx + sy * sy;
@@ -156,5 +167,13 @@ ForceResult compute_pair_forces(const potential::SoftSphere& pot, const Neighbor
                                 std::span<const double> y,
                                 std::span<double> fx, std::span<double> fy,
                                 PairScratch& scratch, Tally tally = Tally::Full);
+
+/// The same with positions split as base (x, y) + offset (ox, oy); see accumulate_pair_forces.
+ForceResult compute_pair_forces_split(const potential::SoftSphere& pot, const NeighborList& list,
+                                      const Box& box, std::span<const double> x,
+                                      std::span<const double> y, std::span<const double> ox,
+                                      std::span<const double> oy, std::span<double> fx,
+                                      std::span<double> fy, PairScratch& scratch,
+                                      Tally tally = Tally::Full);
 
 } // namespace jamsim

@@ -1,0 +1,61 @@
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "jamsim/core/system.hpp"
+#include "jamsim/dynamics/force_field.hpp"
+
+namespace jamsim {
+
+/// When a minimisation stops (thesis §4.7). Recorded with every result in files and archives.
+struct MinimizeCriteria {
+    /// Unjammed: the energy per particle fell below this (units k_e).
+    double energy_floor = 1e-16;
+    /// Force balance, relative: the largest force component max_i max(|F_ix|, |F_iy|) is at
+    /// most force_tol × f̄, with f̄ = Σ_contacts r_ij·f_ij / (N_c ⟨d⟩) the mean contact force
+    /// (⟨d⟩ the mean diameter). Scale-free, so it means the same at any pressure.
+    double force_tol = 1e-12;
+    /// Force balance, absolute (k_e/d_s): also stop when the largest component is at most this
+    /// (0: not used). For comparisons with codes that use an absolute force tolerance.
+    double force_tol_abs = 0.0;
+    /// Give up (outcome NotConverged) after this many iterations.
+    std::int64_t max_iterations = 1'000'000;
+    /// Equal positional resolution: positions are base + offset (thesis end of §4.7).
+    bool split_positions = true;
+};
+
+enum class MinimizeOutcome { Unjammed, ForceBalanced, NotConverged };
+std::string_view to_string(MinimizeOutcome outcome);
+
+/// The state a minimisation ended in.
+struct MinimizeResult {
+    MinimizeOutcome outcome = MinimizeOutcome::NotConverged;
+    std::int64_t iterations = 0;
+    std::int64_t force_evaluations = 0;
+    double energy_per_particle = 0.0;  ///< E/N, k_e
+    double max_force = 0.0;            ///< largest force component, k_e/d_s
+    double mean_contact_force = 0.0;   ///< f̄ of MinimizeCriteria, k_e/d_s
+    double pressure = 0.0;             ///< k_e/d_s²
+    double shear_stress = 0.0;         ///< σ = (1/A) dE/dγ, k_e/d_s²
+    std::int64_t contacts = 0;         ///< pairs with r_ij < d_ij
+};
+
+/// A minimiser relaxes the positions at fixed box and strain to a local minimum of the
+/// elastic energy. On return sys.particles holds the final positions and their forces.
+class Minimizer {
+  public:
+    virtual ~Minimizer() = default;
+    virtual std::string_view name() const = 0;
+    virtual MinimizeResult minimize(System& sys, ForceField& forces,
+                                    const MinimizeCriteria& criteria) = 0;
+};
+
+/// Registry: "cg" (Polak–Ribière) or "fire" (FIRE 2.0); throws std::invalid_argument
+/// listing the known names.
+std::unique_ptr<Minimizer> make_minimizer(std::string_view name);
+std::vector<std::string> minimizer_names();
+
+} // namespace jamsim

@@ -1,0 +1,59 @@
+#pragma once
+#include <span>
+#include <vector>
+
+#include "jamsim/core/system.hpp"
+#include "jamsim/dynamics/force_field.hpp"
+#include "jamsim/minimize/minimizer.hpp"
+
+namespace jamsim {
+
+/// The coordinates a minimiser moves: x = base + offset per disk, with the base fixed while
+/// the offsets stay small (rebased when they grow), so separations are resolved to ~ε|offset|
+/// for every disk alike. Keeps sys.particles.x, y = base + offset current (for the neighbour
+/// list and for the caller) and evaluates forces into sys.particles.fx, fy.
+/// Without splitting (criteria.split_positions = false) the base is the position itself and
+/// the offsets stay zero: the plain representation, for comparison.
+class SplitPositions {
+  public:
+    SplitPositions(System& sys, ForceField& forces, bool split);
+
+    std::size_t size() const { return base_x_.size(); }
+
+    /// x += s d (d: a direction per disk, sheared coordinates).
+    void move(double s, std::span<const double> dx, std::span<const double> dy);
+
+    /// Forces at the current positions (into sys.particles.fx, fy), with the tallies.
+    ForceResult evaluate(Tally tally = Tally::Full);
+
+    /// Largest force component max_i max(|F_ix|, |F_iy|).
+    double max_force() const;
+
+    /// f̄ = Σ_contacts r_ij·f_ij / (N_c ⟨d⟩) from a tallied evaluation.
+    double mean_contact_force(const ForceResult& f) const;
+
+    /// Fold the offsets into the base (when they have grown beyond `limit`).
+    void rebase_if_larger(double limit);
+
+    std::int64_t evaluations() const { return evaluations_; }
+    System& system() { return sys_; }
+
+  private:
+    System& sys_;
+    ForceField& forces_;
+    bool split_;
+    std::vector<double> base_x_, base_y_, off_x_, off_y_;
+    double max_offset_ = 0.0;
+    double mean_diameter_ = 1.0;
+    std::int64_t evaluations_ = 0;
+};
+
+/// Fill a MinimizeResult from the last tallied evaluation.
+MinimizeResult summarize(const SplitPositions& pos, const System& sys, const ForceResult& f,
+                         MinimizeOutcome outcome, std::int64_t iterations);
+
+/// The stopping rule of MinimizeCriteria for a tallied evaluation; NotConverged = go on.
+MinimizeOutcome check_stop(const SplitPositions& pos, const System& sys, const ForceResult& f,
+                           const MinimizeCriteria& c);
+
+} // namespace jamsim

@@ -1,0 +1,81 @@
+// FIRE 2.0 (Guénolé et al., Comput. Mater. Sci. 175, 109584 (2020); Bitzek et al., PRL 97,
+// 170201 (2006)), semi-implicit Euler version, unit masses.
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "jamsim/minimize/minimizer.hpp"
+#include "jamsim/minimize/split_positions.hpp"
+
+namespace jamsim {
+
+namespace {
+
+class Fire final : public Minimizer {
+  public:
+    std::string_view name() const override { return "fire"; }
+
+    MinimizeResult minimize(System& sys, ForceField& forces, const MinimizeCriteria& c) override {
+        // Time steps in units of τ = d_s sqrt(m/k_e): the stiffest contact oscillates with
+        // ω ≲ sqrt(8), so Δt_max = 1 keeps the dynamics stable; Δt_0 = 0.1 as in LAMMPS.
+        constexpr double dt_start = 0.1, dt_max = 1.0, dt_min = 0.002;
+        constexpr int n_delay = 20, n_negative_max = 2000;
+        constexpr double f_inc = 1.1, f_dec = 0.5, alpha_start = 0.25, f_alpha = 0.99;
+        SplitPositions pos(sys, forces, c.split_positions);
+        Particles& p = sys.particles;
+        const std::size_t n = p.size();
+        std::vector<double> vx(n, 0.0), vy(n, 0.0);
+        double dt = dt_start, alpha = alpha_start;
+        int positive = 0, negative = 0;
+        ForceResult f = pos.evaluate();
+        for (std::int64_t it = 0;; ++it) {
+            const MinimizeOutcome stop = check_stop(pos, sys, f, c);
+            if (stop != MinimizeOutcome::NotConverged) return summarize(pos, sys, f, stop, it);
+            if (it >= c.max_iterations || negative > n_negative_max)
+                return summarize(pos, sys, f, MinimizeOutcome::NotConverged, it);
+            double power = 0.0;
+            for (std::size_t i = 0; i < n; ++i) power += p.fx[i] * vx[i] + p.fy[i] * vy[i];
+            if (power > 0.0) {
+                ++positive;
+                negative = 0;
+                if (positive > n_delay) {
+                    dt = std::min(dt * f_inc, dt_max);
+                    alpha *= f_alpha;
+                }
+            } else {
+                ++negative;
+                positive = 0;
+                if (it >= n_delay) {  // initial delay: no slow-down in the first steps
+                    dt = std::max(dt * f_dec, dt_min);
+                    alpha = alpha_start;
+                }
+                pos.move(-0.5 * dt, vx, vy);  // step back half way: the uphill step
+                std::fill(vx.begin(), vx.end(), 0.0);
+                std::fill(vy.begin(), vy.end(), 0.0);
+            }
+            double vv = 0.0, ff = 0.0;
+            for (std::size_t i = 0; i < n; ++i) {
+                vx[i] += dt * p.fx[i];
+                vy[i] += dt * p.fy[i];
+                vv += vx[i] * vx[i] + vy[i] * vy[i];
+                ff += p.fx[i] * p.fx[i] + p.fy[i] * p.fy[i];
+            }
+            if (ff > 0.0) {  // mix v towards the force direction
+                const double scale = alpha * std::sqrt(vv / ff);
+                for (std::size_t i = 0; i < n; ++i) {
+                    vx[i] = (1.0 - alpha) * vx[i] + scale * p.fx[i];
+                    vy[i] = (1.0 - alpha) * vy[i] + scale * p.fy[i];
+                }
+            }
+            pos.move(dt, vx, vy);
+            pos.rebase_if_larger(0.05);
+            f = pos.evaluate(Tally::Full);
+        }
+    }
+};
+
+} // namespace
+
+std::unique_ptr<Minimizer> make_fire() { return std::make_unique<Fire>(); }
+
+} // namespace jamsim

@@ -1,0 +1,101 @@
+#include "jamsim/minimize/split_positions.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace jamsim {
+
+SplitPositions::SplitPositions(System& sys, ForceField& forces, bool split)
+    : sys_(sys), forces_(forces), split_(split) {
+    Particles& p = sys.particles;
+    for (std::size_t i = 0; i < p.size(); ++i) sys.box.wrap_into_cell(p.x[i], p.y[i]);
+    base_x_.assign(p.x.begin(), p.x.end());
+    base_y_.assign(p.y.begin(), p.y.end());
+    off_x_.assign(p.size(), 0.0);
+    off_y_.assign(p.size(), 0.0);
+    double sum = 0;
+    for (double d : p.diameter) sum += d;
+    mean_diameter_ = p.size() ? sum / static_cast<double>(p.size()) : 1.0;
+}
+
+void SplitPositions::move(double s, std::span<const double> dx, std::span<const double> dy) {
+    Particles& p = sys_.particles;
+    const std::size_t n = size();
+    if (split_) {
+        double largest = max_offset_;
+        for (std::size_t i = 0; i < n; ++i) {
+            off_x_[i] += s * dx[i];
+            off_y_[i] += s * dy[i];
+            p.x[i] = base_x_[i] + off_x_[i];
+            p.y[i] = base_y_[i] + off_y_[i];
+            largest = std::max({largest, std::abs(off_x_[i]), std::abs(off_y_[i])});
+        }
+        max_offset_ = largest;
+    } else {
+        for (std::size_t i = 0; i < n; ++i) {
+            p.x[i] += s * dx[i];
+            p.y[i] += s * dy[i];
+        }
+    }
+}
+
+ForceResult SplitPositions::evaluate(Tally tally) {
+    Particles& p = sys_.particles;
+    ++evaluations_;
+    if (!split_)
+        return forces_.compute_at(sys_.box, p.x, p.y, p.diameter, p.fx, p.fy, tally);
+    return forces_.compute_split(sys_.box, p.x, p.y, base_x_, base_y_, off_x_, off_y_,
+                                 p.diameter, p.fx, p.fy, tally);
+}
+
+double SplitPositions::max_force() const {
+    const Particles& p = sys_.particles;
+    double m = 0.0;
+    for (std::size_t i = 0; i < p.size(); ++i) m = std::max({m, std::abs(p.fx[i]), std::abs(p.fy[i])});
+    return m;
+}
+
+double SplitPositions::mean_contact_force(const ForceResult& f) const {
+    if (f.contacts == 0) return 0.0;
+    return (f.virial_xx + f.virial_yy) / (static_cast<double>(f.contacts) * mean_diameter_);
+}
+
+void SplitPositions::rebase_if_larger(double limit) {
+    if (!split_ || max_offset_ <= limit) return;
+    Particles& p = sys_.particles;
+    for (std::size_t i = 0; i < size(); ++i) {
+        sys_.box.wrap_into_cell(p.x[i], p.y[i]);
+        base_x_[i] = p.x[i];
+        base_y_[i] = p.y[i];
+        off_x_[i] = off_y_[i] = 0.0;
+    }
+    max_offset_ = 0.0;
+    forces_.invalidate();  // wrapped positions: the list's image shifts no longer apply
+}
+
+MinimizeResult summarize(const SplitPositions& pos, const System& sys, const ForceResult& f,
+                         MinimizeOutcome outcome, std::int64_t iterations) {
+    MinimizeResult r;
+    r.outcome = outcome;
+    r.iterations = iterations;
+    r.force_evaluations = pos.evaluations();
+    r.energy_per_particle = f.energy / static_cast<double>(sys.particles.size());
+    r.max_force = pos.max_force();
+    r.mean_contact_force = pos.mean_contact_force(f);
+    r.pressure = f.pressure(sys.box);
+    r.shear_stress = f.shear_stress(sys.box);
+    r.contacts = f.contacts;
+    return r;
+}
+
+MinimizeOutcome check_stop(const SplitPositions& pos, const System& sys, const ForceResult& f,
+                           const MinimizeCriteria& c) {
+    if (f.energy / static_cast<double>(sys.particles.size()) < c.energy_floor)
+        return MinimizeOutcome::Unjammed;
+    const double fmax = pos.max_force();
+    if (fmax <= c.force_tol * pos.mean_contact_force(f) || fmax <= c.force_tol_abs)
+        return MinimizeOutcome::ForceBalanced;
+    return MinimizeOutcome::NotConverged;
+}
+
+} // namespace jamsim

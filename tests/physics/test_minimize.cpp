@@ -1,0 +1,59 @@
+// Energy minimisation (thesis §4.7): the RAND quench below and above jamming, CG against
+// FIRE, rattlers, and equal positional resolution.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "jamsim/dynamics/force_field.hpp"
+#include "jamsim/minimize/minimizer.hpp"
+#include "jamsim/observe/contact_network.hpp"
+#include "support/statistics.hpp"
+
+using namespace jamsim;
+
+namespace {
+
+struct Quench {
+    MinimizeResult result;
+    ContactNetwork network;
+};
+
+Quench rand_quench(const std::string& minimizer, std::int64_t n, double phi, std::uint64_t seed,
+                   MinimizeCriteria c = {}) {
+    System sys = random_system(n, phi, SizeMix{}, seed, 0);
+    ForceField ff(potential::make_soft_sphere(2.0), 0.3);
+    auto m = make_minimizer(minimizer);
+    Quench q{m->minimize(sys, ff, c), {}};
+    q.network = contact_network(sys, ff.list());
+    return q;
+}
+
+} // namespace
+
+TEST(Minimize, RandBelowJammingReachesZeroEnergy) {
+    for (const char* name : {"cg", "fire"})
+        for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+            const Quench q = rand_quench(name, 256, 0.80, seed);
+            EXPECT_EQ(q.result.outcome, MinimizeOutcome::Unjammed) << name << " seed " << seed;
+            EXPECT_LT(q.result.energy_per_particle, 1e-16);
+        }
+}
+
+TEST(Minimize, RandAboveJammingBalancesForces) {
+    const MinimizeCriteria c;
+    for (const char* name : {"cg", "fire"})
+        for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+            const Quench q = rand_quench(name, 256, 0.86, seed, c);
+            std::printf("%s seed %2llu: its %6lld evals %6lld E/N %.6e p %.6e fmax/fbar %.2e Z %.4f rattlers %.3f excess %lld\n",
+                        name, static_cast<unsigned long long>(seed), static_cast<long long>(q.result.iterations),
+                        static_cast<long long>(q.result.force_evaluations), q.result.energy_per_particle,
+                        q.result.pressure, q.result.max_force / q.result.mean_contact_force, q.network.z(),
+                        q.network.rattler_fraction(), static_cast<long long>(q.network.excess_contacts()));
+            ASSERT_EQ(q.result.outcome, MinimizeOutcome::ForceBalanced) << name << " seed " << seed;
+            EXPECT_GT(q.result.energy_per_particle, c.energy_floor);
+            EXPECT_LE(q.result.max_force, c.force_tol * q.result.mean_contact_force);
+            EXPECT_GE(q.network.excess_contacts(), 0) << "jammed packings are at least isostatic";
+        }
+}
