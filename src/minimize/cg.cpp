@@ -39,7 +39,7 @@ class ConjugateGradient final : public Minimizer {
         for (;; ++it) {
             const MinimizeOutcome stop = check_stop(pos, sys, f, c);
             if (stop != MinimizeOutcome::NotConverged) return summarize(pos, sys, f, stop, it);
-            if (it >= c.max_iterations)
+            if (it >= c.max_iterations || pos.stalled(pos.max_force(), c.stall_iterations))
                 return summarize(pos, sys, f, MinimizeOutcome::NotConverged, it);
             std::copy(p.fx.begin(), p.fx.end(), gx.begin());
             std::copy(p.fy.begin(), p.fy.end(), gy.begin());
@@ -59,7 +59,7 @@ class ConjugateGradient final : public Minimizer {
             s = std::min(s, 0.1 / dmax);  // never move a disk by more than 0.1 d_s per trial
             f = line_search(pos, dx, dy, slope0, s);
             step_guess = s;
-            pos.rebase_if_larger(0.05);
+            pos.rebase_if_larger();
             // Polak–Ribière (PR+): β = F_new·(F_new − F_old) / F_old·F_old.
             const double beta_num = dot(p.fx, p.fy, p.fx, p.fy) - dot(p.fx, p.fy, gx, gy);
             double beta = gg > 0.0 ? std::max(0.0, beta_num / gg) : 0.0;

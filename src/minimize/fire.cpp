@@ -31,7 +31,7 @@ class Fire final : public Minimizer {
         for (std::int64_t it = 0;; ++it) {
             const MinimizeOutcome stop = check_stop(pos, sys, f, c);
             if (stop != MinimizeOutcome::NotConverged) return summarize(pos, sys, f, stop, it);
-            if (it >= c.max_iterations || negative > n_negative_max)
+            if (it >= c.max_iterations || pos.stalled(pos.max_force(), c.stall_iterations) || negative > n_negative_max)
                 return summarize(pos, sys, f, MinimizeOutcome::NotConverged, it);
             double power = 0.0;
             for (std::size_t i = 0; i < n; ++i) power += p.fx[i] * vx[i] + p.fy[i] * vy[i];
@@ -68,7 +68,7 @@ class Fire final : public Minimizer {
                 }
             }
             pos.move(dt, vx, vy);
-            pos.rebase_if_larger(0.05);
+            pos.rebase_if_larger();
             f = pos.evaluate(Tally::Full);
         }
     }

@@ -64,13 +64,20 @@ void SplitPositions::rebase_if_larger(double limit) {
     if (!split_ || max_offset_ <= limit) return;
     Particles& p = sys_.particles;
     for (std::size_t i = 0; i < size(); ++i) {
-        sys_.box.wrap_into_cell(p.x[i], p.y[i]);
         base_x_[i] = p.x[i];
         base_y_[i] = p.y[i];
         off_x_[i] = off_y_[i] = 0.0;
     }
     max_offset_ = 0.0;
-    forces_.invalidate();  // wrapped positions: the list's image shifts no longer apply
+}
+
+bool SplitPositions::stalled(double max_force, std::int64_t window) {
+    if (best_force_ < 0.0 || max_force < 0.5 * best_force_) {
+        best_force_ = max_force;
+        since_best_ = 0;
+        return false;
+    }
+    return ++since_best_ > window;
 }
 
 MinimizeResult summarize(const SplitPositions& pos, const System& sys, const ForceResult& f,

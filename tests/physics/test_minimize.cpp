@@ -9,6 +9,7 @@
 #include "jamsim/dynamics/force_field.hpp"
 #include "jamsim/minimize/minimizer.hpp"
 #include "jamsim/observe/contact_network.hpp"
+#include "jamsim/protocols/jamming.hpp"
 #include "support/statistics.hpp"
 
 using namespace jamsim;
@@ -53,7 +54,32 @@ TEST(Minimize, RandAboveJammingBalancesForces) {
                         q.network.rattler_fraction(), static_cast<long long>(q.network.excess_contacts()));
             ASSERT_EQ(q.result.outcome, MinimizeOutcome::ForceBalanced) << name << " seed " << seed;
             EXPECT_GT(q.result.energy_per_particle, c.energy_floor);
-            EXPECT_LE(q.result.max_force, c.force_tol * q.result.mean_contact_force);
+            EXPECT_LE(q.result.max_force, std::max(c.force_tol * q.result.mean_contact_force, c.force_tol_abs));
             EXPECT_GE(q.network.excess_contacts(), 0) << "jammed packings are at least isostatic";
         }
+}
+
+// Isostaticity (Paper II): just above its own φ_J a jammed packing has exactly
+// N_c′ = 2(N′ − 1) + 1 contacts among its N′ non-rattlers. Degenerate or not-quite-minimised
+// cases may miss by one; the issue asks for at least 90% exact over ≥ 20 seeds.
+TEST(Jamming, IsostaticJustAboveJamming) {
+    int exact = 0, total = 0;
+    for (std::int64_t n : {64, 128})
+        for (std::uint64_t seed = 1; seed <= 12; ++seed) {
+            System sys = random_system(n, 0.84, SizeMix{}, seed, 0);
+            ForceField ff(potential::make_soft_sphere(2.0), 0.3);
+            auto cg = make_minimizer("cg");
+            const JammingPoint jp = find_jamming_point(sys, ff, *cg, MinimizeCriteria{});
+            const auto& net = jp.state.network;
+            std::printf("N %3lld seed %2llu: phi_J %.7f (unjammed %.7f) p %.3e N' %lld Nc' %lld excess %lld (%d minimisations)\n",
+                        static_cast<long long>(n), static_cast<unsigned long long>(seed), jp.phi_j,
+                        jp.phi_unjammed, jp.state.minimum.pressure, static_cast<long long>(net.nonrattlers),
+                        static_cast<long long>(net.backbone_contacts()), static_cast<long long>(net.excess_contacts()),
+                        jp.minimizations);
+            EXPECT_GT(jp.phi_j, jp.phi_unjammed);
+            EXPECT_LT(jp.phi_j - jp.phi_unjammed, 2e-6);
+            exact += net.excess_contacts() == 0;
+            ++total;
+        }
+    EXPECT_GE(exact, static_cast<int>(std::ceil(0.9 * total))) << exact << " of " << total << " isostatic";
 }

@@ -16,13 +16,19 @@ struct MinimizeCriteria {
     double energy_floor = 1e-16;
     /// Force balance, relative: the largest force component max_i max(|F_ix|, |F_iy|) is at
     /// most force_tol × f̄, with f̄ = Σ_contacts r_ij·f_ij / (N_c ⟨d⟩) the mean contact force
-    /// (⟨d⟩ the mean diameter). Scale-free, so it means the same at any pressure.
-    double force_tol = 1e-12;
-    /// Force balance, absolute (k_e/d_s): also stop when the largest component is at most this
-    /// (0: not used). For comparisons with codes that use an absolute force tolerance.
-    double force_tol_abs = 0.0;
-    /// Give up (outcome NotConverged) after this many iterations.
+    /// (⟨d⟩ the mean diameter). Scale-free, so it means the same at any pressure...
+    double force_tol = 1e-10;
+    /// ... down to an absolute floor (k_e/d_s): also stop when the largest component is at
+    /// most this. A contact force k_e (1 − r/d)/d is computed from r ≈ d, whose absolute
+    /// precision is ε d ≈ 2e-16 d_s, so no minimiser can balance forces much below ~1e-15
+    /// k_e/d_s; near φ_J (f̄ ≲ 1e-5) the relative criterion alone would be unreachable.
+    /// (Set force_tol = 0 and this to compare with codes that use an absolute tolerance.)
+    double force_tol_abs = 1e-14;
+    /// Give up (outcome NotConverged) after this many iterations ...
     std::int64_t max_iterations = 1'000'000;
+    /// ... or when the largest force has not fallen below half its best value for this many
+    /// iterations (stuck at a round-off floor above the tolerance).
+    std::int64_t stall_iterations = 200'000;
     /// Equal positional resolution: positions are base + offset (thesis end of §4.7).
     bool split_positions = true;
 };

@@ -32,8 +32,15 @@ class SplitPositions {
     /// f̄ = Σ_contacts r_ij·f_ij / (N_c ⟨d⟩) from a tallied evaluation.
     double mean_contact_force(const ForceResult& f) const;
 
-    /// Fold the offsets into the base (when they have grown beyond `limit`).
-    void rebase_if_larger(double limit);
+    /// Fold the offsets into the base once they have grown beyond `limit` (positions move
+    /// far early in a minimisation; the base must be fixed, and the offsets small, while it
+    /// converges). Positions are not wrapped, so the neighbour list stays valid.
+    void rebase_if_larger(double limit = kRebaseOffset);
+    static constexpr double kRebaseOffset = 1e-3;  ///< d_s
+
+    /// Track progress: returns true when the largest force has not halved for `window`
+    /// calls since its last halving (a stalled minimisation).
+    bool stalled(double max_force, std::int64_t window);
 
     std::int64_t evaluations() const { return evaluations_; }
     System& system() { return sys_; }
@@ -44,6 +51,8 @@ class SplitPositions {
     bool split_;
     std::vector<double> base_x_, base_y_, off_x_, off_y_;
     double max_offset_ = 0.0;
+    double best_force_ = -1.0;
+    std::int64_t since_best_ = 0;
     double mean_diameter_ = 1.0;
     std::int64_t evaluations_ = 0;
 };
