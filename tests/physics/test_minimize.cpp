@@ -83,3 +83,25 @@ TEST(Jamming, IsostaticJustAboveJamming) {
         }
     EXPECT_GE(exact, static_cast<int>(std::ceil(0.9 * total))) << exact << " of " << total << " isostatic";
 }
+
+// Above φ_J, CG and FIRE may land in different minima of the same landscape; over 20 random
+// starts the distributions of E/N and p must agree: means within 3 combined standard errors.
+TEST(Minimize, CgAndFireSampleTheSameMinima) {
+    std::vector<double> e_cg, e_fire, p_cg, p_fire;
+    for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+        const Quench a = rand_quench("cg", 64, 0.86, seed), b = rand_quench("fire", 64, 0.86, seed);
+        ASSERT_EQ(a.result.outcome, MinimizeOutcome::ForceBalanced);
+        ASSERT_EQ(b.result.outcome, MinimizeOutcome::ForceBalanced);
+        e_cg.push_back(a.result.energy_per_particle);
+        e_fire.push_back(b.result.energy_per_particle);
+        p_cg.push_back(a.result.pressure);
+        p_fire.push_back(b.result.pressure);
+    }
+    using jamsim::testing::mean_and_error;
+    const auto ec = mean_and_error(e_cg), ef = mean_and_error(e_fire);
+    const auto pc = mean_and_error(p_cg), pf = mean_and_error(p_fire);
+    std::printf("E/N: CG %.4e +- %.1e, FIRE %.4e +- %.1e; p: CG %.4e +- %.1e, FIRE %.4e +- %.1e\n",
+                ec.mean, ec.error, ef.mean, ef.error, pc.mean, pc.error, pf.mean, pf.error);
+    EXPECT_LE(std::abs(ec.mean - ef.mean), 3.0 * std::hypot(ec.error, ef.error));
+    EXPECT_LE(std::abs(pc.mean - pf.mean), 3.0 * std::hypot(pc.error, pf.error));
+}
