@@ -103,6 +103,17 @@ CLI::App* add_replica_command(CLI::App& app) {
     cmd->add_option("--petsc-options", p.petsc_options,
                     "CD0 solver options, e.g. \"-cd0_pc_type icc -cd0_ksp_rtol 1e-8\"");
     cmd->add_option("--integrator", opt->integrator, "euler or heun")->capture_default_str();
+    cmd->add_option("--minimizer", p.minimizer, "QS, RAND, COMPRESS: cg or fire")->capture_default_str();
+    cmd->add_option("--strain-step", p.strain_step, "QS: strain step between minimisations")
+        ->capture_default_str();
+    cmd->add_option("--energy-floor", p.energy_floor, "E/N below which a minimised state is unjammed")
+        ->capture_default_str();
+    cmd->add_option("--force-tol", p.force_tol, "force balance relative to the mean contact force")
+        ->capture_default_str();
+    cmd->add_option("--force-tol-abs", p.force_tol_abs, "force balance floor (k_e/d_s)")
+        ->capture_default_str();
+    cmd->add_option("--phi-tol", p.phi_tol, "COMPRESS: width of the final phi_J bracket")
+        ->capture_default_str();
     cmd->add_option("--seed", p.seed, "Random seed")->capture_default_str();
     cmd->add_option("--replica", p.replica, "Replica id (part of the random key)")
         ->capture_default_str();

@@ -35,19 +35,22 @@ std::vector<ParamError> validate(const ReplicaParams& p) {
     std::vector<ParamError> e;
     bool known_model = false;
     std::string names;
-    for (const auto& m : model_names()) {
+    auto all_models = model_names();
+    for (const auto& m : static_model_names()) all_models.push_back(m);
+    for (const auto& m : all_models) {
         known_model = known_model || m == p.model;
         names += (names.empty() ? "" : ", ") + m;
     }
+    const bool static_model = is_static_model(p.model);
     if (!known_model) e.push_back({"model", p.model, "one of: " + names});
     if (p.n < 2) e.push_back({"N", str(p.n), "an integer >= 2"});
     else if (p.size_ratio != 1.0 && p.n % 2 != 0)
         e.push_back({"N", str(p.n), "an even number (50:50 mixture; size_ratio = 1 allows odd N)"});
     if (!(p.phi > 0.0 && p.phi < 1.0)) e.push_back({"phi", str(p.phi), "0 < phi < 1"});
     if (!(std::isfinite(p.rate) && p.rate >= 0.0)) e.push_back({"rate", str(p.rate), "rate >= 0"});
-    if (p.rate > 0.0 && !finite_positive(p.strain))
+    if ((p.rate > 0.0 || p.model == "QS") && !finite_positive(p.strain))
         e.push_back({"strain", str(p.strain), "strain > 0"});
-    if (p.rate == 0.0 && !finite_positive(p.time))
+    if (p.rate == 0.0 && !static_model && !finite_positive(p.time))
         e.push_back({"time", str(p.time), "time > 0 (needed when rate = 0)"});
     if (!(std::isfinite(p.transient) && p.transient >= 0.0))
         e.push_back({"transient", str(p.transient), "transient >= 0"});
@@ -71,12 +74,29 @@ std::vector<ParamError> validate(const ReplicaParams& p) {
                          "dt <= " + str(sllod_stable_dt(damping, p.mass, p.kd)) + " for " + name +
                              " with mass " + str(p.mass) + " and kd " + str(p.kd) +
                              " (stability of the integrator)"});
+    if (p.minimizer != "cg" && p.minimizer != "fire")
+        e.push_back({"minimizer", p.minimizer, "cg or fire"});
+    if (!finite_positive(p.strain_step)) e.push_back({"strain-step", str(p.strain_step), "strain-step > 0"});
+    if (!finite_positive(p.energy_floor))
+        e.push_back({"energy-floor", str(p.energy_floor), "energy-floor > 0"});
+    if (!(std::isfinite(p.force_tol) && p.force_tol >= 0.0))
+        e.push_back({"force-tol", str(p.force_tol), "force-tol >= 0"});
+    if (!(std::isfinite(p.force_tol_abs) && p.force_tol_abs >= 0.0))
+        e.push_back({"force-tol-abs", str(p.force_tol_abs), "force-tol-abs >= 0"});
+    if (p.force_tol == 0.0 && p.force_tol_abs == 0.0)
+        e.push_back({"force-tol", "0", "force-tol > 0 or force-tol-abs > 0 (a reachable stopping rule)"});
+    if (!(std::isfinite(p.phi_tol) && p.phi_tol > 0.0 && p.phi_tol < 1e-2))
+        e.push_back({"phi-tol", str(p.phi_tol), "0 < phi-tol < 0.01"});
     if (p.solver != "auto" && p.solver != "petsc" && p.solver != "eigen")
         e.push_back({"solver", p.solver, "auto, petsc or eigen"});
     return e;
 }
 
 Schedule schedule_of(const ReplicaParams& p) {
+    if (p.model == "RAND" || p.model == "COMPRESS") return {0, 1};  // one minimised state
+    if (p.model == "QS")  // steps are minimisations after strain steps
+        return {static_cast<std::int64_t>(std::ceil(p.strain / p.strain_step - 1e-9)),
+                std::max<std::int64_t>(1, std::llround(p.sample_interval / p.strain_step))};
     const double duration = p.rate > 0.0 ? p.strain / p.rate : p.time;
     const double sample_time = p.rate > 0.0 ? p.sample_interval / p.rate : p.sample_interval;
     const auto steps = static_cast<std::int64_t>(std::ceil(duration / p.dt - 1e-9));
@@ -114,6 +134,7 @@ ReplicaResult run_replica(const ReplicaParams& p, const std::function<void()>& a
     if (!errors.empty())
         throw std::invalid_argument("replica parameter " + errors.front().key + " = " +
                                     errors.front().value + ": allowed " + errors.front().allowed);
+    if (is_static_model(p.model)) return run_static_replica(p, after_sample);
     const auto start = std::chrono::steady_clock::now();
     ReplicaResult result{TimeSeries{}, initial_system(p)};
     System& sys = result.final_state;
@@ -153,7 +174,8 @@ ReplicaResult run_replica(const ReplicaParams& p, const std::function<void()>& a
                            dis.kinetic_energy * inv_n,
                            dis.pressure_kinetic,
                            dis.shear_stress_kinetic,
-                           model->solver_iterations()};
+                           model->solver_iterations(),
+                           p.phi};
             if (!std::isfinite(s.energy_per_particle) || !std::isfinite(s.pressure))
                 throw std::runtime_error("non-finite state at t = " + str(t) +
                                          " (time step too large?)");

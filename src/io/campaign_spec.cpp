@@ -111,6 +111,9 @@ const std::map<std::string, std::string> kKeyLocation = {
     {"dt", "[model] dt"},            {"alpha", "[potential] alpha"},
     {"size-ratio", "[system] size_ratio"}, {"skin", "[system] skin"},
     {"kd", "[model] kd"},             {"delta", "[model] delta"}, {"solver", "[model] solver"}, {"mass", "[model] mass"},
+    {"minimizer", "[model] minimizer"}, {"strain-step", "[model] strain_step"},
+    {"energy-floor", "[model] energy_floor"}, {"force-tol", "[model] force_tol"},
+    {"force-tol-abs", "[model] force_tol_abs"}, {"phi-tol", "[model] phi_tol"},
 };
 
 struct Point {
@@ -142,7 +145,9 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path) {
     const auto* sweep = r.table(root, "sweep");
     if (!sweep) r.fail("[sweep]", "(missing)", "a [sweep] table");
     r.only_keys(*campaign, "[campaign]", {"name", "output"});
-    r.only_keys(model, "[model]", {"name", "integrator", "dt", "kd", "delta", "petsc_options", "solver", "mass"});
+    r.only_keys(model, "[model]", {"name", "integrator", "dt", "kd", "delta", "petsc_options", "solver", "mass",
+                                   "minimizer", "strain_step", "energy_floor", "force_tol",
+                                   "force_tol_abs", "phi_tol"});
     r.only_keys(pot, "[potential]", {"name", "alpha"});
     r.only_keys(system, "[system]", {"size_ratio", "skin"});
     r.only_keys(run, "[run]", {"transient", "strain", "time", "sample_interval"});
@@ -170,6 +175,12 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path) {
     base.petsc_options = r.string(model, "[model]", "petsc_options", "");
     base.solver = r.string(model, "[model]", "solver", base.solver);
     base.mass = r.number(model, "[model]", "mass", base.mass);
+    base.minimizer = r.string(model, "[model]", "minimizer", base.minimizer);
+    base.strain_step = r.number(model, "[model]", "strain_step", base.strain_step);
+    base.energy_floor = r.number(model, "[model]", "energy_floor", base.energy_floor);
+    base.force_tol = r.number(model, "[model]", "force_tol", base.force_tol);
+    base.force_tol_abs = r.number(model, "[model]", "force_tol_abs", base.force_tol_abs);
+    base.phi_tol = r.number(model, "[model]", "phi_tol", base.phi_tol);
     const std::string pot_name = r.string(pot, "[potential]", "name", "");
     if (!pot_name.empty() && pot.get("alpha"))
         r.fail("[potential] alpha", show(*pot.get("alpha")),
@@ -269,16 +280,23 @@ CampaignSpec load_campaign(const std::string& path) {
 std::string fingerprint(const CampaignSpec& spec) {
     std::ostringstream os;
     os.precision(17);
-    os << "jamsim campaign v2 " << spec.name << " replicas " << spec.replicas.size() << '\n';
+    os << "jamsim campaign v3 " << spec.name << " replicas " << spec.replicas.size() << '\n';
     for (const auto& p : spec.replicas)
         os << p.replica << ' ' << p.model << ' ' << p.n << ' ' << p.phi << ' ' << p.rate << ' '
            << p.strain << ' ' << p.time << ' ' << p.transient << ' ' << p.sample_interval << ' '
            << p.dt << ' ' << p.alpha << ' ' << p.size_ratio << ' ' << p.skin << ' ' << p.kd
-           << ' ' << to_string(p.integrator) << ' ' << p.seed << ' ' << p.delta << ' ' << p.solver << ' ' << p.mass << " [" << p.petsc_options << "]\n";
+           << ' ' << to_string(p.integrator) << ' ' << p.seed << ' ' << p.delta << ' ' << p.solver << ' ' << p.mass << ' ' << p.minimizer << ' ' << p.strain_step << ' '
+           << p.energy_floor << ' ' << p.force_tol << ' ' << p.force_tol_abs << ' ' << p.phi_tol
+           << " [" << p.petsc_options << "]\n";
     return os.str();
 }
 
 double estimated_cost(const ReplicaParams& p) {
+    // Minimisations: rough force evaluations (a RAND quench ~1e3, a φ_J search ~2e4, a QS
+    // step ~1e2); only the order of replicas matters (longest first).
+    if (p.model == "RAND") return static_cast<double>(p.n) * 1e3;
+    if (p.model == "COMPRESS") return static_cast<double>(p.n) * 2e4;
+    if (p.model == "QS") return static_cast<double>(p.n) * 1e2 * (p.strain / p.strain_step);
     const Schedule s = schedule_of(p);
     return static_cast<double>(p.n) * static_cast<double>(s.steps) * evaluations_per_step(p);
 }

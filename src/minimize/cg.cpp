@@ -22,7 +22,9 @@ double dot(std::span<const double> ax, std::span<const double> ay, std::span<con
 /// φ' changes sign, then narrows the bracket by secant steps (safeguarded by bisection)
 /// until |φ'(s)| ≤ 0.1 |φ'(0)|, a strong Wolfe condition with a small constant, so PR keeps
 /// its conjugacy. Each φ' costs one force evaluation. The search direction restarts along
-/// the force when β < 0, when d is not a descent direction, and every N iterations.
+/// the force when β < 0 (PR+) or when d is not a descent direction; no periodic restart,
+/// which would reduce CG to steepest descent on the soft, ill-conditioned modes near
+/// jamming and after plastic events.
 class ConjugateGradient final : public Minimizer {
   public:
     std::string_view name() const override { return "cg"; }
@@ -63,7 +65,6 @@ class ConjugateGradient final : public Minimizer {
             // Polak–Ribière (PR+): β = F_new·(F_new − F_old) / F_old·F_old.
             const double beta_num = dot(p.fx, p.fy, p.fx, p.fy) - dot(p.fx, p.fy, gx, gy);
             double beta = gg > 0.0 ? std::max(0.0, beta_num / gg) : 0.0;
-            if ((it + 1) % static_cast<std::int64_t>(std::max<std::size_t>(n, 50)) == 0) beta = 0.0;
             for (std::size_t i = 0; i < n; ++i) {
                 dx[i] = p.fx[i] + beta * dx[i];
                 dy[i] = p.fy[i] + beta * dy[i];

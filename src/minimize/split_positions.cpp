@@ -8,7 +8,14 @@ namespace jamsim {
 SplitPositions::SplitPositions(System& sys, ForceField& forces, bool split)
     : sys_(sys), forces_(forces), split_(split) {
     Particles& p = sys.particles;
-    for (std::size_t i = 0; i < p.size(); ++i) sys.box.wrap_into_cell(p.x[i], p.y[i]);
+    // Start inside the cell; a disk that had to be wrapped invalidates the list's image shifts.
+    bool wrapped = false;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const double x0 = p.x[i], y0 = p.y[i];
+        sys.box.wrap_into_cell(p.x[i], p.y[i]);
+        wrapped = wrapped || p.x[i] != x0 || p.y[i] != y0;
+    }
+    if (wrapped) forces.invalidate();
     base_x_.assign(p.x.begin(), p.x.end());
     base_y_.assign(p.y.begin(), p.y.end());
     off_x_.assign(p.size(), 0.0);

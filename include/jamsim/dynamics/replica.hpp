@@ -33,9 +33,25 @@ struct ReplicaParams {
     std::string solver = "auto";    ///< CD0 backend: "auto" (by N), "petsc" or "eigen"
     double mass = 1.0;              ///< massive models (RD, CD, CDn, CDt): small-disk mass
     Integrator integrator = Integrator::Euler;
+    // Minimisation (models QS, RAND, COMPRESS; see jamsim/minimize/minimizer.hpp).
+    std::string minimizer = "cg";   ///< "cg" (Polak–Ribière) or "fire" (FIRE 2.0)
+    double strain_step = 1e-4;      ///< QS: Δγ between minimisations
+    double energy_floor = 1e-16;    ///< E/N below this after minimisation: unjammed, k_e
+    double force_tol = 1e-10;       ///< force balance relative to the mean contact force
+    double force_tol_abs = 1e-14;   ///< force balance floor, k_e/d_s
+    double phi_tol = 1e-6;          ///< COMPRESS: width of the final φ_J bracket
     std::uint64_t seed = 1;
     std::uint32_t replica = 0;      ///< replica id within a campaign (part of the RNG key)
 };
+
+/// Models that minimise instead of integrating (thesis §4.7, Papers I–III):
+///   QS:       quasistatic shear: γ → γ + strain_step (affine), minimise; one sample per
+///             sample_interval of strain
+///   RAND:     random positions at φ (an infinite-temperature quench), minimised: one sample
+///   COMPRESS: RAND, then compression/decompression to the configuration's own φ_J: one
+///             sample of the jammed state at φ_J⁺ (its packing_fraction is φ_J)
+bool is_static_model(const std::string& model);
+std::vector<std::string> static_model_names();
 
 /// A problem with one parameter, phrased for a person.
 struct ParamError {
@@ -87,6 +103,10 @@ System initial_system(const ReplicaParams& params);
 /// becomes non-finite.
 /// `after_sample`, if given, is called after every sample (the campaign farm uses it to
 /// answer work requests while rank 0 computes); it must not touch the replica.
+/// The minimisation models (is_static_model): same result layout as the dynamics.
+ReplicaResult run_static_replica(const ReplicaParams& params,
+                                 const std::function<void()>& after_sample = {});
+
 ReplicaResult run_replica(const ReplicaParams& params,
                           const std::function<void()>& after_sample = {});
 

@@ -1,4 +1,5 @@
 #pragma once
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -21,7 +22,16 @@ struct Sample {
     double kinetic_energy_per_particle;  ///< ½ Σ m|u|² / N (co-moving frame), k_e
     double pressure_kinetic;             ///< (1/2A) Σ m |u|², k_e/d_s²
     double shear_stress_kinetic;         ///< −(1/A) Σ m u_x u_y, k_e/d_s²
-    double solver_iterations;            ///< CD0: Krylov iterations per solve (diagnostic)
+    double solver_iterations;            ///< CD0: Krylov iterations per solve; QS and static
+                                         ///< protocols: minimiser iterations (diagnostic)
+    // Static states (QS, RAND, COMPRESS); NaN where they do not apply.
+    static constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
+    double packing_fraction = kNone;           ///< φ of the sampled state
+    double contact_number_nonrattler = kNone;  ///< Z = 2 N_c′ / N′ after rattler removal
+    double rattler_fraction = kNone;           ///< 1 − N′/N
+    double excess_contacts = kNone;            ///< N_c′ − (2(N′ − 1) + 1): 0 at isostaticity
+    double jammed = kNone;                     ///< 1: E/N ≥ energy floor after minimisation, 0: not
+    double max_force = kNone;                  ///< largest force component after minimisation
 };
 
 /// A named column of a time series, as written to the archive.
@@ -56,8 +66,15 @@ inline constexpr ColumnInfo kSampleColumns[] = {
      &Sample::kinetic_energy_per_particle},
     {"pressure_kinetic", "k_e/d_s^2", "(1/2A) sum m_i |u_i|^2", &Sample::pressure_kinetic},
     {"shear_stress_kinetic", "k_e/d_s^2", "-(1/A) sum m_i u_ix u_iy", &Sample::shear_stress_kinetic},
-    {"solver_iterations", "1", "CD0: Krylov iterations per contact solve at this sample (0: direct or none)",
+    {"solver_iterations", "1", "CD0: Krylov iterations per contact solve at this sample (0: direct or none); QS and static protocols: minimiser iterations",
      &Sample::solver_iterations},
+    {"packing_fraction", "1", "phi of the sampled state", &Sample::packing_fraction},
+    {"contact_number_nonrattler", "1", "Z = 2 N_c' / N' after iterative removal of disks with < 3 contacts (static states)",
+     &Sample::contact_number_nonrattler},
+    {"rattler_fraction", "1", "1 - N'/N (static states)", &Sample::rattler_fraction},
+    {"excess_contacts", "1", "N_c' - (2(N' - 1) + 1), 0 at isostaticity (static states)", &Sample::excess_contacts},
+    {"jammed", "1", "1 if E/N >= energy_floor after minimisation, else 0 (static states)", &Sample::jammed},
+    {"max_force", "k_e/d_s", "largest force component after minimisation (static states)", &Sample::max_force},
 };
 
 /// Rows of samples, stored by column.
