@@ -1,0 +1,29 @@
+"""usage: check_static_archive.py ARCHIVE.h5
+Checks an archive of a minimisation campaign (QS, RAND, COMPRESS) with h5py: every replica
+finished, every row is a minimised state that met the recorded stopping rule, jammed rows
+have E/N above the energy floor and a non-negative contact excess, unjammed rows below it."""
+import sys
+
+import h5py
+import numpy as np
+
+with h5py.File(sys.argv[1], "r") as f:
+    r, ts = f["replicas"], f["timeseries"]
+    assert (r["status"][...] == 2).all(), r["status"][...]
+    for k in range(r["status"].shape[0]):
+        m = int(r["n_samples"][k])
+        assert m >= 1
+        e = ts["energy_per_particle"][k, :m]
+        jammed = ts["jammed"][k, :m]
+        assert set(np.unique(jammed)) <= {0.0, 1.0}, jammed
+        floor = r["energy_floor"][k]
+        assert (e[jammed == 1] >= floor).all() and (e[jammed == 0] < floor).all()
+        fmax = ts["max_force"][k, :m]
+        assert np.isfinite(fmax).all()
+        excess = ts["excess_contacts"][k, :m][jammed == 1]
+        assert (excess >= 0).all(), excess
+        z = ts["contact_number_nonrattler"][k, :m]
+        assert (z[jammed == 1] >= 4.0 - 2.0 / r["N"][k] - 1e-12).all(), z  # at least isostatic
+        assert np.isnan(z[jammed == 0]).all()
+        assert (ts["packing_fraction"][k, :m] > 0).all()
+print("ok")
