@@ -6,6 +6,7 @@
 
 #include "jamsim/core/version.hpp"
 #include "campaign_commands.hpp"
+#include "minimize_command.hpp"
 #include "replica_command.hpp"
 
 int main(int argc, char** argv) {
@@ -16,6 +17,7 @@ int main(int argc, char** argv) {
     jamsim::app::add_run_command(app, argc, argv);
     jamsim::app::add_status_command(app);
     jamsim::app::add_merge_command(app, argc, argv);
+    jamsim::app::add_minimize_command(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -27,8 +27,10 @@ ForceResult ForceField::compute_split(const Box& box, std::span<const double> x_
                                       std::span<const double> off_x,
                                       std::span<const double> off_y,
                                       std::span<const double> diameter, std::span<double> fx,
-                                      std::span<double> fy, Tally tally) {
-    if (list_.needs_rebuild(x_total, y_total, box)) list_.build(x_total, y_total, diameter, box);
+                                      std::span<double> fy, Tally tally,
+                                      double displacement_bound) {
+    const bool check = displacement_bound < 0.0 || list_.may_need_rebuild(displacement_bound, box);
+    if (check && list_.needs_rebuild(x_total, y_total, box)) list_.build(x_total, y_total, diameter, box);
     return compute_pair_forces_split(pot_, list_, box, base_x, base_y, off_x, off_y, fx, fy,
                                      scratch_, tally);
 }

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "jamsim/neighbor/neighbor_list.hpp"
+
 namespace jamsim {
 
 SplitPositions::SplitPositions(System& sys, ForceField& forces, bool split)
@@ -15,7 +17,12 @@ SplitPositions::SplitPositions(System& sys, ForceField& forces, bool split)
         sys.box.wrap_into_cell(p.x[i], p.y[i]);
         wrapped = wrapped || p.x[i] != x0 || p.y[i] != y0;
     }
-    if (wrapped) forces.invalidate();
+    // Disks in cell order (as the dynamics keep them), so the force loop's gathers and
+    // scatters stay local; outputs are by tag, so the order is invisible.
+    if (wrapped || forces.list().size() == 0) {
+        p.permute(spatial_order(p, sys.box, max_diameter(p) + forces.list().skin()));
+        forces.invalidate();
+    }
     base_x_.assign(p.x.begin(), p.x.end());
     base_y_.assign(p.y.begin(), p.y.end());
     off_x_.assign(p.size(), 0.0);
@@ -28,22 +35,35 @@ SplitPositions::SplitPositions(System& sys, ForceField& forces, bool split)
 void SplitPositions::move(double s, std::span<const double> dx, std::span<const double> dy) {
     Particles& p = sys_.particles;
     const std::size_t n = size();
+    // Maxima kept in four independent lanes (no long dependency chain; same bits anywhere).
+    double md[4] = {0, 0, 0, 0}, mo[4] = {max_offset_, 0, 0, 0};
     if (split_) {
-        double largest = max_offset_;
         for (std::size_t i = 0; i < n; ++i) {
+            const std::size_t k = i & 3;
             off_x_[i] += s * dx[i];
             off_y_[i] += s * dy[i];
             p.x[i] = base_x_[i] + off_x_[i];
             p.y[i] = base_y_[i] + off_y_[i];
-            largest = std::max({largest, std::abs(off_x_[i]), std::abs(off_y_[i])});
+            mo[k] = std::max(mo[k], std::max(std::abs(off_x_[i]), std::abs(off_y_[i])));
+            md[k] = std::max(md[k], std::max(std::abs(dx[i]), std::abs(dy[i])));
         }
-        max_offset_ = largest;
+        max_offset_ = std::max(std::max(mo[0], mo[1]), std::max(mo[2], mo[3]));
     } else {
         for (std::size_t i = 0; i < n; ++i) {
             p.x[i] += s * dx[i];
             p.y[i] += s * dy[i];
+            md[i & 3] = std::max(md[i & 3], std::max(std::abs(dx[i]), std::abs(dy[i])));
         }
     }
+    const double dmax = std::max(std::max(md[0], md[1]), std::max(md[2], md[3]));
+    // Lab displacement of a sheared-coordinate move (δx, δy): (δx + γ δy, δy), so at most
+    // sqrt((1 + |γ|)² + 1) times the largest component; with 1e-12 relative slack.
+    const double g = std::abs(sys_.box.strain());
+    if (forces_.builds() != builds_seen_) {
+        builds_seen_ = forces_.builds();
+        moved_ = 0.0;
+    }
+    moved_ += std::abs(s) * dmax * std::sqrt((1 + g) * (1 + g) + 1) * (1 + 1e-12);
 }
 
 ForceResult SplitPositions::evaluate(Tally tally) {
@@ -51,8 +71,15 @@ ForceResult SplitPositions::evaluate(Tally tally) {
     ++evaluations_;
     if (!split_)
         return forces_.compute_at(sys_.box, p.x, p.y, p.diameter, p.fx, p.fy, tally);
-    return forces_.compute_split(sys_.box, p.x, p.y, base_x_, base_y_, off_x_, off_y_,
-                                 p.diameter, p.fx, p.fy, tally);
+    // The bound is only known for moves since the build this object has seen.
+    const double bound = forces_.builds() == builds_seen_ ? moved_ : -1.0;
+    const ForceResult f = forces_.compute_split(sys_.box, p.x, p.y, base_x_, base_y_, off_x_, off_y_,
+                                                p.diameter, p.fx, p.fy, tally, bound);
+    if (forces_.builds() != builds_seen_) {  // rebuilt now: displacements count from here
+        builds_seen_ = forces_.builds();
+        moved_ = 0.0;
+    }
+    return f;
 }
 
 double SplitPositions::max_force() const {

@@ -28,16 +28,20 @@ class ForceField {
     /// Forces for positions split as base + offset (a minimiser's coordinates): the list is
     /// kept valid for the total positions (x_total = base + offset, which the caller keeps
     /// current), separations are formed as (base difference) + (offset difference).
+    /// displacement_bound ≥ 0: a bound on every disk's lab displacement since the list's last
+    /// build (see builds()), which lets the per-disk rebuild check be skipped.
     ForceResult compute_split(const Box& box, std::span<const double> x_total,
                               std::span<const double> y_total, std::span<const double> base_x,
                               std::span<const double> base_y, std::span<const double> off_x,
                               std::span<const double> off_y, std::span<const double> diameter,
-                              std::span<double> fx, std::span<double> fy, Tally tally);
+                              std::span<double> fx, std::span<double> fy, Tally tally,
+                              double displacement_bound = -1.0);
 
     /// Forget the list (after a Lees–Edwards wrap remapped the positions).
     void invalidate() { list_.invalidate(); }
 
     const NeighborList& list() const { return list_; }
+    std::size_t builds() const { return list_.builds(); }
     const potential::SoftSphere& potential() const { return pot_; }
 
   private:

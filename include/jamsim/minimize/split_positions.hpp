@@ -52,6 +52,8 @@ class SplitPositions {
     std::vector<double> base_x_, base_y_, off_x_, off_y_;
     double max_offset_ = 0.0;
     double best_force_ = -1.0;
+    double moved_ = 0.0;             // bound on lab displacements since the list's last build
+    std::size_t builds_seen_ = static_cast<std::size_t>(-1);
     std::int64_t since_best_ = 0;
     double mean_diameter_ = 1.0;
     std::int64_t evaluations_ = 0;

@@ -1,4 +1,5 @@
 #pragma once
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -29,6 +30,14 @@ class NeighborList {
     /// Build from (possibly unwrapped) sheared positions at the box's current strain.
     void build(std::span<const double> x, std::span<const double> y,
                std::span<const double> diameter, const Box& box);
+
+    /// Cheap pre-check for callers that know a bound on every disk's lab-frame displacement
+    /// since the last build: false means the list is certainly still valid.
+    bool may_need_rebuild(double displacement_bound, const Box& box) const {
+        if (!valid_) return true;
+        const double affine = std::abs(box.strain() - strain_ref_) * (max_diameter_ + skin_);
+        return 2.0 * displacement_bound + affine > skin_;
+    }
 
     /// True when the list may miss a contact for these positions and this strain.
     bool needs_rebuild(std::span<const double> x, std::span<const double> y,

@@ -1,0 +1,96 @@
+// `jamsim minimize`: one RAND configuration minimised, with the figures a benchmark needs
+// (iterations, force evaluations, final E/N, largest force component, pressure, time), and
+// optionally the start configuration as a LAMMPS data file so that another code can minimise
+// the very same configuration.
+#include "minimize_command.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <stdexcept>
+
+#include "jamsim/core/system.hpp"
+#include "jamsim/dynamics/force_field.hpp"
+#include "jamsim/minimize/minimizer.hpp"
+
+namespace jamsim::app {
+
+namespace {
+
+struct Options {
+    std::int64_t n = 1024;
+    double phi = 0.85;
+    std::uint64_t seed = 1;
+    std::string minimizer = "cg";
+    double alpha = 2.0;
+    MinimizeCriteria criteria;
+    std::string lammps_data;
+};
+
+/// The start configuration as a LAMMPS `atom_style atomic` data file: type 1 = small
+/// (d = 1), type 2 = large (d = size ratio); orthogonal cell [0, L)², unit masses.
+void write_lammps_data(const System& sys, const std::string& path) {
+    std::ofstream out(path);
+    if (!out) throw std::runtime_error("cannot write LAMMPS data file '" + path + "'");
+    const Particles& p = sys.particles;
+    const double L = sys.box.side();
+    char line[256];
+    out << "LAMMPS data file: jamsim RAND start configuration\n\n" << p.size() << " atoms\n2 atom types\n\n";
+    std::snprintf(line, sizeof line, "0 %.17g xlo xhi\n0 %.17g ylo yhi\n-0.5 0.5 zlo zhi\n\n", L, L);
+    out << line << "Masses\n\n1 1.0\n2 1.0\n\nAtoms # atomic\n\n";
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        double x = p.x[i], y = p.y[i];
+        sys.box.wrap_into_cell(x, y);
+        std::snprintf(line, sizeof line, "%lld %d %.17g %.17g 0\n",
+                      static_cast<long long>(p.tag[i]) + 1, p.diameter[i] > 1.0 ? 2 : 1, x, y);
+        out << line;
+    }
+    if (!out) throw std::runtime_error("writing LAMMPS data file '" + path + "' failed");
+}
+
+} // namespace
+
+CLI::App* add_minimize_command(CLI::App& app) {
+    auto opt = std::make_shared<Options>();
+    auto* cmd = app.add_subcommand("minimize", "Minimise one random (RAND) configuration and report the cost");
+    cmd->add_option("--N", opt->n, "Number of disks (even)")->capture_default_str();
+    cmd->add_option("--phi", opt->phi, "Packing fraction")->capture_default_str();
+    cmd->add_option("--seed", opt->seed, "Random seed")->capture_default_str();
+    cmd->add_option("--minimizer", opt->minimizer, "cg or fire")->capture_default_str();
+    cmd->add_option("--alpha", opt->alpha, "Potential exponent (2 harmonic, 2.5 Hertzian)")->capture_default_str();
+    cmd->add_option("--energy-floor", opt->criteria.energy_floor, "E/N below which the state is unjammed")
+        ->capture_default_str();
+    cmd->add_option("--force-tol", opt->criteria.force_tol, "largest force component / mean contact force")
+        ->capture_default_str();
+    cmd->add_option("--force-tol-abs", opt->criteria.force_tol_abs, "largest force component, absolute (k_e/d_s)")
+        ->capture_default_str();
+    cmd->add_option("--max-iterations", opt->criteria.max_iterations, "Give up after this many iterations")
+        ->capture_default_str();
+    cmd->add_flag("!--no-split", opt->criteria.split_positions,
+                  "Plain positions instead of base + offset (for comparison)");
+    cmd->add_option("--lammps-data", opt->lammps_data, "Also write the start configuration here (LAMMPS data file)");
+    cmd->callback([opt] {
+        if (opt->n < 8 || opt->n % 2) throw CLI::ValidationError("--N", "an even number >= 8");
+        if (!(opt->phi > 0 && opt->phi < 1)) throw CLI::ValidationError("--phi", "0 < phi < 1");
+        auto minimizer = make_minimizer(opt->minimizer);
+        System sys = random_system(opt->n, opt->phi, SizeMix{}, opt->seed, 0);
+        if (!opt->lammps_data.empty()) write_lammps_data(sys, opt->lammps_data);
+        ForceField ff(potential::make_soft_sphere(opt->alpha), 0.3);
+        const auto t0 = std::chrono::steady_clock::now();
+        const MinimizeResult r = minimizer->minimize(sys, ff, opt->criteria);
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        std::printf("RESULT N=%lld phi=%g seed=%llu minimizer=%s outcome=%s iterations=%lld "
+                    "force_evaluations=%lld E/N=%.6e fmax=%.3e fbar=%.3e P=%.10e seconds=%.4f "
+                    "particle_iterations_per_s=%.3e\n",
+                    static_cast<long long>(opt->n), opt->phi, static_cast<unsigned long long>(opt->seed),
+                    opt->minimizer.c_str(), std::string(to_string(r.outcome)).c_str(),
+                    static_cast<long long>(r.iterations), static_cast<long long>(r.force_evaluations),
+                    r.energy_per_particle, r.max_force, r.mean_contact_force, r.pressure, seconds,
+                    static_cast<double>(r.iterations) * static_cast<double>(opt->n) / seconds);
+        if (r.outcome == MinimizeOutcome::NotConverged) throw std::runtime_error("minimisation did not converge");
+    });
+    return cmd;
+}
+
+} // namespace jamsim::app

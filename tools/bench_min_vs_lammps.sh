@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# Minimisation of RAND configurations (phi = 0.85, harmonic, above phi_J) by jamsim's CG and
+# FIRE and by Debian's LAMMPS (min_style cg and fire) on the very same configurations: jamsim
+# writes each random start as a LAMMPS data file, both codes minimise it until the largest
+# force component is below 1e-12 (LAMMPS: min_modify norm max; jamsim: --force-tol 0
+# --force-tol-abs 1e-12). One core each, one after the other on this machine.
+# Prints per configuration: iterations, force evaluations, force floor reached and time, then
+# per N the ratio of total times LAMMPS best / jamsim best.
+#
+#   tools/bench_min_vs_lammps.sh [N ...]       default: 1024 16384; SEEDS (default "1 2 3")
+# LAMMPS FIRE runs only for N <= ${LAMMPS_FIRE_MAX_N:-4096} (at N = 16384 it needs ~15 min).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+tools/install-deps.sh --bench >/dev/null
+tools/build.sh >/dev/null
+sizes=("$@")
+[[ ${#sizes[@]} -gt 0 ]] || sizes=(1024 16384)
+seeds=(${SEEDS:-1 2 3})
+fire_max=${LAMMPS_FIRE_MAX_N:-4096}
+work=build/lammps-bench
+mkdir -p "$work"
+[[ -s $work/harmonic.table ]] || /usr/bin/python3 tools/lammps/make_table.py "$work/harmonic.table"
+
+field() { sed -n "s|.* $1=\([^ ]*\).*|\1|p"; }
+printf "%-6s %-5s %-12s %-10s %-8s %-10s %-9s %s\n" N seed code iterations evals fmax E/N seconds
+for n in "${sizes[@]}"; do
+  declare -A total=()
+  for s in "${seeds[@]}"; do
+    data=$work/min_N${n}_s${s}.data
+    for m in cg fire; do
+      line=$(build/release/jamsim minimize --N "$n" --phi 0.85 --seed "$s" --minimizer "$m" \
+               --force-tol 0 --force-tol-abs 1e-12 --lammps-data "$data" | grep '^RESULT')
+      t=$(field seconds <<<"$line")
+      total[jamsim-$m]=$(/usr/bin/python3 -c "print(${total[jamsim-$m]:-0}+$t)")
+      printf "%-6s %-5s %-12s %-10s %-8s %-10s %-9s %s\n" "$n" "$s" "jamsim-$m" "$(field iterations <<<"$line")" \
+        "$(field force_evaluations <<<"$line")" "$(field fmax <<<"$line")" "$(field E/N <<<"$line")" "$t"
+    done
+    for m in cg fire; do
+      [[ $m == fire && $n -gt $fire_max ]] && continue
+      log=$work/min_${m}_N${n}_s${s}.log
+      lmp -in tools/lammps/in.minimize -var data "$data" -var style "$m" -var table "$work/harmonic.table" \
+          -log "$log" -screen none -nocite
+      t=$(grep "^Loop time" "$log" | tail -1 | awk '{print $4}')
+      res=$(grep '^RESULT' "$log" | tail -1)
+      its=$(grep "Iterations, force evaluations" "$log" | tail -1 | awk '{print $5}')
+      evals=$(grep "Iterations, force evaluations" "$log" | tail -1 | awk '{print $6}')
+      total[lammps-$m]=$(/usr/bin/python3 -c "print(${total[lammps-$m]:-0}+$t)")
+      printf "%-6s %-5s %-12s %-10s %-8s %-10s %-9s %s\n" "$n" "$s" "lammps-$m" "$its" "$evals" \
+        "$(field fmax <<<"$res")" "$(field E/N <<<"$res")" "$t"
+    done
+  done
+  best_j=$(/usr/bin/python3 -c "print(min(${total[jamsim-cg]}, ${total[jamsim-fire]}))")
+  best_l=${total[lammps-cg]}
+  [[ -n ${total[lammps-fire]:-} ]] && best_l=$(/usr/bin/python3 -c "print(min($best_l, ${total[lammps-fire]}))")
+  echo "N=$n total over seeds ${seeds[*]}: jamsim cg ${total[jamsim-cg]} s, jamsim fire ${total[jamsim-fire]} s," \
+       "lammps cg ${total[lammps-cg]} s${total[lammps-fire]:+, lammps fire ${total[lammps-fire]} s}" \
+       "-> LAMMPS best / jamsim best = $(/usr/bin/python3 -c "print(round($best_l/$best_j, 2))")"
+  unset total
+done
