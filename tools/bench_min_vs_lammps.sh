@@ -8,7 +8,9 @@
 # per N the ratio of total times LAMMPS best / jamsim best.
 #
 #   tools/bench_min_vs_lammps.sh [N ...]       default: 1024 16384; SEEDS (default "1 2 3")
-# LAMMPS FIRE runs only for N <= ${LAMMPS_FIRE_MAX_N:-4096} (at N = 16384 it needs ~15 min).
+# FIRE runs only for N <= ${FIRE_MAX_N:-4096} in both codes: at N = 16384 LAMMPS FIRE needs
+# ~15 min, and jamsim's FIRE stalls above a largest force of 1e-12 (reported, not hidden:
+# set FIRE_MAX_N=16384 to run it).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/install-deps.sh --bench >/dev/null
@@ -16,7 +18,7 @@ tools/build.sh >/dev/null
 sizes=("$@")
 [[ ${#sizes[@]} -gt 0 ]] || sizes=(1024 16384)
 seeds=(${SEEDS:-1 2 3})
-fire_max=${LAMMPS_FIRE_MAX_N:-4096}
+fire_max=${FIRE_MAX_N:-4096}
 work=build/lammps-bench
 mkdir -p "$work"
 [[ -s $work/harmonic.table ]] || /usr/bin/python3 tools/lammps/make_table.py "$work/harmonic.table"
@@ -24,36 +26,52 @@ mkdir -p "$work"
 field() { sed -n "s|.* $1=\([^ ]*\).*|\1|p"; }
 printf "%-6s %-5s %-12s %-10s %-8s %-10s %-9s %s\n" N seed code iterations evals fmax E/N seconds
 for n in "${sizes[@]}"; do
-  declare -A total=()
+  declare -A total=() skip=()
   for s in "${seeds[@]}"; do
     data=$work/min_N${n}_s${s}.data
+    declare -A jt=()
     for m in cg fire; do
+      [[ $m == fire && $n -gt $fire_max ]] && continue
       line=$(build/release/jamsim minimize --N "$n" --phi 0.85 --seed "$s" --minimizer "$m" \
-               --force-tol 0 --force-tol-abs 1e-12 --lammps-data "$data" | grep '^RESULT')
+               --force-tol 0 --force-tol-abs 1e-12 --lammps-data "$data" | grep '^RESULT' || true)
+      [[ $(field outcome <<<"$line") == force_balanced ]] || echo "note: jamsim-$m did not reach the tolerance: $line"
       t=$(field seconds <<<"$line")
-      total[jamsim-$m]=$(/usr/bin/python3 -c "print(${total[jamsim-$m]:-0}+$t)")
+      jt[$m]=$t
       printf "%-6s %-5s %-12s %-10s %-8s %-10s %-9s %s\n" "$n" "$s" "jamsim-$m" "$(field iterations <<<"$line")" \
         "$(field force_evaluations <<<"$line")" "$(field fmax <<<"$line")" "$(field E/N <<<"$line")" "$t"
     done
+    declare -A lt=()
     for m in cg fire; do
       [[ $m == fire && $n -gt $fire_max ]] && continue
       log=$work/min_${m}_N${n}_s${s}.log
-      lmp -in tools/lammps/in.minimize -var data "$data" -var style "$m" -var table "$work/harmonic.table" \
-          -log "$log" -screen none -nocite
+      if ! lmp -in tools/lammps/in.minimize -var data "$data" -var style "$m" -var table "$work/harmonic.table" \
+          -log "$log" -screen none -nocite >/dev/null 2>&1; then
+        # e.g. "Pair distance < table inner cutoff": two random disks almost on top of each
+        # other, which LAMMPS's tabulated pair style cannot start from.
+        echo "note: lammps-$m failed on N=$n seed=$s: $(grep -m1 ERROR "$log" || echo '?'); seed left out of the totals"
+        skip[$s]=1
+        continue
+      fi
       t=$(grep "^Loop time" "$log" | tail -1 | awk '{print $4}')
       res=$(grep '^RESULT' "$log" | tail -1)
       its=$(grep "Iterations, force evaluations" "$log" | tail -1 | awk '{print $5}')
       evals=$(grep "Iterations, force evaluations" "$log" | tail -1 | awk '{print $6}')
-      total[lammps-$m]=$(/usr/bin/python3 -c "print(${total[lammps-$m]:-0}+$t)")
+      lt[$m]=$t
       printf "%-6s %-5s %-12s %-10s %-8s %-10s %-9s %s\n" "$n" "$s" "lammps-$m" "$its" "$evals" \
         "$(field fmax <<<"$res")" "$(field E/N <<<"$res")" "$t"
     done
+    if [[ -z ${skip[$s]:-} ]]; then  # totals over the configurations every code finished
+      for m in "${!jt[@]}"; do total[jamsim-$m]=$(/usr/bin/python3 -c "print(${total[jamsim-$m]:-0}+${jt[$m]})"); done
+      for m in "${!lt[@]}"; do total[lammps-$m]=$(/usr/bin/python3 -c "print(${total[lammps-$m]:-0}+${lt[$m]})"); done
+    fi
+    unset jt lt
   done
-  best_j=$(/usr/bin/python3 -c "print(min(${total[jamsim-cg]}, ${total[jamsim-fire]}))")
+  best_j=${total[jamsim-cg]}
+  [[ -n ${total[jamsim-fire]:-} ]] && best_j=$(/usr/bin/python3 -c "print(min($best_j, ${total[jamsim-fire]}))")
   best_l=${total[lammps-cg]}
   [[ -n ${total[lammps-fire]:-} ]] && best_l=$(/usr/bin/python3 -c "print(min($best_l, ${total[lammps-fire]}))")
-  echo "N=$n total over seeds ${seeds[*]}: jamsim cg ${total[jamsim-cg]} s, jamsim fire ${total[jamsim-fire]} s," \
+  echo "N=$n total over the seeds every code finished: jamsim cg ${total[jamsim-cg]} s${total[jamsim-fire]:+, jamsim fire ${total[jamsim-fire]} s}," \
        "lammps cg ${total[lammps-cg]} s${total[lammps-fire]:+, lammps fire ${total[lammps-fire]} s}" \
        "-> LAMMPS best / jamsim best = $(/usr/bin/python3 -c "print(round($best_l/$best_j, 2))")"
-  unset total
+  unset total skip
 done

@@ -53,7 +53,7 @@ class ConjugateGradient final : public Minimizer {
         ForceResult tallied = f;  // the latest evaluation with energy and virial
         std::vector<double> dx(p.fx.begin(), p.fx.end()), dy(p.fy.begin(), p.fy.end());
         std::vector<double> gx(n), gy(n);  // the force at the start of the line search
-        double step_guess = 0.0;
+        double step_guess = 0.0, last_slope0 = -1.0;
         // Running sums, so each iteration needs two passes over the disks besides the line
         // search: gg = F·F, slope0 = −F·d, dmax = max |d_i| and fmax = max |F_i| components.
         double gg = dot(p.fx, p.fy, p.fx, p.fy), dmax = 0.0, fmax = max_abs(p.fx, p.fy);
@@ -89,11 +89,14 @@ class ConjugateGradient final : public Minimizer {
             std::swap(gy, p.fy);
             // First trial: the last accepted step, or a move of 0.01 d_s for the largest
             // component of d; never more than 0.1 d_s per trial.
-            double s = step_guess > 0.0 ? step_guess : 0.01 / dmax;
+            // First trial (Nocedal & Wright eq. 3.60): the same first-order decrease of the
+            // energy as the last accepted step, s_prev φ'_prev(0) / φ'(0).
+            double s = step_guess > 0.0 ? step_guess * last_slope0 / slope0 : 0.01 / dmax;
             s = std::min(s, 0.1 / dmax);
             double slope_end = 0.0;  // φ'(s) = −F_new·d at the accepted step
             f = line_search(pos, dx, dy, slope0, s, tally, slope_end);
-            step_guess = s;
+            step_guess = s;  // the accepted step
+            last_slope0 = slope0;
             pos.rebase_if_larger();
             // Polak–Ribière (PR+): β = F_new·(F_new − F_old) / F_old·F_old.
             const double ff = dot(p.fx, p.fy, p.fx, p.fy), fg = dot(p.fx, p.fy, gx, gy);
@@ -148,6 +151,7 @@ class ConjugateGradient final : public Minimizer {
             s = next;
             if (width <= 1e-15 * hi) break;  // bracket at round-off: accept
         }
+        s = at;  // the accepted step
         return f;
     }
 

@@ -1,0 +1,115 @@
+#!/usr/bin/python3
+"""usage: analyze_jamming.py ARCHIVE.h5 OUTDIR
+
+Static analysis of a RAND or COMPRESS campaign archive (jamsim run with [model] name =
+"RAND" or "COMPRESS"); finished replicas only.
+  RAND:     P_J(phi, N) with binomial errors (pj.png, pj.tsv); the pressure distribution of
+            the jammed states at each (phi, N) (pressure.png); Z of jammed states (z.tsv).
+  COMPRESS: the distribution of phi_J per N: mean, standard deviation, histogram
+            (phi_j.png, phi_j.tsv), and the fraction of isostatic states.
+Prints the tables as well."""
+import os
+import sys
+
+import h5py
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+
+def fail(msg):
+    sys.stderr.write(f"analyze_jamming.py: {msg}\n")
+    sys.exit(2)
+
+
+def main():
+    if len(sys.argv) != 3:
+        fail("usage: analyze_jamming.py ARCHIVE.h5 OUTDIR")
+    path, out = sys.argv[1], sys.argv[2]
+    try:
+        f = h5py.File(path, "r")
+    except OSError as e:
+        fail(f"cannot open archive '{path}': {e}")
+    with f:
+        if "timeseries/jammed" not in f:
+            fail(f"'{path}' has no /timeseries/jammed: not a jamsim archive of this version")
+        spec = str(f.attrs.get("spec_text", ""))
+        model = "COMPRESS" if '"COMPRESS"' in spec else "RAND" if '"RAND"' in spec else None
+        if model is None:
+            fail(f"'{path}': [model] name is neither RAND nor COMPRESS (QS: use plot_campaign.py)")
+        r, ts = f["replicas"], f["timeseries"]
+        done = r["status"][...] == 2
+        N = r["N"][...][done].astype(int)
+        phi = r["phi"][...][done]
+        jammed = ts["jammed"][:, 0][done]
+        p = ts["pressure"][:, 0][done]
+        z = ts["contact_number_nonrattler"][:, 0][done]
+        phi_state = ts["packing_fraction"][:, 0][done]
+        excess = ts["excess_contacts"][:, 0][done]
+    os.makedirs(out, exist_ok=True)
+    if model == "RAND":
+        rows = []
+        fig, ax = plt.subplots(figsize=(5, 4))
+        for n in sorted(set(N)):
+            phis = sorted(set(phi[N == n]))
+            pj, err = [], []
+            for ph in phis:
+                sel = (N == n) & (phi == ph)
+                k, m = jammed[sel].sum(), sel.sum()
+                q = k / m
+                pj.append(q)
+                err.append(np.sqrt(max(q * (1 - q), (1 / m) * (1 - 1 / m)) / m))
+                zs = z[sel & (jammed == 1)]
+                rows.append((n, ph, m, q, err[-1], np.mean(p[sel & (jammed == 1)]) if k else np.nan,
+                             np.mean(zs) if k else np.nan))
+            ax.errorbar(phis, pj, yerr=err, marker="o", capsize=2, label=f"N = {n}")
+        ax.set_xlabel(r"$\phi$")
+        ax.set_ylabel(r"$P_J$")
+        ax.legend()
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, "pj.png"), dpi=120)
+        with open(os.path.join(out, "pj.tsv"), "w") as t:
+            t.write("N\tphi\tconfigurations\tP_J\terror\tmean_p_jammed\tmean_Z_jammed\n")
+            for row in rows:
+                t.write("\t".join(str(v) for v in row) + "\n")
+        print("N     phi     configs  P_J    error  <p>_jammed  <Z>_jammed")
+        for n, ph, m, q, e, mp, mz in rows:
+            print(f"{n:<5d} {ph:<7.4f} {m:<8d} {q:<6.3f} {e:<6.3f} {mp:<11.4g} {mz:.4f}")
+        fig, ax = plt.subplots(figsize=(5, 4))
+        for n in sorted(set(N)):
+            for ph in sorted(set(phi[N == n])):
+                sel = (N == n) & (phi == ph) & (jammed == 1)
+                if sel.sum() >= 5:
+                    ax.hist(p[sel], bins=15, histtype="step", density=True, label=f"N={n}, phi={ph}")
+        ax.set_xlabel("p (jammed states)")
+        ax.set_ylabel("probability density")
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize=6)
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, "pressure.png"), dpi=120)
+    else:
+        ok = jammed == 1
+        fig, ax = plt.subplots(figsize=(5, 4))
+        print("N     configs  <phi_J>    std(phi_J)  isostatic")
+        with open(os.path.join(out, "phi_j.tsv"), "w") as t:
+            t.write("N\tconfigurations\tmean_phi_J\tstd_phi_J\tisostatic_fraction\n")
+            for n in sorted(set(N)):
+                sel = (N == n) & ok
+                v = phi_state[sel]
+                iso = np.mean(excess[sel] == 0) if sel.any() else np.nan
+                sd = np.std(v, ddof=1) if len(v) > 1 else np.nan
+                t.write(f"{n}\t{len(v)}\t{np.mean(v)}\t{sd}\t{iso}\n")
+                print(f"{n:<5d} {len(v):<8d} {np.mean(v):<10.6f} {sd:<11.6f} {iso:.3f}")
+                ax.hist(v, bins=12, histtype="step", density=True, label=f"N = {n}")
+        ax.set_xlabel(r"$\phi_J$")
+        ax.set_ylabel("probability density")
+        ax.legend()
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, "phi_j.png"), dpi=120)
+    print(f"figures and tables in {out}/")
+
+
+if __name__ == "__main__":
+    main()
