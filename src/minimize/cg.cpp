@@ -64,7 +64,10 @@ class ConjugateGradient final : public Minimizer {
             return summarize(pos, sys, f, outcome, it);
         };
         for (std::int64_t it = 0;; ++it) {
-            if (fmax <= c.force_tol_abs) return finish(MinimizeOutcome::ForceBalanced, it);
+            if (fmax <= c.force_tol_abs) {  // stopped; the energy tells unjammed from jammed
+                if (!f.tallied) f = pos.evaluate(Tally::Full);
+                return finish(check_stop(pos, sys, f, c), it);
+            }
             if (f.tallied) {
                 tallied = f;
                 const MinimizeOutcome stop = check_stop(pos, sys, f, c);
@@ -75,6 +78,7 @@ class ConjugateGradient final : public Minimizer {
             // Energy and virial cost ~30% of an evaluation: the line search skips them except
             // every 32 iterations and once the stopping rule is within reach.
             const double fbar = pos.mean_contact_force(tallied);
+            pos.split_if_converging(fmax, fbar);
             const bool near = fmax <= 100.0 * std::max(c.force_tol_abs, c.force_tol * fbar) ||
                               tallied.energy / static_cast<double>(n) < 1e4 * c.energy_floor;
             const Tally tally = near || it % 32 == 31 ? Tally::Full : Tally::ForcesOnly;
@@ -84,7 +88,10 @@ class ConjugateGradient final : public Minimizer {
                 slope0 = -gg;
                 dmax = fmax;
             }
-            if (dmax == 0.0) return finish(MinimizeOutcome::ForceBalanced, it);
+            if (dmax == 0.0) {  // no force at all
+                if (!f.tallied) f = pos.evaluate(Tally::Full);
+                return finish(check_stop(pos, sys, f, c), it);
+            }
             std::swap(gx, p.fx);  // keep F_old; the line search refills p.fx
             std::swap(gy, p.fy);
             // First trial: the last accepted step, or a move of 0.01 d_s for the largest

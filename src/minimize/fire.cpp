@@ -33,6 +33,7 @@ class Fire final : public Minimizer {
             if (stop != MinimizeOutcome::NotConverged) return summarize(pos, sys, f, stop, it);
             if (it >= c.max_iterations || pos.stalled(pos.max_force(), c.stall_iterations) || negative > n_negative_max)
                 return summarize(pos, sys, f, MinimizeOutcome::NotConverged, it);
+            pos.split_if_converging(pos.max_force(), pos.mean_contact_force(f));
             double power = 0.0;
             for (std::size_t i = 0; i < n; ++i) power += p.fx[i] * vx[i] + p.fy[i] * vy[i];
             if (power > 0.0) {

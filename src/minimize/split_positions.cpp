@@ -8,7 +8,7 @@
 namespace jamsim {
 
 SplitPositions::SplitPositions(System& sys, ForceField& forces, bool split)
-    : sys_(sys), forces_(forces), split_(split) {
+    : sys_(sys), forces_(forces), split_requested_(split) {
     Particles& p = sys.particles;
     // Start inside the cell; a disk that had to be wrapped invalidates the list's image shifts.
     bool wrapped = false;
@@ -102,6 +102,17 @@ void SplitPositions::rebase_if_larger(double limit) {
         base_y_[i] = p.y[i];
         off_x_[i] = off_y_[i] = 0.0;
     }
+    max_offset_ = 0.0;
+}
+
+void SplitPositions::split_if_converging(double fmax, double mean_contact_force) {
+    if (split_ || !split_requested_ || fmax > kSplitBelow * mean_contact_force) return;
+    split_ = true;
+    const Particles& p = sys_.particles;
+    std::copy(p.x.begin(), p.x.end(), base_x_.begin());
+    std::copy(p.y.begin(), p.y.end(), base_y_.begin());
+    std::fill(off_x_.begin(), off_x_.end(), 0.0);
+    std::fill(off_y_.begin(), off_y_.end(), 0.0);
     max_offset_ = 0.0;
 }
 

@@ -12,11 +12,18 @@ namespace jamsim {
 /// the offsets stay small (rebased when they grow), so separations are resolved to ~ε|offset|
 /// for every disk alike. Keeps sys.particles.x, y = base + offset current (for the neighbour
 /// list and for the caller) and evaluates forces into sys.particles.fx, fy.
-/// Without splitting (criteria.split_positions = false) the base is the position itself and
-/// the offsets stay zero: the plain representation, for comparison.
+/// Far from convergence resolution does not matter, so a minimisation starts with plain
+/// positions (cheaper: no offsets in the force loop) and splits once the largest force has
+/// come down to kSplitBelow × f̄ (split_if_converging). Without splitting
+/// (criteria.split_positions = false) it stays plain throughout, for comparison.
 class SplitPositions {
   public:
     SplitPositions(System& sys, ForceField& forces, bool split);
+
+    /// Switch to base + offset (base = the current positions) once fmax ≤ kSplitBelow × f̄,
+    /// if splitting was asked for.
+    void split_if_converging(double fmax, double mean_contact_force);
+    static constexpr double kSplitBelow = 1e-6;
 
     std::size_t size() const { return base_x_.size(); }
 
@@ -48,7 +55,8 @@ class SplitPositions {
   private:
     System& sys_;
     ForceField& forces_;
-    bool split_;
+    bool split_requested_;
+    bool split_ = false;
     std::vector<double> base_x_, base_y_, off_x_, off_y_;
     double max_offset_ = 0.0;
     double best_force_ = -1.0;
