@@ -114,6 +114,9 @@ CLI::App* add_replica_command(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--phi-tol", p.phi_tol, "COMPRESS: width of the final phi_J bracket")
         ->capture_default_str();
+    cmd->add_option("--temperature", p.temperature, "COOL: starting temperature (k_e)")->capture_default_str();
+    cmd->add_option("--cooling-time", p.cooling_time, "COOL: time over which T falls linearly to 0")
+        ->capture_default_str();
     cmd->add_option("--seed", p.seed, "Random seed")->capture_default_str();
     cmd->add_option("--replica", p.replica, "Replica id (part of the random key)")
         ->capture_default_str();

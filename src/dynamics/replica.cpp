@@ -85,6 +85,9 @@ std::vector<ParamError> validate(const ReplicaParams& p) {
         e.push_back({"force-tol-abs", str(p.force_tol_abs), "force-tol-abs >= 0"});
     if (p.force_tol == 0.0 && p.force_tol_abs == 0.0)
         e.push_back({"force-tol", "0", "force-tol > 0 or force-tol-abs > 0 (a reachable stopping rule)"});
+    if (!finite_positive(p.temperature)) e.push_back({"temperature", str(p.temperature), "temperature > 0"});
+    if (!finite_positive(p.cooling_time))
+        e.push_back({"cooling-time", str(p.cooling_time), "cooling-time > 0"});
     if (!(std::isfinite(p.phi_tol) && p.phi_tol > 0.0 && p.phi_tol < 1e-2))
         e.push_back({"phi-tol", str(p.phi_tol), "0 < phi-tol < 0.01"});
     if (p.solver != "auto" && p.solver != "petsc" && p.solver != "eigen")
@@ -93,7 +96,7 @@ std::vector<ParamError> validate(const ReplicaParams& p) {
 }
 
 Schedule schedule_of(const ReplicaParams& p) {
-    if (p.model == "RAND" || p.model == "COMPRESS") return {0, 1};  // one minimised state
+    if (p.model == "RAND" || p.model == "COMPRESS" || p.model == "COOL") return {0, 1};  // one state
     if (p.model == "QS")  // steps are minimisations after strain steps
         return {static_cast<std::int64_t>(std::ceil(p.strain / p.strain_step - 1e-9)),
                 std::max<std::int64_t>(1, std::llround(p.sample_interval / p.strain_step))};

@@ -114,6 +114,7 @@ const std::map<std::string, std::string> kKeyLocation = {
     {"minimizer", "[model] minimizer"}, {"strain-step", "[model] strain_step"},
     {"energy-floor", "[model] energy_floor"}, {"force-tol", "[model] force_tol"},
     {"force-tol-abs", "[model] force_tol_abs"}, {"phi-tol", "[model] phi_tol"},
+    {"temperature", "[model] temperature"}, {"cooling-time", "[model] cooling_time"},
 };
 
 struct Point {
@@ -147,7 +148,7 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path) {
     r.only_keys(*campaign, "[campaign]", {"name", "output"});
     r.only_keys(model, "[model]", {"name", "integrator", "dt", "kd", "delta", "petsc_options", "solver", "mass",
                                    "minimizer", "strain_step", "energy_floor", "force_tol",
-                                   "force_tol_abs", "phi_tol"});
+                                   "force_tol_abs", "phi_tol", "temperature", "cooling_time"});
     r.only_keys(pot, "[potential]", {"name", "alpha"});
     r.only_keys(system, "[system]", {"size_ratio", "skin"});
     r.only_keys(run, "[run]", {"transient", "strain", "time", "sample_interval"});
@@ -181,6 +182,8 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path) {
     base.force_tol = r.number(model, "[model]", "force_tol", base.force_tol);
     base.force_tol_abs = r.number(model, "[model]", "force_tol_abs", base.force_tol_abs);
     base.phi_tol = r.number(model, "[model]", "phi_tol", base.phi_tol);
+    base.temperature = r.number(model, "[model]", "temperature", base.temperature);
+    base.cooling_time = r.number(model, "[model]", "cooling_time", base.cooling_time);
     const std::string pot_name = r.string(pot, "[potential]", "name", "");
     if (!pot_name.empty() && pot.get("alpha"))
         r.fail("[potential] alpha", show(*pot.get("alpha")),
@@ -287,6 +290,7 @@ std::string fingerprint(const CampaignSpec& spec) {
            << p.dt << ' ' << p.alpha << ' ' << p.size_ratio << ' ' << p.skin << ' ' << p.kd
            << ' ' << to_string(p.integrator) << ' ' << p.seed << ' ' << p.delta << ' ' << p.solver << ' ' << p.mass << ' ' << p.minimizer << ' ' << p.strain_step << ' '
            << p.energy_floor << ' ' << p.force_tol << ' ' << p.force_tol_abs << ' ' << p.phi_tol
+           << ' ' << p.temperature << ' ' << p.cooling_time
            << " [" << p.petsc_options << "]\n";
     return os.str();
 }
@@ -296,6 +300,7 @@ double estimated_cost(const ReplicaParams& p) {
     // step ~1e2); only the order of replicas matters (longest first).
     if (p.model == "RAND") return static_cast<double>(p.n) * 1e3;
     if (p.model == "COMPRESS") return static_cast<double>(p.n) * 2e4;
+    if (p.model == "COOL") return static_cast<double>(p.n) * (1e3 + p.cooling_time / p.dt);
     if (p.model == "QS") return static_cast<double>(p.n) * 1e2 * (p.strain / p.strain_step);
     const Schedule s = schedule_of(p);
     return static_cast<double>(p.n) * static_cast<double>(s.steps) * evaluations_per_step(p);

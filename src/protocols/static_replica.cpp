@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "jamsim/core/rng.hpp"
 #include "jamsim/dynamics/force_field.hpp"
 #include "jamsim/dynamics/replica.hpp"
 #include "jamsim/minimize/minimizer.hpp"
@@ -13,10 +14,10 @@
 namespace jamsim {
 
 bool is_static_model(const std::string& model) {
-    return model == "QS" || model == "RAND" || model == "COMPRESS";
+    return model == "QS" || model == "RAND" || model == "COMPRESS" || model == "COOL";
 }
 
-std::vector<std::string> static_model_names() { return {"QS", "RAND", "COMPRESS"}; }
+std::vector<std::string> static_model_names() { return {"QS", "RAND", "COMPRESS", "COOL"}; }
 
 namespace {
 
@@ -63,6 +64,27 @@ ReplicaResult run_static_replica(const ReplicaParams& p, const std::function<voi
     };
     std::int64_t evaluations = 0;
     if (p.model == "RAND") {
+        const StaticState st = quench(sys, forces, *minimizer, c);
+        evaluations += st.minimum.force_evaluations;
+        record(st, 0.0, 0.0);
+    } else if (p.model == "COOL") {
+        // Overdamped Langevin at fixed box and strain: x += (f/k_d) Δt + sqrt(2 T Δt / k_d) ξ,
+        // ξ unit Gaussian per disk and step, keyed by (seed, replica, disk tag, step).
+        const RngStream noise(p.seed, p.replica, RngPurpose::ThermalNoise);
+        const auto steps = static_cast<std::int64_t>(std::ceil(p.cooling_time / p.dt - 1e-9));
+        Particles& q = sys.particles;
+        for (std::int64_t step = 0; step < steps; ++step) {
+            const double t = 1.0 - static_cast<double>(step) / static_cast<double>(steps);
+            const double amplitude = std::sqrt(2.0 * p.temperature * t * p.dt / p.kd);
+            forces.compute(sys, Tally::ForcesOnly);
+            for (std::size_t i = 0; i < q.size(); ++i) {
+                const auto u = noise.uniform2(static_cast<std::uint32_t>(q.tag[i]), static_cast<std::uint32_t>(step));
+                const double r = std::sqrt(-2.0 * std::log1p(-u[0])), a = 2.0 * M_PI * u[1];  // Box–Muller
+                q.x[i] += p.dt * q.fx[i] / p.kd + amplitude * r * std::cos(a);  // strain 0: lab = sheared
+                q.y[i] += p.dt * q.fy[i] / p.kd + amplitude * r * std::sin(a);
+            }
+        }
+        evaluations += steps;
         const StaticState st = quench(sys, forces, *minimizer, c);
         evaluations += st.minimum.force_evaluations;
         record(st, 0.0, 0.0);

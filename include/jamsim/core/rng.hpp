@@ -9,6 +9,7 @@ namespace jamsim {
 /// changes the numbers another purpose draws.
 enum class RngPurpose : std::uint32_t {
     InitialPositions = 1,
+    ThermalNoise = 2,          ///< COOL: Langevin noise, index = disk tag, sub = step
     TestConfiguration = 1000,  ///< random configurations in tests
 };
 

@@ -40,6 +40,8 @@ struct ReplicaParams {
     double force_tol = 1e-10;       ///< force balance relative to the mean contact force
     double force_tol_abs = 1e-14;   ///< force balance floor, k_e/d_s
     double phi_tol = 1e-6;          ///< COMPRESS: width of the final φ_J bracket
+    double temperature = 1e-3;      ///< COOL: starting temperature T₀, k_e
+    double cooling_time = 1e4;      ///< COOL: time over which T falls linearly to 0, τ
     std::uint64_t seed = 1;
     std::uint32_t replica = 0;      ///< replica id within a campaign (part of the RNG key)
 };
@@ -50,6 +52,9 @@ struct ReplicaParams {
 ///   RAND:     random positions at φ (an infinite-temperature quench), minimised: one sample
 ///   COMPRESS: RAND, then compression/decompression to the configuration's own φ_J: one
 ///             sample of the jammed state at φ_J⁺ (its packing_fraction is φ_J)
+///   COOL:     thermal preparation: overdamped Langevin dynamics (RD0 with noise) at
+///             T(t) = T₀ (1 − t/cooling_time), i.e. cooling at the rate T₀/cooling_time, then a
+///             quench by minimisation: one sample
 bool is_static_model(const std::string& model);
 std::vector<std::string> static_model_names();
 
