@@ -1,12 +1,12 @@
 #!/usr/bin/python3
 """usage: analyze_jamming.py ARCHIVE.h5 OUTDIR
 
-Static analysis of a RAND or COMPRESS campaign archive (jamsim run with [model] name =
-"RAND" or "COMPRESS"); finished replicas only.
-  RAND:     P_J(phi, N) with binomial errors (pj.png, pj.tsv); the pressure distribution of
-            the jammed states at each (phi, N) (pressure.png); Z of jammed states (z.tsv).
-  COMPRESS: the distribution of phi_J per N: mean, standard deviation, histogram
-            (phi_j.png, phi_j.tsv), and the fraction of isostatic states.
+Static analysis of a RAND, COOL, COMPRESS or SHEARED campaign archive; finished replicas only.
+  RAND, COOL:         P_J(phi, N) with binomial errors, and <p> and <Z> of the jammed states
+                      (pj.png, pj.tsv); the pressure distribution of the jammed states at
+                      each (phi, N) (pressure.png).
+  COMPRESS, SHEARED:  the distribution of phi_J per N: mean, standard deviation, histogram
+                      (phi_j.png, phi_j.tsv), and the fraction of isostatic states.
 Prints the tables as well."""
 import os
 import sys
@@ -36,9 +36,12 @@ def main():
         if "timeseries/jammed" not in f:
             fail(f"'{path}' has no /timeseries/jammed: not a jamsim archive of this version")
         spec = str(f.attrs.get("spec_text", ""))
-        model = "COMPRESS" if '"COMPRESS"' in spec else "RAND" if '"RAND"' in spec else None
-        if model is None:
-            fail(f"'{path}': [model] name is neither RAND nor COMPRESS (QS: use plot_campaign.py)")
+        if '"COMPRESS"' in spec or '"SHEARED"' in spec:
+            model = "COMPRESS"  # one state at phi_J+ per replica
+        elif '"RAND"' in spec or '"COOL"' in spec:
+            model = "RAND"  # one quenched state at phi per replica
+        else:
+            fail(f"'{path}': [model] name is not RAND, COOL, COMPRESS or SHEARED (QS: use plot_campaign.py)")
         r, ts = f["replicas"], f["timeseries"]
         done = r["status"][...] == 2
         N = r["N"][...][done].astype(int)

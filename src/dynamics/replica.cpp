@@ -48,7 +48,7 @@ std::vector<ParamError> validate(const ReplicaParams& p) {
         e.push_back({"N", str(p.n), "an even number (50:50 mixture; size_ratio = 1 allows odd N)"});
     if (!(p.phi > 0.0 && p.phi < 1.0)) e.push_back({"phi", str(p.phi), "0 < phi < 1"});
     if (!(std::isfinite(p.rate) && p.rate >= 0.0)) e.push_back({"rate", str(p.rate), "rate >= 0"});
-    if ((p.rate > 0.0 || p.model == "QS") && !finite_positive(p.strain))
+    if ((p.rate > 0.0 || p.model == "QS" || p.model == "SHEARED") && !finite_positive(p.strain))
         e.push_back({"strain", str(p.strain), "strain > 0"});
     if (p.rate == 0.0 && !static_model && !finite_positive(p.time))
         e.push_back({"time", str(p.time), "time > 0 (needed when rate = 0)"});
@@ -96,7 +96,8 @@ std::vector<ParamError> validate(const ReplicaParams& p) {
 }
 
 Schedule schedule_of(const ReplicaParams& p) {
-    if (p.model == "RAND" || p.model == "COMPRESS" || p.model == "COOL") return {0, 1};  // one state
+    if (p.model == "RAND" || p.model == "COMPRESS" || p.model == "COOL" || p.model == "SHEARED")
+        return {0, 1};  // one state
     if (p.model == "QS")  // steps are minimisations after strain steps
         return {static_cast<std::int64_t>(std::ceil(p.strain / p.strain_step - 1e-9)),
                 std::max<std::int64_t>(1, std::llround(p.sample_interval / p.strain_step))};

@@ -14,10 +14,11 @@
 namespace jamsim {
 
 bool is_static_model(const std::string& model) {
-    return model == "QS" || model == "RAND" || model == "COMPRESS" || model == "COOL";
+    return model == "QS" || model == "RAND" || model == "COMPRESS" || model == "COOL" ||
+           model == "SHEARED";
 }
 
-std::vector<std::string> static_model_names() { return {"QS", "RAND", "COMPRESS", "COOL"}; }
+std::vector<std::string> static_model_names() { return {"QS", "RAND", "COMPRESS", "COOL", "SHEARED"}; }
 
 namespace {
 
@@ -88,7 +89,15 @@ ReplicaResult run_static_replica(const ReplicaParams& p, const std::function<voi
         const StaticState st = quench(sys, forces, *minimizer, c);
         evaluations += st.minimum.force_evaluations;
         record(st, 0.0, 0.0);
-    } else if (p.model == "COMPRESS") {
+    } else if (p.model == "COMPRESS" || p.model == "SHEARED") {
+        if (p.model == "SHEARED") {  // the sheared ensemble: QS shear to `strain` at φ first
+            const auto steps = static_cast<std::int64_t>(std::ceil(p.strain / p.strain_step - 1e-9));
+            for (std::int64_t step = 0; step < steps; ++step) {
+                const StaticState st = quench(sys, forces, *minimizer, c);
+                evaluations += st.minimum.force_evaluations;
+                apply_strain(sys, forces, sys.box.strain() + p.strain_step);
+            }
+        }
         const JammingPoint jp = find_jamming_point(sys, forces, *minimizer, c, 1e-3, p.phi_tol);
         evaluations += jp.minimizations;  // (per-minimisation counts are not kept)
         record(jp.state, 0.0, 0.0);

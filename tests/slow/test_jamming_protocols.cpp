@@ -184,3 +184,44 @@ TEST(Cooling, SlowerCoolingGivesDeeperMinima) {
     EXPECT_GT(e_rand.mean - e_slow.mean, 3 * std::hypot(e_rand.error, e_slow.error));
     EXPECT_GT(p_fast.mean - p_slow.mean, 0.0) << "slower cooling should not give a higher pressure";
 }
+
+// Pressure distribution over configurations at fixed φ (Paper III): at φ = 0.86 every RAND
+// quench jams, and the relative width std(p)/⟨p⟩ of the distribution (60 configurations
+// each) narrows with N (as N^{-1/2} for a self-averaging quantity): it must be smaller for
+// N = 512 than for N = 64 by more than 3 bootstrap standard errors.
+TEST(PressureDistribution, NarrowsWithN) {
+    auto relative_width = [](std::int64_t n) {
+        std::vector<double> p;
+        for (int seed = 1; seed <= 60; ++seed) {
+            ReplicaParams q;
+            q.model = "RAND";
+            q.n = n;
+            q.phi = 0.86;
+            q.rate = 0.0;
+            q.seed = static_cast<std::uint64_t>(seed);
+            const ReplicaResult r = run_replica(q);
+            EXPECT_EQ(r.series[0].jammed, 1.0);
+            p.push_back(r.series[0].pressure);
+        }
+        auto width = [](const std::vector<double>& v) {
+            double m = 0, s = 0;
+            for (double x : v) m += x / static_cast<double>(v.size());
+            for (double x : v) s += (x - m) * (x - m) / static_cast<double>(v.size() - 1);
+            return std::sqrt(s) / m;
+        };
+        std::mt19937_64 rng(7);
+        std::uniform_int_distribution<std::size_t> pick(0, p.size() - 1);
+        std::vector<double> boot;
+        for (int b = 0; b < 400; ++b) {
+            std::vector<double> r;
+            for (std::size_t k = 0; k < p.size(); ++k) r.push_back(p[pick(rng)]);
+            boot.push_back(width(r));
+        }
+        const auto e = jamsim::testing::mean_and_error(boot);
+        return Probability{width(p), e.error * std::sqrt(static_cast<double>(boot.size()))};
+    };
+    const Probability small = relative_width(64), large = relative_width(512);
+    std::printf("std(p)/<p> at phi = 0.86: N = 64 %.3f +- %.3f, N = 512 %.3f +- %.3f\n", small.p,
+                small.error, large.p, large.error);
+    EXPECT_GT(small.p - large.p, 3 * std::hypot(small.error, large.error));
+}

@@ -52,6 +52,8 @@ struct ReplicaParams {
 ///   RAND:     random positions at φ (an infinite-temperature quench), minimised: one sample
 ///   COMPRESS: RAND, then compression/decompression to the configuration's own φ_J: one
 ///             sample of the jammed state at φ_J⁺ (its packing_fraction is φ_J)
+///   SHEARED:  the sheared ensemble: QS shear at φ to `strain`, then the compression/
+///             decompression search for that configuration's φ_J (at its strain): one sample
 ///   COOL:     thermal preparation: overdamped Langevin dynamics (RD0 with noise) at
 ///             T(t) = T₀ (1 − t/cooling_time), i.e. cooling at the rate T₀/cooling_time, then a
 ///             quench by minimisation: one sample
