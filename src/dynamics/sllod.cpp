@@ -39,12 +39,7 @@ void Sllod::rates(const System& sys, const ForceField& forces, double gamma, dou
     const std::size_t n = p.size();
     fdx_.assign(n, 0.0);
     fdy_.assign(n, 0.0);
-    if (damping_ == Damping::RD) {
-        for (std::size_t i = 0; i < n; ++i) {
-            fdx_[i] = -params_.kd * ux[i];
-            fdy_[i] = -params_.kd * uy[i];
-        }
-    } else {
+    {  // contact damping (RD never gets here: it uses the splitting)
         const NeighborList& list = forces.list();
         const auto owner = list.owner(), neighbor = list.neighbor();
         const auto sx = list.shift_x(), sy = list.shift_y(), contact = list.contact();

@@ -128,7 +128,6 @@ struct EigenContactSolver::Impl {
     std::vector<Eigen::Index> diag_slot, pair_slot;  // positions in A.valuePtr()
     std::vector<std::uint8_t> factored;              // contact set the factor represents
     bool have_factor = false;
-    std::size_t factorizations = 0;
     std::vector<ContactPair> contacts;  // current contacts, compacted for the residual check
     std::vector<double> rx, ry;
 
@@ -176,7 +175,6 @@ struct EigenContactSolver::Impl {
         factor.copy_from(ldlt);
         factored.assign(in_contact.begin(), in_contact.end());
         have_factor = true;
-        ++factorizations;
     }
 
     /// Whether ‖b − A u‖ ≤ rtol ‖b‖ for both right-hand sides and the current contacts:
@@ -219,7 +217,6 @@ EigenContactSolver::EigenContactSolver(std::size_t n, double delta, double rtol)
 
 EigenContactSolver::~EigenContactSolver() = default;
 
-std::size_t EigenContactSolver::factorizations() const { return impl_->factorizations; }
 
 SolveInfo EigenContactSolver::solve(std::span<const ContactPair> pairs,
                                     std::span<const std::uint8_t> in_contact,

@@ -56,21 +56,22 @@ class ConjugateGradient final : public Minimizer {
         double step_guess = 0.0, last_slope0 = -1.0;
         // Running sums, so each iteration needs two passes over the disks besides the line
         // search: gg = F·F, slope0 = −F·d, dmax = max |d_i| and fmax = max |F_i| components.
-        double gg = dot(p.fx, p.fy, p.fx, p.fy), dmax = 0.0, fmax = max_abs(p.fx, p.fy);
+        double gg = dot(p.fx, p.fy, p.fx, p.fy), fmax = max_abs(p.fx, p.fy), dmax = fmax;
         double slope0 = -gg;
-        dmax = fmax;
         auto finish = [&](MinimizeOutcome outcome, std::int64_t it) {
             if (!f.tallied) f = pos.evaluate(Tally::Full);  // same positions: same forces
             return summarize(pos, sys, f, outcome, it);
         };
+        // Stopped by the forces alone: the energy tells unjammed from jammed.
+        auto settle = [&](std::int64_t it) {
+            if (!f.tallied) f = pos.evaluate(Tally::Full);
+            return finish(check_stop(pos, sys, f, c, fmax), it);
+        };
         for (std::int64_t it = 0;; ++it) {
-            if (fmax <= c.force_tol_abs) {  // stopped; the energy tells unjammed from jammed
-                if (!f.tallied) f = pos.evaluate(Tally::Full);
-                return finish(check_stop(pos, sys, f, c), it);
-            }
+            if (fmax <= c.force_tol_abs) return settle(it);
             if (f.tallied) {
                 tallied = f;
-                const MinimizeOutcome stop = check_stop(pos, sys, f, c);
+                const MinimizeOutcome stop = check_stop(pos, sys, f, c, fmax);
                 if (stop != MinimizeOutcome::NotConverged) return finish(stop, it);
             }
             if (it >= c.max_iterations || pos.stalled(fmax, c.stall_iterations))
@@ -88,20 +89,16 @@ class ConjugateGradient final : public Minimizer {
                 slope0 = -gg;
                 dmax = fmax;
             }
-            if (dmax == 0.0) {  // no force at all
-                if (!f.tallied) f = pos.evaluate(Tally::Full);
-                return finish(check_stop(pos, sys, f, c), it);
-            }
+            if (dmax == 0.0) return settle(it);  // no force at all
             std::swap(gx, p.fx);  // keep F_old; the line search refills p.fx
             std::swap(gy, p.fy);
-            // First trial: the last accepted step, or a move of 0.01 d_s for the largest
-            // component of d; never more than 0.1 d_s per trial.
             // First trial (Nocedal & Wright eq. 3.60): the same first-order decrease of the
-            // energy as the last accepted step, s_prev φ'_prev(0) / φ'(0).
+            // energy as the last accepted step, s_prev φ'_prev(0) / φ'(0); at the start a
+            // move of 0.01 d_s for the largest component of d; never more than 0.1 d_s.
             double s = step_guess > 0.0 ? step_guess * last_slope0 / slope0 : 0.01 / dmax;
             s = std::min(s, 0.1 / dmax);
             double slope_end = 0.0;  // φ'(s) = −F_new·d at the accepted step
-            f = line_search(pos, dx, dy, slope0, s, tally, slope_end);
+            f = line_search(pos, dx, dy, dmax, slope0, s, tally, slope_end);
             step_guess = s;  // the accepted step
             last_slope0 = slope0;
             pos.rebase_if_larger();
@@ -123,12 +120,13 @@ class ConjugateGradient final : public Minimizer {
   private:
     /// Moves the positions to the accepted step along d; `s` is the first trial on entry and
     /// the accepted step on return. Returns the tallied evaluation there.
+    /// dmax: the largest component of d (> 0).
     static ForceResult line_search(SplitPositions& pos, std::span<const double> dx,
-                                   std::span<const double> dy, double slope0, double& s,
-                                   Tally tally, double& slope_end) {
+                                   std::span<const double> dy, double dmax, double slope0,
+                                   double& s, Tally tally, double& slope_end) {
         Particles& p = pos.system().particles;
         const double target = 0.1 * std::abs(slope0);
-        const double cap = 0.1 / std::max(1e-300, max_abs(dx, dy));
+        const double cap = 0.1 / dmax;
         double lo = 0.0, slope_lo = slope0;  // φ' < 0 at lo
         double hi = -1.0, slope_hi = 0.0;    // φ' > 0 at hi, once found
         double at = 0.0;                     // where the positions are now

@@ -29,11 +29,12 @@ class Fire final : public Minimizer {
         int positive = 0, negative = 0;
         ForceResult f = pos.evaluate();
         for (std::int64_t it = 0;; ++it) {
-            const MinimizeOutcome stop = check_stop(pos, sys, f, c);
+            const double fmax = pos.max_force();
+            const MinimizeOutcome stop = check_stop(pos, sys, f, c, fmax);
             if (stop != MinimizeOutcome::NotConverged) return summarize(pos, sys, f, stop, it);
-            if (it >= c.max_iterations || pos.stalled(pos.max_force(), c.stall_iterations) || negative > n_negative_max)
+            if (it >= c.max_iterations || pos.stalled(fmax, c.stall_iterations) || negative > n_negative_max)
                 return summarize(pos, sys, f, MinimizeOutcome::NotConverged, it);
-            pos.split_if_converging(pos.max_force(), pos.mean_contact_force(f));
+            pos.split_if_converging(fmax, pos.mean_contact_force(f));
             double power = 0.0;
             for (std::size_t i = 0; i < n; ++i) power += p.fx[i] * vx[i] + p.fy[i] * vy[i];
             if (power > 0.0) {

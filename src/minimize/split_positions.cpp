@@ -19,7 +19,7 @@ SplitPositions::SplitPositions(System& sys, ForceField& forces, bool split)
     }
     // Disks in cell order (as the dynamics keep them), so the force loop's gathers and
     // scatters stay local; outputs are by tag, so the order is invisible.
-    if (wrapped || forces.list().size() == 0) {
+    if (wrapped || forces.builds() == 0) {
         p.permute(spatial_order(p, sys.box, max_diameter(p) + forces.list().skin()));
         forces.invalidate();
     }
@@ -141,10 +141,9 @@ MinimizeResult summarize(const SplitPositions& pos, const System& sys, const For
 }
 
 MinimizeOutcome check_stop(const SplitPositions& pos, const System& sys, const ForceResult& f,
-                           const MinimizeCriteria& c) {
+                           const MinimizeCriteria& c, double fmax) {
     if (f.energy / static_cast<double>(sys.particles.size()) < c.energy_floor)
         return MinimizeOutcome::Unjammed;
-    const double fmax = pos.max_force();
     if (fmax <= c.force_tol * pos.mean_contact_force(f) || fmax <= c.force_tol_abs)
         return MinimizeOutcome::ForceBalanced;
     return MinimizeOutcome::NotConverged;

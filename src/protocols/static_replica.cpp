@@ -4,6 +4,7 @@
 // max_force) filled in and solver_iterations holding the minimiser's iterations.
 #include <chrono>
 #include <cmath>
+#include <numbers>
 
 #include "jamsim/core/rng.hpp"
 #include "jamsim/dynamics/force_field.hpp"
@@ -64,10 +65,13 @@ ReplicaResult run_static_replica(const ReplicaParams& p, const std::function<voi
         if (after_sample) after_sample();
     };
     std::int64_t evaluations = 0;
-    if (p.model == "RAND") {
-        const StaticState st = quench(sys, forces, *minimizer, c);
+    auto minimise = [&] {  // quench the configuration as it is, counting its cost
+        StaticState st = quench(sys, forces, *minimizer, c);
         evaluations += st.minimum.force_evaluations;
-        record(st, 0.0, 0.0);
+        return st;
+    };
+    if (p.model == "RAND") {
+        record(minimise(), 0.0, 0.0);
     } else if (p.model == "COOL") {
         // Overdamped Langevin at fixed box and strain: x += (f/k_d) Δt + sqrt(2 T Δt / k_d) ξ,
         // ξ unit Gaussian per disk and step, keyed by (seed, replica, disk tag, step).
@@ -80,21 +84,18 @@ ReplicaResult run_static_replica(const ReplicaParams& p, const std::function<voi
             forces.compute(sys, Tally::ForcesOnly);
             for (std::size_t i = 0; i < q.size(); ++i) {
                 const auto u = noise.uniform2(static_cast<std::uint32_t>(q.tag[i]), static_cast<std::uint32_t>(step));
-                const double r = std::sqrt(-2.0 * std::log1p(-u[0])), a = 2.0 * M_PI * u[1];  // Box–Muller
+                const double r = std::sqrt(-2.0 * std::log1p(-u[0])), a = 2.0 * std::numbers::pi * u[1];  // Box–Muller
                 q.x[i] += p.dt * q.fx[i] / p.kd + amplitude * r * std::cos(a);  // strain 0: lab = sheared
                 q.y[i] += p.dt * q.fy[i] / p.kd + amplitude * r * std::sin(a);
             }
         }
         evaluations += steps;
-        const StaticState st = quench(sys, forces, *minimizer, c);
-        evaluations += st.minimum.force_evaluations;
-        record(st, 0.0, 0.0);
+        record(minimise(), 0.0, 0.0);
     } else if (p.model == "COMPRESS" || p.model == "SHEARED") {
         if (p.model == "SHEARED") {  // the sheared ensemble: QS shear to `strain` at φ first
             const auto steps = static_cast<std::int64_t>(std::ceil(p.strain / p.strain_step - 1e-9));
             for (std::int64_t step = 0; step < steps; ++step) {
-                const StaticState st = quench(sys, forces, *minimizer, c);
-                evaluations += st.minimum.force_evaluations;
+                minimise();
                 apply_strain(sys, forces, sys.box.strain() + p.strain_step);
             }
         }
@@ -105,8 +106,7 @@ ReplicaResult run_static_replica(const ReplicaParams& p, const std::function<voi
         const auto [steps, every] = schedule_of(p);
         double strain = 0.0;
         for (std::int64_t step = 0;; ++step) {
-            const StaticState st = quench(sys, forces, *minimizer, c);
-            evaluations += st.minimum.force_evaluations;
+            const StaticState st = minimise();
             if (step % every == 0) record(st, static_cast<double>(step), strain);
             if (step == steps) break;
             strain = static_cast<double>(step + 1) * p.strain_step;

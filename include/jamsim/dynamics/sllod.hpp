@@ -52,7 +52,7 @@ class Sllod final : public Model {
     void advance_split_rd(System& sys, ForceField& forces, double dt, double rate);
 
     /// Time derivatives (dx, dy, dux, duy) at state (x, y, ux, uy) with elastic forces
-    /// (fx, fy) and strain γ.
+    /// (fx, fy) and strain γ, for Heun (CD, CDn, CDt; RD uses advance_split_rd).
     void rates(const System& sys, const ForceField& forces, double gamma, double rate,
                const std::vector<double>& x, const std::vector<double>& y,
                const std::vector<double>& ux, const std::vector<double>& uy,

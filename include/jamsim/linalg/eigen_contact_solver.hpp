@@ -27,8 +27,6 @@ class EigenContactSolver {
                     std::size_t pattern_version, std::span<const double> b_x,
                     std::span<const double> b_y, std::span<double> u_x, std::span<double> u_y);
 
-    /// Numerical factorisations so far (diagnostics, benchmarks).
-    std::size_t factorizations() const;
 
 
   private:

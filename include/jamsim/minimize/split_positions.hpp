@@ -71,8 +71,9 @@ class SplitPositions {
 MinimizeResult summarize(const SplitPositions& pos, const System& sys, const ForceResult& f,
                          MinimizeOutcome outcome, std::int64_t iterations);
 
-/// The stopping rule of MinimizeCriteria for a tallied evaluation; NotConverged = go on.
+/// The stopping rule of MinimizeCriteria for a tallied evaluation whose largest force
+/// component is `max_force` (SplitPositions::max_force); NotConverged = go on.
 MinimizeOutcome check_stop(const SplitPositions& pos, const System& sys, const ForceResult& f,
-                           const MinimizeCriteria& c);
+                           const MinimizeCriteria& c, double max_force);
 
 } // namespace jamsim
