@@ -49,6 +49,7 @@ JammingPoint find_jamming_point(System& sys, ForceField& forces, Minimizer& mini
     JammingPoint out;
     StaticState state = quench(sys, forces, minimizer, criteria);
     ++out.minimizations;
+    out.force_evaluations += state.minimum.force_evaluations;
     double phi = state.phi, step = phi_step;
     bool crossed = false;  // the threshold has been bracketed at least once
     while (!(state.jammed() && crossed && step < phi_tol)) {
@@ -60,6 +61,7 @@ JammingPoint find_jamming_point(System& sys, ForceField& forces, Minimizer& mini
         const bool was_jammed = state.jammed();
         state = quench(sys, forces, minimizer, criteria);
         ++out.minimizations;
+        out.force_evaluations += state.minimum.force_evaluations;
         if (state.jammed() != was_jammed) {  // crossed the threshold: refine and reverse
             step *= 0.5;
             crossed = true;

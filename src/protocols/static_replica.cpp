@@ -100,7 +100,7 @@ ReplicaResult run_static_replica(const ReplicaParams& p, const std::function<voi
             }
         }
         const JammingPoint jp = find_jamming_point(sys, forces, *minimizer, c, 1e-3, p.phi_tol);
-        evaluations += jp.minimizations;  // (per-minimisation counts are not kept)
+        evaluations += jp.force_evaluations;
         record(jp.state, 0.0, 0.0);
     } else {  // QS: γ → γ + Δγ through the Lees–Edwards box (affine), then minimise
         const auto [steps, every] = schedule_of(p);

@@ -28,4 +28,7 @@ with h5py.File(sys.argv[1], "r") as f:
         assert (z[jammed == 1] >= iso[jammed == 1] - 1e-12).all(), (z, iso)  # at least isostatic
         assert np.isnan(z[jammed == 0]).all()
         assert (ts["packing_fraction"][k, :m] > 0).all()
+        # every minimiser iteration costs at least one force evaluation
+        its = ts["solver_iterations"][k, :m].sum()
+        assert r["force_evaluations"][k] >= its, (r["force_evaluations"][k], its)
 print("ok")

@@ -34,6 +34,7 @@ struct JammingPoint {
     double phi_unjammed = 0.0; ///< the unjammed end of the final bracket
     StaticState state;         ///< the jammed state at phi_j
     int minimizations = 0;
+    std::int64_t force_evaluations = 0;  ///< over all its minimisations
 };
 JammingPoint find_jamming_point(System& sys, ForceField& forces, Minimizer& minimizer,
                                 const MinimizeCriteria& criteria, double phi_step = 1e-3,
