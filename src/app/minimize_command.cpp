@@ -57,7 +57,7 @@ CLI::App* add_minimize_command(CLI::App& app) {
     cmd->add_option("--N", opt->n, "Number of disks (even)")->capture_default_str();
     cmd->add_option("--phi", opt->phi, "Packing fraction")->capture_default_str();
     cmd->add_option("--seed", opt->seed, "Random seed")->capture_default_str();
-    cmd->add_option("--minimizer", opt->minimizer, "cg or fire")->capture_default_str();
+    cmd->add_option("--minimizer", opt->minimizer, "cg (default), cg-pr or fire")->capture_default_str();
     cmd->add_option("--alpha", opt->alpha, "Potential exponent (2 harmonic, 2.5 Hertzian)")->capture_default_str();
     cmd->add_option("--energy-floor", opt->criteria.energy_floor, "E/N below which the state is unjammed")
         ->capture_default_str();

@@ -103,7 +103,7 @@ CLI::App* add_replica_command(CLI::App& app) {
     cmd->add_option("--petsc-options", p.petsc_options,
                     "CD0 solver options, e.g. \"-cd0_pc_type icc -cd0_ksp_rtol 1e-8\"");
     cmd->add_option("--integrator", opt->integrator, "euler or heun")->capture_default_str();
-    cmd->add_option("--minimizer", p.minimizer, "QS, RAND, COMPRESS: cg or fire")->capture_default_str();
+    cmd->add_option("--minimizer", p.minimizer, "static models: cg, cg-pr or fire")->capture_default_str();
     cmd->add_option("--strain-step", p.strain_step, "QS: strain step between minimisations")
         ->capture_default_str();
     cmd->add_option("--energy-floor", p.energy_floor, "E/N below which a minimised state is unjammed")

@@ -1,5 +1,6 @@
 #include "jamsim/dynamics/replica.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -7,6 +8,7 @@
 
 #include "jamsim/dynamics/force_field.hpp"
 #include "jamsim/dynamics/sllod.hpp"
+#include "jamsim/minimize/minimizer.hpp"
 #include "jamsim/observe/velocity_correlation.hpp"
 
 namespace jamsim {
@@ -74,8 +76,9 @@ std::vector<ParamError> validate(const ReplicaParams& p) {
                          "dt <= " + str(sllod_stable_dt(damping, p.mass, p.kd)) + " for " + name +
                              " with mass " + str(p.mass) + " and kd " + str(p.kd) +
                              " (stability of the integrator)"});
-    if (p.minimizer != "cg" && p.minimizer != "fire")
-        e.push_back({"minimizer", p.minimizer, "cg or fire"});
+    if (const auto known = minimizer_names();
+        std::find(known.begin(), known.end(), p.minimizer) == known.end())
+        e.push_back({"minimizer", p.minimizer, "cg, cg-pr or fire"});
     if (!finite_positive(p.strain_step)) e.push_back({"strain-step", str(p.strain_step), "strain-step > 0"});
     if (!finite_positive(p.energy_floor))
         e.push_back({"energy-floor", str(p.energy_floor), "energy-floor > 0"});

@@ -283,7 +283,7 @@ CampaignSpec load_campaign(const std::string& path) {
 std::string fingerprint(const CampaignSpec& spec) {
     std::ostringstream os;
     os.precision(17);
-    os << "jamsim campaign v3 " << spec.name << " replicas " << spec.replicas.size() << '\n';
+    os << "jamsim campaign v4 " << spec.name << " replicas " << spec.replicas.size() << '\n';
     for (const auto& p : spec.replicas)
         os << p.replica << ' ' << p.model << ' ' << p.n << ' ' << p.phi << ' ' << p.rate << ' '
            << p.strain << ' ' << p.time << ' ' << p.transient << ' ' << p.sample_interval << ' '

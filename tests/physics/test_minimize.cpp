@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <utility>
 #include <vector>
 
 #include "jamsim/dynamics/force_field.hpp"
@@ -34,7 +35,7 @@ Quench rand_quench(const std::string& minimizer, std::int64_t n, double phi, std
 } // namespace
 
 TEST(Minimize, RandBelowJammingReachesZeroEnergy) {
-    for (const char* name : {"cg", "fire"})
+    for (const char* name : {"cg", "cg-pr", "fire"})
         for (std::uint64_t seed = 1; seed <= 10; ++seed) {
             const Quench q = rand_quench(name, 256, 0.80, seed);
             EXPECT_EQ(q.result.outcome, MinimizeOutcome::Unjammed) << name << " seed " << seed;
@@ -44,7 +45,7 @@ TEST(Minimize, RandBelowJammingReachesZeroEnergy) {
 
 TEST(Minimize, RandAboveJammingBalancesForces) {
     const MinimizeCriteria c;
-    for (const char* name : {"cg", "fire"})
+    for (const char* name : {"cg", "cg-pr", "fire"})
         for (std::uint64_t seed = 1; seed <= 10; ++seed) {
             const Quench q = rand_quench(name, 256, 0.86, seed, c);
             std::printf("%s seed %2llu: its %6lld evals %6lld E/N %.6e p %.6e fmax/fbar %.2e Z %.4f rattlers %.3f excess %lld\n",
@@ -86,24 +87,27 @@ TEST(Jamming, IsostaticJustAboveJamming) {
 
 // Above φ_J, CG and FIRE may land in different minima of the same landscape; over 20 random
 // starts the distributions of E/N and p must agree: means within 3 combined standard errors.
+// Both CG variants (hybrid β and PR+) are compared with FIRE.
 TEST(Minimize, CgAndFireSampleTheSameMinima) {
-    std::vector<double> e_cg, e_fire, p_cg, p_fire;
-    for (std::uint64_t seed = 1; seed <= 20; ++seed) {
-        const Quench a = rand_quench("cg", 64, 0.86, seed), b = rand_quench("fire", 64, 0.86, seed);
-        ASSERT_EQ(a.result.outcome, MinimizeOutcome::ForceBalanced);
-        ASSERT_EQ(b.result.outcome, MinimizeOutcome::ForceBalanced);
-        e_cg.push_back(a.result.energy_per_particle);
-        e_fire.push_back(b.result.energy_per_particle);
-        p_cg.push_back(a.result.pressure);
-        p_fire.push_back(b.result.pressure);
-    }
     using jamsim::testing::mean_and_error;
-    const auto ec = mean_and_error(e_cg), ef = mean_and_error(e_fire);
-    const auto pc = mean_and_error(p_cg), pf = mean_and_error(p_fire);
-    std::printf("E/N: CG %.4e +- %.1e, FIRE %.4e +- %.1e; p: CG %.4e +- %.1e, FIRE %.4e +- %.1e\n",
-                ec.mean, ec.error, ef.mean, ef.error, pc.mean, pc.error, pf.mean, pf.error);
-    EXPECT_LE(std::abs(ec.mean - ef.mean), 3.0 * std::hypot(ec.error, ef.error));
-    EXPECT_LE(std::abs(pc.mean - pf.mean), 3.0 * std::hypot(pc.error, pf.error));
+    auto sample = [](const char* name) {
+        std::vector<double> e, p;
+        for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+            const Quench q = rand_quench(name, 64, 0.86, seed);
+            EXPECT_EQ(q.result.outcome, MinimizeOutcome::ForceBalanced) << name << " seed " << seed;
+            e.push_back(q.result.energy_per_particle);
+            p.push_back(q.result.pressure);
+        }
+        return std::pair{mean_and_error(e), mean_and_error(p)};
+    };
+    const auto [ef, pf] = sample("fire");
+    for (const char* name : {"cg", "cg-pr"}) {
+        const auto [ec, pc] = sample(name);
+        std::printf("E/N: %s %.4e +- %.1e, FIRE %.4e +- %.1e; p: %s %.4e +- %.1e, FIRE %.4e +- %.1e\n",
+                    name, ec.mean, ec.error, ef.mean, ef.error, name, pc.mean, pc.error, pf.mean, pf.error);
+        EXPECT_LE(std::abs(ec.mean - ef.mean), 3.0 * std::hypot(ec.error, ef.error)) << name;
+        EXPECT_LE(std::abs(pc.mean - pf.mean), 3.0 * std::hypot(pc.error, pf.error)) << name;
+    }
 }
 
 // Equal positional resolution (thesis, end of §4.7): with plain coordinates a disk at x ~ L
