@@ -1,11 +1,13 @@
 #!/usr/bin/python3
 """usage: analyze_jamming.py ARCHIVE.h5 OUTDIR
 
-Static analysis of a RAND, COOL, COMPRESS or SHEARED campaign archive; finished replicas only.
+Static analysis of a RAND, COOL, COMPRESS, COOL_COMPRESS or SHEARED campaign archive; finished
+replicas only.
   RAND, COOL:         P_J(phi, N) with binomial errors, and <p> and <Z> of the jammed states
                       (pj.png, pj.tsv); the pressure distribution of the jammed states at
                       each (phi, N) (pressure.png).
-  COMPRESS, SHEARED:  the distribution of phi_J per N: mean, standard deviation, histogram
+  COMPRESS, COOL_COMPRESS, SHEARED:
+                      the distribution of phi_J per N: mean, standard deviation, histogram
                       (phi_j.png, phi_j.tsv), and the fraction of isostatic states.
 Prints the tables as well."""
 import os
@@ -35,13 +37,15 @@ def main():
     with f:
         if "timeseries/jammed" not in f:
             fail(f"'{path}' has no /timeseries/jammed: not a jamsim archive of this version")
-        spec = str(f.attrs.get("spec_text", ""))
-        if '"COMPRESS"' in spec or '"SHEARED"' in spec:
+        name = f.attrs.get("model", b"")
+        name = name.decode() if isinstance(name, bytes) else str(name)
+        if name in ("COMPRESS", "COOL_COMPRESS", "SHEARED"):
             model = "COMPRESS"  # one state at phi_J+ per replica
-        elif '"RAND"' in spec or '"COOL"' in spec:
+        elif name in ("RAND", "COOL"):
             model = "RAND"  # one quenched state at phi per replica
         else:
-            fail(f"'{path}': [model] name is not RAND, COOL, COMPRESS or SHEARED (QS: use plot_campaign.py)")
+            fail(f"'{path}': model '{name}' is not RAND, COOL, COMPRESS, COOL_COMPRESS or SHEARED"
+                 " (QS: use plot_campaign.py)")
         r, ts = f["replicas"], f["timeseries"]
         done = r["status"][...] == 2
         N = r["N"][...][done].astype(int)

@@ -99,8 +99,7 @@ std::vector<ParamError> validate(const ReplicaParams& p) {
 }
 
 Schedule schedule_of(const ReplicaParams& p) {
-    if (p.model == "RAND" || p.model == "COMPRESS" || p.model == "COOL" || p.model == "SHEARED")
-        return {0, 1};  // one state
+    if (is_static_model(p.model) && p.model != "QS") return {0, 1};  // one state
     if (p.model == "QS")  // steps are minimisations after strain steps
         return {static_cast<std::int64_t>(std::ceil(p.strain / p.strain_step - 1e-9)),
                 std::max<std::int64_t>(1, std::llround(p.sample_interval / p.strain_step))};

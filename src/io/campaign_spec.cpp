@@ -302,6 +302,7 @@ double estimated_cost(const ReplicaParams& p) {
     if (p.model == "COMPRESS") return static_cast<double>(p.n) * 2e4;
     if (p.model == "SHEARED") return static_cast<double>(p.n) * (2e4 + 1e2 * (p.strain / p.strain_step));
     if (p.model == "COOL") return static_cast<double>(p.n) * (1e3 + p.cooling_time / p.dt);
+    if (p.model == "COOL_COMPRESS") return static_cast<double>(p.n) * (2e4 + p.cooling_time / p.dt);
     if (p.model == "QS") return static_cast<double>(p.n) * 1e2 * (p.strain / p.strain_step);
     const Schedule s = schedule_of(p);
     return static_cast<double>(p.n) * static_cast<double>(s.steps) * evaluations_per_step(p);

@@ -89,11 +89,11 @@ class ConjugateGradient final : public Minimizer {
                 const MinimizeOutcome stop = check_stop(pos, sys, f, c, fmax);
                 if (stop != MinimizeOutcome::NotConverged) return finish(stop, it);
             }
-            if (it >= c.max_iterations || pos.stalled(fmax, c.stall_iterations))
+            const double fbar = pos.mean_contact_force(tallied);
+            if (it >= c.max_iterations || pos.stalled(fmax, fbar, c.stall_iterations))
                 return finish(MinimizeOutcome::NotConverged, it);
             // Energy and virial cost ~30% of an evaluation: the line search skips them except
             // every 32 iterations and once the stopping rule is within reach.
-            const double fbar = pos.mean_contact_force(tallied);
             pos.split_if_converging(fmax, fbar);
             const bool near = fmax <= 100.0 * std::max(c.force_tol_abs, c.force_tol * fbar) ||
                               tallied.energy / static_cast<double>(n) < 1e4 * c.energy_floor;

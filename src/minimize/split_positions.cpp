@@ -116,7 +116,11 @@ void SplitPositions::split_if_converging(double fmax, double mean_contact_force)
     max_offset_ = 0.0;
 }
 
-bool SplitPositions::stalled(double max_force, std::int64_t window) {
+bool SplitPositions::stalled(double max_force, double mean_contact_force, std::int64_t window) {
+    if (max_force > kSplitBelow * mean_contact_force) {  // far above the floor
+        best_force_ = -1.0;
+        return false;
+    }
     if (best_force_ < 0.0 || max_force < 0.5 * best_force_) {
         best_force_ = max_force;
         since_best_ = 0;

@@ -1,25 +1,28 @@
-// The minimisation models of a campaign: QS shear, the RAND quench and the compression to
-// φ_J. Each produces rows of the same TimeSeries as the dynamics, with the static columns
+// The minimisation models of a campaign: QS shear, the RAND and COOL quenches and the
+// compression to φ_J (COMPRESS, COOL_COMPRESS, SHEARED). Each produces rows of the same TimeSeries as the dynamics, with the static columns
 // (packing_fraction, contact_number_nonrattler, rattler_fraction, excess_contacts, jammed,
 // max_force) filled in and solver_iterations holding the minimiser's iterations.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <numbers>
 
 #include "jamsim/core/rng.hpp"
 #include "jamsim/dynamics/force_field.hpp"
 #include "jamsim/dynamics/replica.hpp"
 #include "jamsim/minimize/minimizer.hpp"
 #include "jamsim/protocols/jamming.hpp"
+#include "jamsim/protocols/preparation.hpp"
 
 namespace jamsim {
 
 bool is_static_model(const std::string& model) {
-    return model == "QS" || model == "RAND" || model == "COMPRESS" || model == "COOL" ||
-           model == "SHEARED";
+    const auto names = static_model_names();
+    return std::find(names.begin(), names.end(), model) != names.end();
 }
 
-std::vector<std::string> static_model_names() { return {"QS", "RAND", "COMPRESS", "COOL", "SHEARED"}; }
+std::vector<std::string> static_model_names() {
+    return {"QS", "RAND", "COMPRESS", "COOL", "COOL_COMPRESS", "SHEARED"};
+}
 
 namespace {
 
@@ -72,33 +75,19 @@ ReplicaResult run_static_replica(const ReplicaParams& p, const std::function<voi
     };
     if (p.model == "RAND") {
         record(minimise(), 0.0, 0.0);
-    } else if (p.model == "COOL") {
-        // Overdamped Langevin at fixed box and strain: x += (f/k_d) Δt + sqrt(2 T Δt / k_d) ξ,
-        // ξ unit Gaussian per disk and step, keyed by (seed, replica, disk tag, step).
-        const RngStream noise(p.seed, p.replica, RngPurpose::ThermalNoise);
-        const auto steps = static_cast<std::int64_t>(std::ceil(p.cooling_time / p.dt - 1e-9));
-        Particles& q = sys.particles;
-        for (std::int64_t step = 0; step < steps; ++step) {
-            const double t = 1.0 - static_cast<double>(step) / static_cast<double>(steps);
-            const double amplitude = std::sqrt(2.0 * p.temperature * t * p.dt / p.kd);
-            forces.compute(sys, Tally::ForcesOnly);
-            for (std::size_t i = 0; i < q.size(); ++i) {
-                const auto u = noise.uniform2(static_cast<std::uint32_t>(q.tag[i]), static_cast<std::uint32_t>(step));
-                const double r = std::sqrt(-2.0 * std::log1p(-u[0])), a = 2.0 * std::numbers::pi * u[1];  // Box–Muller
-                q.x[i] += p.dt * q.fx[i] / p.kd + amplitude * r * std::cos(a);  // strain 0: lab = sheared
-                q.y[i] += p.dt * q.fy[i] / p.kd + amplitude * r * std::sin(a);
-            }
+    } else if (p.model == "COOL" || p.model == "COOL_COMPRESS") {
+        evaluations += cool(sys, forces, {p.temperature, p.cooling_time, p.dt, p.kd},
+                            RngStream(p.seed, p.replica, RngPurpose::ThermalNoise));
+        if (p.model == "COOL") {
+            record(minimise(), 0.0, 0.0);
+        } else {  // Paper I: cooling followed by compression (or decompression) to φ_J
+            const JammingPoint jp = find_jamming_point(sys, forces, *minimizer, c, 1e-3, p.phi_tol);
+            evaluations += jp.force_evaluations;
+            record(jp.state, 0.0, 0.0);
         }
-        evaluations += steps;
-        record(minimise(), 0.0, 0.0);
     } else if (p.model == "COMPRESS" || p.model == "SHEARED") {
-        if (p.model == "SHEARED") {  // the sheared ensemble: QS shear to `strain` at φ first
-            const auto steps = static_cast<std::int64_t>(std::ceil(p.strain / p.strain_step - 1e-9));
-            for (std::int64_t step = 0; step < steps; ++step) {
-                minimise();
-                apply_strain(sys, forces, sys.box.strain() + p.strain_step);
-            }
-        }
+        if (p.model == "SHEARED")  // the sheared ensemble: QS shear to `strain` at φ first
+            evaluations += shear_quasistatically(sys, forces, *minimizer, c, p.strain, p.strain_step);
         const JammingPoint jp = find_jamming_point(sys, forces, *minimizer, c, 1e-3, p.phi_tol);
         evaluations += jp.force_evaluations;
         record(jp.state, 0.0, 0.0);

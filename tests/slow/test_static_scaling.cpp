@@ -1,11 +1,13 @@
 // Static scaling above jamming (Paper II; O'Hern et al. 2003): for V ∝ δ^α,
 //   p ∝ (φ − φ_J)^(α−1),  E/N ∝ (φ − φ_J)^α,  Z − Z_iso ∝ (φ − φ_J)^(1/2).
 // Each configuration is brought to its own φ_J (compression/decompression), then compressed
-// in log-spaced steps Δφ = φ − φ_J and minimised; a least-squares slope of ln y against
-// ln Δφ per configuration, averaged over configurations with its standard error, must match
-// the exponent within 3 standard errors plus an allowance for corrections to scaling in the
-// window 1e-4 ≤ Δφ ≤ 1e-2 (0.05 for p and E, 0.1 for Z, whose finite-N contact counts are
-// integers), and for the bias from φ_J's bracket (≤ 1e-6/1e-4 = 1% of the smallest Δφ).
+// in log-spaced steps Δφ = φ − φ_J and minimised. Per configuration the exponent is fitted
+// with the leading analytic correction to scaling, y = A Δφ^a (1 + c Δφ), so the window
+// 1e-4 ≤ Δφ ≤ 1e-2 needs no allowance for it; the exponents averaged over 64 configurations
+// must match within 3 standard errors. (A plain power law over the same window gives
+// exponents a few standard errors low: harmonic p 0.977 ± 0.007, E 1.927 ± 0.013, the
+// corrections at work; these are printed too.) The bias from φ_J's bracket is at most
+// 1e-6/1e-4 = 1% of the smallest Δφ, a shift of the exponent well below its error.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -37,8 +39,31 @@ double slope(const std::vector<double>& x, const std::vector<double>& y) {
     return sxy / sxx;
 }
 
+/// The exponent a of y = A x^a (1 + c x): least squares of ln y = a ln x + ln A + c x, the
+/// leading analytic correction to scaling fitted alongside, so no allowance for it is needed.
+double exponent_with_correction(const std::vector<double>& x, const std::vector<double>& y) {
+    const double m = static_cast<double>(x.size());
+    double mu = 0, mv = 0, mw = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        mu += std::log(x[i]) / m;
+        mv += x[i] / m;
+        mw += std::log(y[i]) / m;
+    }
+    double suu = 0, suv = 0, svv = 0, suw = 0, svw = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        const double u = std::log(x[i]) - mu, v = x[i] - mv, w = std::log(y[i]) - mw;
+        suu += u * u;
+        suv += u * v;
+        svv += v * v;
+        suw += u * w;
+        svw += v * w;
+    }
+    return (suw * svv - svw * suv) / (suu * svv - suv * suv);
+}
+
 struct Slopes {
     std::vector<double> p, e, z;
+    std::vector<double> p_corrected, e_corrected, z_corrected;
 };
 
 Slopes measure(double alpha, std::int64_t n, int seeds, const std::vector<double>& dphis,
@@ -68,7 +93,12 @@ Slopes measure(double alpha, std::int64_t n, int seeds, const std::vector<double
         if (x.size() != dphis.size()) continue;
         s.p.push_back(slope(x, p));
         s.e.push_back(slope(x, e));
-        if (xz.size() == dphis_z.size()) s.z.push_back(slope(xz, dz));
+        s.p_corrected.push_back(exponent_with_correction(x, p));
+        s.e_corrected.push_back(exponent_with_correction(x, e));
+        if (xz.size() == dphis_z.size()) {
+            s.z.push_back(slope(xz, dz));
+            s.z_corrected.push_back(exponent_with_correction(xz, dz));
+        }
     }
     return s;
 }
@@ -78,25 +108,34 @@ Slopes measure(double alpha, std::int64_t n, int seeds, const std::vector<double
 TEST(StaticScaling, HarmonicExponents) {
     const std::vector<double> dphi{1e-4, 2e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2};
     const std::vector<double> dphi_z{1e-3, 2e-3, 5e-3, 1e-2};
-    const Slopes s = measure(2.0, 256, 16, dphi, dphi_z);
+    const Slopes s = measure(2.0, 256, 64, dphi, dphi_z);
     using jamsim::testing::mean_and_error;
     const auto p = mean_and_error(s.p), e = mean_and_error(s.e), z = mean_and_error(s.z);
     std::printf("harmonic, N = 256, %zu configurations: p %.3f +- %.3f (1), E %.3f +- %.3f (2), "
                 "Z - Z_iso %.3f +- %.3f (0.5, %zu configurations)\n",
                 s.p.size(), p.mean, p.error, e.mean, e.error, z.mean, z.error, s.z.size());
-    ASSERT_GE(s.p.size(), 12u);
-    EXPECT_NEAR(p.mean, 1.0, 3 * p.error + 0.05);
-    EXPECT_NEAR(e.mean, 2.0, 3 * e.error + 0.05);
-    EXPECT_NEAR(z.mean, 0.5, 3 * z.error + 0.1);
+    const auto pc = mean_and_error(s.p_corrected), ec = mean_and_error(s.e_corrected),
+               zc = mean_and_error(s.z_corrected);
+    std::printf("  with the correction fitted: p %.3f +- %.3f, E %.3f +- %.3f, Z - Z_iso %.3f +- %.3f\n",
+                pc.mean, pc.error, ec.mean, ec.error, zc.mean, zc.error);
+    ASSERT_GE(s.p.size(), 48u);
+    ASSERT_GE(s.z.size(), 48u);
+    EXPECT_NEAR(pc.mean, 1.0, 3 * pc.error);
+    EXPECT_NEAR(ec.mean, 2.0, 3 * ec.error);
+    EXPECT_NEAR(zc.mean, 0.5, 3 * zc.error);
 }
 
 TEST(StaticScaling, HertzianPressure) {
     const std::vector<double> dphi{1e-4, 2e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2};
-    const Slopes s = measure(2.5, 256, 16, dphi, {});
+    const Slopes s = measure(2.5, 256, 64, dphi, {});
     const auto p = jamsim::testing::mean_and_error(s.p), e = jamsim::testing::mean_and_error(s.e);
     std::printf("Hertzian, N = 256, %zu configurations: p %.3f +- %.3f (1.5), E %.3f +- %.3f (2.5)\n",
                 s.p.size(), p.mean, p.error, e.mean, e.error);
-    ASSERT_GE(s.p.size(), 12u);
-    EXPECT_NEAR(p.mean, 1.5, 3 * p.error + 0.05);
-    EXPECT_NEAR(e.mean, 2.5, 3 * e.error + 0.05);
+    const auto pc = jamsim::testing::mean_and_error(s.p_corrected),
+               ec = jamsim::testing::mean_and_error(s.e_corrected);
+    std::printf("  with the correction fitted: p %.3f +- %.3f, E %.3f +- %.3f\n", pc.mean, pc.error,
+                ec.mean, ec.error);
+    ASSERT_GE(s.p.size(), 48u);
+    EXPECT_NEAR(pc.mean, 1.5, 3 * pc.error);
+    EXPECT_NEAR(ec.mean, 2.5, 3 * ec.error);
 }

@@ -45,6 +45,9 @@ class Box {
     /// right image shift (as stored by the neighbour list).
     Vec2 lab(double dx, double dy) const { return {dx + strain_ * dy, dy}; }
 
+    /// The sheared-coordinate displacement of a lab-frame displacement (dx, dy).
+    Vec2 sheared(double dx, double dy) const { return {dx - strain_ * dy, dy}; }
+
     /// Lab-frame x of a point with sheared coordinates (x, y).
     double lab_x(double x, double y) const { return x + strain_ * y; }
 

@@ -57,6 +57,8 @@ struct ReplicaParams {
 ///   COOL:     thermal preparation: overdamped Langevin dynamics (RD0 with noise) at
 ///             T(t) = T₀ (1 − t/cooling_time), i.e. cooling at the rate T₀/cooling_time, then a
 ///             quench by minimisation: one sample
+///   COOL_COMPRESS: the same cooling, then the compression/decompression search for the
+///             cooled configuration's φ_J (Paper I): one sample, as COMPRESS
 bool is_static_model(const std::string& model);
 std::vector<std::string> static_model_names();
 

@@ -26,8 +26,8 @@ struct MinimizeCriteria {
     double force_tol_abs = 1e-14;
     /// Give up (outcome NotConverged) after this many iterations ...
     std::int64_t max_iterations = 1'000'000;
-    /// ... or when the largest force has not fallen below half its best value for this many
-    /// iterations (stuck at a round-off floor above the tolerance).
+    /// ... or when, once below 1e-6 f̄, the largest force has not fallen below half its best
+    /// value for this many iterations (stuck at a round-off floor above the tolerance).
     std::int64_t stall_iterations = 200'000;
     /// Equal positional resolution: positions are base + offset (thesis end of §4.7).
     bool split_positions = true;

@@ -1,0 +1,36 @@
+#pragma once
+// How a configuration is prepared before it is quenched or compressed (Paper I): thermal
+// cooling and quasistatic shear. Both act on the system in place.
+#include <cstdint>
+
+#include "jamsim/core/rng.hpp"
+#include "jamsim/core/system.hpp"
+#include "jamsim/dynamics/force_field.hpp"
+#include "jamsim/minimize/minimizer.hpp"
+
+namespace jamsim {
+
+/// A linear cooling schedule T(t) = T₀ (1 − t / duration) for overdamped Langevin dynamics.
+struct CoolingSchedule {
+    double temperature = 1e-3;  ///< T₀, k_e
+    double duration = 1e4;      ///< time over which T falls to 0, τ
+    double dt = 0.1;            ///< time step, τ
+    double kd = 1.0;            ///< dissipation coefficient k_d
+};
+
+/// Overdamped Langevin dynamics at fixed box and strain (RD0 with noise):
+///   x += (f/k_d) Δt + sqrt(2 T(t) Δt / k_d) ξ,
+/// ξ a unit Gaussian per disk and step from `noise`, keyed by (disk tag, step), so the result
+/// does not depend on the order of the disks in memory. Returns the force evaluations (one
+/// per step).
+std::int64_t cool(System& sys, ForceField& forces, const CoolingSchedule& schedule,
+                  const RngStream& noise);
+
+/// Quasistatic shear to `strain` in steps of `strain_step`: minimise, then γ → γ + Δγ
+/// (affine, through the Lees–Edwards box), repeated; the last strain step is not minimised.
+/// Returns the force evaluations; a minimisation that does not converge throws.
+std::int64_t shear_quasistatically(System& sys, ForceField& forces, Minimizer& minimizer,
+                                   const MinimizeCriteria& criteria, double strain,
+                                   double strain_step);
+
+} // namespace jamsim
