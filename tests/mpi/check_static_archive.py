@@ -1,7 +1,8 @@
 """usage: check_static_archive.py ARCHIVE.h5
-Checks an archive of a minimisation campaign (QS, RAND, COMPRESS) with h5py: every replica
-finished, every row is a minimised state that met the recorded stopping rule, jammed rows
-have E/N above the energy floor and a non-negative contact excess, unjammed rows below it."""
+Checks an archive of a minimisation campaign (QS, RAND, COOL, COMPRESS, COOL_COMPRESS,
+SHEARED) with h5py: every replica finished, every row is a minimised state that met the
+recorded stopping rule, jammed rows have E/N above the energy floor and a non-negative contact
+excess, unjammed rows below it; a phi_J search ends on the jammed side of its bracket."""
 import sys
 
 import h5py
@@ -9,6 +10,9 @@ import numpy as np
 
 with h5py.File(sys.argv[1], "r") as f:
     r, ts = f["replicas"], f["timeseries"]
+    model = f.attrs["model"]
+    model = model.decode() if isinstance(model, bytes) else str(model)
+    phi_j_search = model in ("COMPRESS", "COOL_COMPRESS", "SHEARED")
     assert (r["status"][...] == 2).all(), r["status"][...]
     for k in range(r["status"].shape[0]):
         m = int(r["n_samples"][k])
@@ -16,6 +20,8 @@ with h5py.File(sys.argv[1], "r") as f:
         e = ts["energy_per_particle"][k, :m]
         jammed = ts["jammed"][k, :m]
         assert set(np.unique(jammed)) <= {0.0, 1.0}, jammed
+        if phi_j_search:
+            assert m == 1 and jammed[0] == 1.0, (model, jammed)
         floor = r["energy_floor"][k]
         assert (e[jammed == 1] >= floor).all() and (e[jammed == 0] < floor).all()
         fmax = ts["max_force"][k, :m]
