@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Minimisation of RAND configurations (phi = 0.85, harmonic, above phi_J) by jamsim's CG and
-# FIRE and by Debian's LAMMPS (min_style cg and fire) on the very same configurations: jamsim
+# Minimisation of RAND configurations (phi = 0.85, harmonic, above phi_J) by jamsim's CG
+# (cg: hybrid HS/DY beta; cg-pr: Polak-Ribiere) and FIRE and by Debian's LAMMPS (min_style cg and fire) on the very same configurations: jamsim
 # writes each random start as a LAMMPS data file, both codes minimise it until the largest
 # force component is below 1e-12 (LAMMPS: min_modify norm max; jamsim: --force-tol 0
 # --force-tol-abs 1e-12). One core each, one after the other on this machine.
@@ -30,7 +30,7 @@ for n in "${sizes[@]}"; do
   for s in "${seeds[@]}"; do
     data=$work/min_N${n}_s${s}.data
     declare -A jt=()
-    for m in cg fire; do
+    for m in cg cg-pr fire; do
       [[ $m == fire && $n -gt $fire_max ]] && continue
       line=$(build/release/jamsim minimize --N "$n" --phi 0.85 --seed "$s" --minimizer "$m" \
                --force-tol 0 --force-tol-abs 1e-12 --lammps-data "$data" | grep '^RESULT' || true)
@@ -67,10 +67,12 @@ for n in "${sizes[@]}"; do
     unset jt lt
   done
   best_j=${total[jamsim-cg]}
-  [[ -n ${total[jamsim-fire]:-} ]] && best_j=$(/usr/bin/python3 -c "print(min($best_j, ${total[jamsim-fire]}))")
+  for m in cg-pr fire; do
+    [[ -n ${total[jamsim-$m]:-} ]] && best_j=$(/usr/bin/python3 -c "print(min($best_j, ${total[jamsim-$m]}))")
+  done
   best_l=${total[lammps-cg]}
   [[ -n ${total[lammps-fire]:-} ]] && best_l=$(/usr/bin/python3 -c "print(min($best_l, ${total[lammps-fire]}))")
-  echo "N=$n total over the seeds every code finished: jamsim cg ${total[jamsim-cg]} s${total[jamsim-fire]:+, jamsim fire ${total[jamsim-fire]} s}," \
+  echo "N=$n total over the seeds every code finished: jamsim cg ${total[jamsim-cg]} s, jamsim cg-pr ${total[jamsim-cg-pr]} s${total[jamsim-fire]:+, jamsim fire ${total[jamsim-fire]} s}," \
        "lammps cg ${total[lammps-cg]} s${total[lammps-fire]:+, lammps fire ${total[lammps-fire]} s}" \
        "-> LAMMPS best / jamsim best = $(/usr/bin/python3 -c "print(round($best_l/$best_j, 2))")"
   unset total skip

@@ -82,12 +82,12 @@ CLI::App* add_minimize_command(CLI::App& app) {
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         std::printf("RESULT N=%lld phi=%g seed=%llu minimizer=%s outcome=%s iterations=%lld "
                     "force_evaluations=%lld E/N=%.6e fmax=%.3e fbar=%.3e P=%.10e seconds=%.4f "
-                    "particle_iterations_per_s=%.3e\n",
+                    "particle_iterations_per_s=%.3e list_builds=%zu\n",
                     static_cast<long long>(opt->n), opt->phi, static_cast<unsigned long long>(opt->seed),
                     opt->minimizer.c_str(), std::string(to_string(r.outcome)).c_str(),
                     static_cast<long long>(r.iterations), static_cast<long long>(r.force_evaluations),
                     r.energy_per_particle, r.max_force, r.mean_contact_force, r.pressure, seconds,
-                    static_cast<double>(r.iterations) * static_cast<double>(opt->n) / seconds);
+                    static_cast<double>(r.iterations) * static_cast<double>(opt->n) / seconds, ff.builds());
         if (r.outcome == MinimizeOutcome::NotConverged) throw std::runtime_error("minimisation did not converge");
     });
     return cmd;
