@@ -1,0 +1,86 @@
+#!/usr/bin/env bash
+# Run a campaign as a Slurm array job, one shard per task, and merge the shards afterwards.
+#
+#   slurm/submit_campaign.sh [--wait] [--throttle K] CAMPAIGN.toml MERGED.h5 SHARDS [sbatch options]
+#
+#   CAMPAIGN.toml   the campaign file (checked here, before anything is queued)
+#   MERGED.h5       the one archive of the campaign; shards go to MERGED.shards/shard_K.h5
+#   SHARDS          number of array tasks; task K runs the replicas with id % SHARDS == K
+#   --throttle K    at most K tasks at once (sbatch --array=0-(SHARDS-1)%K)
+#   --wait          return when the merge job has finished (its exit status)
+#   sbatch options  passed to the array job, e.g. --ntasks=4 --time=04:00:00 --partition=short
+#
+# Submitting the same command again after a time limit, a node failure or a cancelled task
+# resumes: each task skips the replicas its shard already holds, and the merge completes the
+# existing archive. JAMSIM (default: build/release/jamsim of this checkout, else `jamsim` on
+# PATH) is the executable every job runs.
+set -euo pipefail
+usage() { sed -n '4,11p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+here=$(cd "$(dirname "$0")" && pwd)
+wait_flag=() throttle=""
+while [[ $# -gt 0 && $1 == --* ]]; do
+  case $1 in
+    --wait) wait_flag=(--wait); shift ;;
+    --throttle) [[ $# -ge 2 ]] || usage; throttle=$2; shift 2 ;;
+    --throttle=*) throttle=${1#--throttle=}; shift ;;
+    *) echo "submit_campaign.sh: unknown option '$1' (allowed: --wait, --throttle K)" >&2; exit 2 ;;
+  esac
+done
+[[ $# -ge 3 ]] || usage
+campaign=$1 merged=$2 shards=$3
+shift 3
+if ! [[ $shards =~ ^[1-9][0-9]*$ ]]; then
+  echo "submit_campaign.sh: SHARDS = '$shards' is not allowed: a positive integer" >&2
+  exit 2
+fi
+if [[ -n $throttle && ! $throttle =~ ^[1-9][0-9]*$ ]]; then
+  echo "submit_campaign.sh: --throttle = '$throttle' is not allowed: a positive integer" >&2
+  exit 2
+fi
+[[ -f $campaign ]] || { echo "submit_campaign.sh: campaign file '$campaign' does not exist" >&2; exit 2; }
+jamsim=${JAMSIM:-}
+if [[ -z $jamsim ]]; then
+  if [[ -x $here/../build/release/jamsim ]]; then jamsim=$here/../build/release/jamsim
+  else jamsim=$(command -v jamsim || true); fi
+fi
+[[ -n $jamsim && -x $jamsim ]] || { echo "submit_campaign.sh: no jamsim executable (set JAMSIM or build first)" >&2; exit 2; }
+jamsim=$(cd "$(dirname "$jamsim")" && pwd)/$(basename "$jamsim")
+# Jobs may start in another directory: hand them absolute paths.
+abs() { local d; d=$(cd "$(dirname "$1")" && pwd) || exit 2; echo "$d/$(basename "$1")"; }
+mkdir -p "$(dirname "$merged")"
+campaign=$(abs "$campaign") merged=$(abs "$merged")
+shard_dir=${merged%.h5}.shards
+# Check the campaign (every key, every value) before queueing anything.
+if [[ $(id -u) -eq 0 ]]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
+plan=$("$jamsim" run "$campaign" --dry-run -o "$merged") || exit 2
+replicas=$(sed -n 's/^campaign .*: \([0-9]*\) replicas.*/\1/p' <<<"$plan" | head -1)
+if [[ -n $replicas && $shards -gt $replicas ]]; then
+  echo "submit_campaign.sh: note: $shards shards for $replicas replicas; shards $replicas..$((shards - 1)) will be empty" >&2
+fi
+mkdir -p "$shard_dir"
+range=0-$((shards - 1))${throttle:+%$throttle}
+array=$(sbatch --parsable --array="$range" --export=ALL,JAMSIM="$jamsim" "$@" \
+          "$here/campaign_array.sbatch" "$campaign" "$shard_dir" "$shards")
+array=${array%%;*}
+echo "array job $array: $shards tasks -> $shard_dir/shard_K.h5"
+merge_output=$(dirname "$merged")/jamsim-merge_%j.out
+merge=$(sbatch --parsable --dependency=afterany:"$array" --export=ALL,JAMSIM="$jamsim" \
+          --output="$merge_output" "$here/merge.sbatch" "$merged" "$shard_dir")
+merge=${merge%%;*}
+echo "merge job $merge after $array -> $merged"
+if [[ ${#wait_flag[@]} -eq 0 ]]; then
+  echo "follow: squeue -j $array,$merge; $jamsim status $shard_dir/shard_0.h5"
+  exit 0
+fi
+# --wait: poll the merge job's state (every 2 s; `sbatch --wait` backs off to 30 s).
+while :; do
+  info=$(scontrol -o show job "$merge" 2>/dev/null || true)
+  state=$(sed -n 's/.*JobState=\([A-Z_]*\).*/\1/p' <<<"$info")
+  case $state in
+    PENDING|RUNNING|CONFIGURING|COMPLETING|SUSPENDED|REQUEUED|RESIZING|"") sleep 2 ;;
+    *) break ;;
+  esac
+done
+code=$(sed -n 's/.* ExitCode=\([0-9]*\):.*/\1/p' <<<"$info")
+echo "merge job $merge: $state (exit ${code:-?})"
+[[ $state == COMPLETED ]]

@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# A campaign through a real (local, single-node) Slurm: slurm/submit_campaign.sh queues an
+# array of 3 shard tasks (2 MPI ranks each, mpirun inside the allocation) and the merge job.
+# One task is cancelled before it starts, so the first merge leaves its replicas pending;
+# submitting the same command again resumes (the other shards skip their finished replicas)
+# and completes the archive, which must be bitwise identical to an unsharded run.
+#   array_campaign.sh JAMSIM REPO_ROOT        (root; exit 77 = skipped when not root)
+set -euo pipefail
+jamsim=$1 root=$2
+[[ $(id -u) -eq 0 ]] || { echo "skipped: a local Slurm needs root"; exit 77; }
+work=$PWD/slurm-array
+rm -rf "$work"
+mkdir -p "$work"
+export SLURM_LOCAL_DIR=$work/slurm
+"$root/tools/slurm-local.sh" start
+trap '"$root/tools/slurm-local.sh" stop' EXIT
+export SLURM_CONF=$SLURM_LOCAL_DIR/slurm.conf JAMSIM=$jamsim
+campaign=$root/tests/data/campaigns/small.toml
+
+"$MPIEXEC" -n 1 "$jamsim" run "$campaign" -o "$work/whole.h5" >/dev/null
+
+# First submission, one task at a time (--throttle 1), so task 2 is still pending when it is
+# cancelled.
+"$root/slurm/submit_campaign.sh" --throttle 1 "$campaign" "$work/merged.h5" 3 --ntasks=2 \
+  --output="$work/task_%A_%a.out" | tee "$work/submit1.txt"
+array=$(sed -n 's/^array job \([0-9]*\):.*/\1/p' "$work/submit1.txt")
+merge=$(sed -n 's/^merge job \([0-9]*\) after.*/\1/p' "$work/submit1.txt")
+scancel "${array}_2"
+until scontrol -o show job "$merge" | grep -q "JobState=COMPLETED"; do
+  scontrol -o show job "$merge" | grep -qE "JobState=(PENDING|RUNNING|CONFIGURING|COMPLETING)" ||
+    { echo "merge job $merge did not complete:"; scontrol -o show job "$merge"; exit 1; }
+  sleep 1
+done
+"$jamsim" status "$work/merged.h5" | tee "$work/status1.txt"
+grep -q "12/18 done" "$work/status1.txt"  # replicas 2, 5, 8, ... (task 2) are missing
+grep -q "JobState=COMPLETED.*ArrayTaskId=0 " "$SLURM_LOCAL_DIR/log/jobcomp.txt"
+
+# The same command again, waiting for the merge: the campaign completes.
+"$root/slurm/submit_campaign.sh" --wait "$campaign" "$work/merged.h5" 3 --ntasks=2 \
+  --output="$work/task_%A_%a.out"
+"$jamsim" status "$work/merged.h5" | grep -q "18/18 done"
+# Shards 0 and 1 were finished: their second runs skipped every replica.
+grep -q "resuming" "$work"/task_*_0.out
+/usr/bin/python3 "$root/tests/mpi/compare_archives.py" "$work/whole.h5" "$work/merged.h5"
+
+# Bad input is refused before anything is queued.
+! "$root/slurm/submit_campaign.sh" "$root/tests/data/campaigns/unknown_key.toml" "$work/bad.h5" 2 2> "$work/bad.txt"
+grep -q "unknown_key.toml" "$work/bad.txt"
+! "$root/slurm/submit_campaign.sh" "$campaign" "$work/bad.h5" 0 2> "$work/zero.txt"
+grep -q "SHARDS = '0' is not allowed" "$work/zero.txt"
+test ! -e "$work/bad.shards"
+echo "slurm array campaign: ok"
