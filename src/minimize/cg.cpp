@@ -35,6 +35,44 @@ double max_abs(std::span<const double> x, std::span<const double> y) {
     return std::max(std::max(m[0], m[1]), std::max(m[2], m[3]));
 }
 
+/// One pass over the forces after a line search: F·F, F·G (G: the force at its start) and
+/// the largest component of F, each in four lanes as dot and max_abs.
+struct ForceSums {
+    double ff, fg, fmax;
+};
+ForceSums force_sums(std::span<const double> fx, std::span<const double> fy,
+                     std::span<const double> gx, std::span<const double> gy) {
+    double a[4] = {0, 0, 0, 0}, b[4] = {0, 0, 0, 0}, m[4] = {0, 0, 0, 0};
+    const std::size_t n = fx.size(), r = n - n % 4;
+    for (std::size_t i = 0; i < r; i += 4)
+        for (std::size_t k = 0; k < 4; ++k) {
+            const double x = fx[i + k], y = fy[i + k];
+            a[k] += x * x + y * y;
+            b[k] += x * gx[i + k] + y * gy[i + k];
+            m[k] = std::max(m[k], std::max(std::abs(x), std::abs(y)));
+        }
+    for (std::size_t i = r; i < n; ++i) {
+        a[0] += fx[i] * fx[i] + fy[i] * fy[i];
+        b[0] += fx[i] * gx[i] + fy[i] * gy[i];
+        m[0] = std::max(m[0], std::max(std::abs(fx[i]), std::abs(fy[i])));
+    }
+    return {(a[0] + a[1]) + (a[2] + a[3]), (b[0] + b[1]) + (b[2] + b[3]),
+            std::max(std::max(m[0], m[1]), std::max(m[2], m[3]))};
+}
+
+/// d ← F + β d; returns the largest component of the new d.
+double update_direction(std::span<double> dx, std::span<double> dy, std::span<const double> fx,
+                        std::span<const double> fy, double beta) {
+    double m[4] = {0, 0, 0, 0};
+    const std::size_t n = dx.size();
+    for (std::size_t i = 0; i < n; ++i) {
+        dx[i] = fx[i] + beta * dx[i];
+        dy[i] = fy[i] + beta * dy[i];
+        m[i & 3] = std::max(m[i & 3], std::max(std::abs(dx[i]), std::abs(dy[i])));
+    }
+    return std::max(std::max(m[0], m[1]), std::max(m[2], m[3]));
+}
+
 /// How the new direction d' = F' + β d mixes in the old one. With g = −F, y = g' − g:
 ///   PolakRibierePlus:  β = max(0, g'·y / g·g)                         (thesis §4.7)
 ///   HybridHsDy:        β = max(0, min(g'·y / d·y, g'·g' / d·y))      (Dai & Yuan 2001)
@@ -117,14 +155,11 @@ class ConjugateGradient final : public Minimizer {
             step_guess = s;  // the accepted step
             last_slope0 = slope0;
             pos.rebase_if_larger();
-            const double ff = dot(p.fx, p.fy, p.fx, p.fy), fg = dot(p.fx, p.fy, gx, gy);
-            fmax = max_abs(p.fx, p.fy);
+            const ForceSums sums = force_sums(p.fx, p.fy, gx, gy);
+            const double ff = sums.ff, fg = sums.fg;
+            fmax = sums.fmax;
             const double beta = next_beta(ff, fg, gg, slope0, slope_end);
-            for (std::size_t i = 0; i < n; ++i) {
-                dx[i] = p.fx[i] + beta * dx[i];
-                dy[i] = p.fy[i] + beta * dy[i];
-            }
-            dmax = max_abs(dx, dy);
+            dmax = update_direction(dx, dy, p.fx, p.fy, beta);
             // F_new·d_new = ff + β F_new·d_old = ff − β φ'(s).
             slope0 = -(ff - beta * slope_end);
             gg = ff;
@@ -156,7 +191,7 @@ class ConjugateGradient final : public Minimizer {
         double prev = 0.0, slope_prev = slope0;  // the last trial, for the secant extrapolation
         ForceResult f;
         for (int k = 0; k < 60; ++k) {
-            pos.move(s - at, dx, dy);
+            pos.move(s - at, dx, dy, dmax);
             at = s;
             f = pos.evaluate(tally);
             const double slope = -dot(p.fx, p.fy, dx, dy);

@@ -32,11 +32,13 @@ SplitPositions::SplitPositions(System& sys, ForceField& forces, bool split)
     mean_diameter_ = p.size() ? sum / static_cast<double>(p.size()) : 1.0;
 }
 
-void SplitPositions::move(double s, std::span<const double> dx, std::span<const double> dy) {
+void SplitPositions::move(double s, std::span<const double> dx, std::span<const double> dy,
+                          double dmax) {
     Particles& p = sys_.particles;
     const std::size_t n = size();
     // Maxima kept in four independent lanes (no long dependency chain; same bits anywhere).
     double md[4] = {0, 0, 0, 0}, mo[4] = {max_offset_, 0, 0, 0};
+    const bool need_dmax = dmax < 0.0;
     if (split_) {
         for (std::size_t i = 0; i < n; ++i) {
             const std::size_t k = i & 3;
@@ -45,17 +47,19 @@ void SplitPositions::move(double s, std::span<const double> dx, std::span<const 
             p.x[i] = base_x_[i] + off_x_[i];
             p.y[i] = base_y_[i] + off_y_[i];
             mo[k] = std::max(mo[k], std::max(std::abs(off_x_[i]), std::abs(off_y_[i])));
-            md[k] = std::max(md[k], std::max(std::abs(dx[i]), std::abs(dy[i])));
         }
         max_offset_ = std::max(std::max(mo[0], mo[1]), std::max(mo[2], mo[3]));
     } else {
         for (std::size_t i = 0; i < n; ++i) {
             p.x[i] += s * dx[i];
             p.y[i] += s * dy[i];
-            md[i & 3] = std::max(md[i & 3], std::max(std::abs(dx[i]), std::abs(dy[i])));
         }
     }
-    const double dmax = std::max(std::max(md[0], md[1]), std::max(md[2], md[3]));
+    if (need_dmax) {
+        for (std::size_t i = 0; i < n; ++i)
+            md[i & 3] = std::max(md[i & 3], std::max(std::abs(dx[i]), std::abs(dy[i])));
+        dmax = std::max(std::max(md[0], md[1]), std::max(md[2], md[3]));
+    }
     // Lab displacement of a sheared-coordinate move (δx, δy): (δx + γ δy, δy), so at most
     // sqrt((1 + |γ|)² + 1) times the largest component; with 1e-12 relative slack.
     const double g = std::abs(sys_.box.strain());

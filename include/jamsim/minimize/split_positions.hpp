@@ -27,8 +27,9 @@ class SplitPositions {
 
     std::size_t size() const { return base_x_.size(); }
 
-    /// x += s d (d: a direction per disk, sheared coordinates).
-    void move(double s, std::span<const double> dx, std::span<const double> dy);
+    /// x += s d (d: a direction per disk, sheared coordinates). dmax: the largest component
+    /// of d when the caller knows it (< 0: computed here).
+    void move(double s, std::span<const double> dx, std::span<const double> dy, double dmax = -1.0);
 
     /// Forces at the current positions (into sys.particles.fx, fy), with the tallies.
     ForceResult evaluate(Tally tally = Tally::Full);
