@@ -46,7 +46,7 @@ PairSet pairs_within(const System& s, double extra) {
 // cell path and the all-pairs path, including unwrapped positions.
 TEST(NeighborList, ExactlyThePairsWithinRange) {
     for (std::int64_t n : {40, 500})
-        for (double gamma : {-0.5, -0.3, 0.0, 0.25, 0.49}) {
+        for (double gamma : {-0.5, -0.3, -0.02, 0.0, 0.01, 0.25, 0.49}) {
             System sys = random_configuration(n, 0.8, gamma, 21);
             // unwrap some positions by whole cells: the list must not care
             for (std::size_t i = 0; i < sys.particles.size(); i += 3) {
