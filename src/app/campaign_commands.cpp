@@ -26,6 +26,7 @@ struct RunOptions {
     double progress_interval = 10.0;
     std::string progress = "auto";  // auto | lines | redraw
     std::string shard;              // "K/N" or empty
+    bool retry_failed = false;      // run failed replicas again
 };
 
 /// "K/N" with 0 <= K < N, or an exception naming the value.
@@ -130,8 +131,11 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
         if (rank == 0)
             std::printf("campaign %s: %zu replicas on %d ranks -> %s%s\n", spec.name.c_str(),
                         spec.replicas.size(), mpi::size(comm), output.c_str(),
-                        exists ? " (resuming: finished replicas are skipped)" : "");
-        const FarmSummary s = run_farm(comm, spec, archive, progress, parse_shard(opt.shard));
+                        !exists            ? ""
+                        : opt.retry_failed ? " (resuming: done replicas are skipped, failed ones run again)"
+                                           : " (resuming: finished replicas are skipped)");
+        const FarmSummary s = run_farm(comm, spec, archive, progress, parse_shard(opt.shard),
+                                         opt.retry_failed);
         archive.stamp("run_finished");
         archive.close();
         double io = 0, wall = 0, local_io = s.io_seconds, local_wall = s.wall_seconds;
@@ -257,6 +261,9 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
     cmd->add_option("--progress-interval", opt->progress_interval,
                     "Seconds between progress lines when not on a terminal")
         ->capture_default_str();
+    cmd->add_flag("--retry-failed", opt->retry_failed,
+                  "Run the failed replicas of an existing archive again (after a fix to the code "
+                  "or the machine; the campaign itself cannot change)");
     cmd->add_option("--shard", opt->shard,
                     "K/N: run only replicas with id % N == K (merge shards with jamsim merge)");
     cmd->add_option("--progress", opt->progress,

@@ -285,6 +285,9 @@ std::string Archive::check_existing(const std::string& path, const CampaignSpec&
 
 void Archive::mark_running(std::int64_t replica, int rank) {
     const auto r = static_cast<hsize_t>(replica);
+    const char no_reason[kReasonLength] = {};  // a replica run again forgets an old failure
+    const Handle rt = reason_type();
+    write_block(file_.get(), "/replicas/failure_reason", rt.get(), {r}, {1}, no_reason);
     const std::int32_t who = rank;
     write_block(file_.get(), "/replicas/rank", H5T_NATIVE_INT32, {r}, {1}, &who);
     const auto s = static_cast<std::int8_t>(ReplicaStatus::Running);

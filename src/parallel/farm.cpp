@@ -158,7 +158,7 @@ bool run_one(const CampaignSpec& spec, std::int64_t id, Archive& archive, int ra
 } // namespace
 
 FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
-                     const ProgressOptions& progress, Shard shard) {
+                     const ProgressOptions& progress, Shard shard, bool retry_failed) {
     const int rank = mpi::rank(comm);
     const auto t0 = Clock::now();
     FarmSummary summary;
@@ -168,7 +168,8 @@ FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
         std::int64_t done = 0;
         for (std::size_t r = 0; r < status.size(); ++r) {
             if (!shard.contains(static_cast<std::int64_t>(r))) continue;
-            if (status[r] == ReplicaStatus::Pending || status[r] == ReplicaStatus::Running)
+            if (status[r] == ReplicaStatus::Pending || status[r] == ReplicaStatus::Running ||
+                (retry_failed && status[r] == ReplicaStatus::Failed))
                 queue.push_back(static_cast<std::int64_t>(r));
             else
                 ++done;

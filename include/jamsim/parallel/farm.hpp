@@ -35,7 +35,9 @@ struct FarmSummary {
 /// and computes too: it answers requests between the samples of its own replica, so no
 /// rank idles while work remains. Each rank writes its own replicas to the archive; a
 /// replica that throws is recorded as failed and the campaign goes on. Collective.
+/// Runs the pending and interrupted replicas of the archive (and, with retry_failed, the
+/// failed ones again), within `shard`.
 FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
-                     const ProgressOptions& progress, Shard shard = {});
+                     const ProgressOptions& progress, Shard shard = {}, bool retry_failed = false);
 
 } // namespace jamsim
