@@ -8,7 +8,8 @@ replicas only.
                       each (phi, N) (pressure.png).
   COMPRESS, COOL_COMPRESS, SHEARED:
                       the distribution of phi_J per N: mean, standard deviation, histogram
-                      (phi_j.png, phi_j.tsv), and the fraction of isostatic states.
+                      (phi_j.png, phi_j.tsv), the fraction of isostatic states, and P_J(phi)
+                      as its cumulative distribution (pj_from_phi_j.png, .tsv).
 Prints the tables as well."""
 import os
 import sys
@@ -115,6 +116,25 @@ def main():
         ax.legend()
         fig.tight_layout()
         fig.savefig(os.path.join(out, "phi_j.png"), dpi=120)
+        # P_J(phi) of this protocol: a configuration compressed to phi jams iff phi >= its
+        # phi_J, so P_J is the cumulative distribution of phi_J (with binomial errors).
+        fig, ax = plt.subplots(figsize=(5, 4))
+        with open(os.path.join(out, "pj_from_phi_j.tsv"), "w") as t:
+            t.write("N\tphi\tP_J\terror\n")
+            for n in sorted(set(N)):
+                v = np.sort(phi_state[(N == n) & ok])
+                if len(v) == 0:
+                    continue
+                q = np.arange(1, len(v) + 1) / len(v)
+                err = np.sqrt(q * (1 - q) / len(v))
+                for x, y, e in zip(v, q, err):
+                    t.write(f"{n}\t{x}\t{y}\t{e}\n")
+                ax.step(v, q, where="post", label=f"N = {n}")
+        ax.set_xlabel(r"$\phi$")
+        ax.set_ylabel(r"$P_J(\phi)$ = fraction with $\phi_J \leq \phi$")
+        ax.legend()
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, "pj_from_phi_j.png"), dpi=120)
     print(f"figures and tables in {out}/")
 
 
