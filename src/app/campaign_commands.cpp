@@ -200,6 +200,12 @@ int merge(const std::string& output, const std::vector<std::string>& shards, int
                          "'%s'\n", path.c_str(), shards.front().c_str());
             return 2;
         }
+        // The stored fingerprint must be this version's: a shard written by a version whose
+        // results mean something else (an older fingerprint) is not merged with new ones.
+        if (const std::string why = Archive::check_existing(path, stored.back().spec); !why.empty()) {
+            std::fprintf(stderr, "jamsim merge: shard '%s': %s\n", path.c_str(), why.c_str());
+            return 2;
+        }
     }
     const CampaignSpec& spec = stored.front().spec;
     const bool exists = std::filesystem::exists(output);

@@ -274,8 +274,17 @@ std::string Archive::check_existing(const std::string& path, const CampaignSpec&
         // Name the first difference for the person reading the message.
         std::istringstream a(stored), b(wanted);
         std::string la, lb;
-        while (std::getline(a, la) && std::getline(b, lb))
-            if (la != lb) break;
+        std::getline(a, la);
+        std::getline(b, lb);
+        // "jamsim campaign vK <name> ...": the same campaign from a version whose results mean
+        // something else cannot be resumed or merged.
+        const auto version = [](const std::string& line) { return line.substr(0, line.find(' ', 17)); };
+        const auto rest = [](const std::string& line) { return line.substr(std::min(line.size(), line.find(' ', 17))); };
+        if (version(la) != version(lb) && rest(la) == rest(lb))
+            return "'" + path + "' was written by another version of jamsim (" + version(la) +
+                   "; this one writes " + version(lb) + "): start a new archive";
+        while (la == lb && std::getline(a, la) && std::getline(b, lb)) {
+        }
         return "'" + path + "' belongs to a different campaign (archive: \"" + la +
                "\", this spec: \"" + lb + "\")";
     } catch (const h5::Error& e) {
@@ -285,13 +294,15 @@ std::string Archive::check_existing(const std::string& path, const CampaignSpec&
 
 void Archive::mark_running(std::int64_t replica, int rank) {
     const auto r = static_cast<hsize_t>(replica);
-    const char no_reason[kReasonLength] = {};  // a replica run again forgets an old failure
-    const Handle rt = reason_type();
-    write_block(file_.get(), "/replicas/failure_reason", rt.get(), {r}, {1}, no_reason);
     const std::int32_t who = rank;
     write_block(file_.get(), "/replicas/rank", H5T_NATIVE_INT32, {r}, {1}, &who);
     const auto s = static_cast<std::int8_t>(ReplicaStatus::Running);
     write_block(file_.get(), "/replicas/status", H5T_NATIVE_INT8, {r}, {1}, &s);
+    // A replica run again (--retry-failed) forgets an old failure; after the status, so that
+    // an interruption in between never leaves a failed replica without its reason.
+    const char no_reason[kReasonLength] = {};
+    const Handle rt = reason_type();
+    write_block(file_.get(), "/replicas/failure_reason", rt.get(), {r}, {1}, no_reason);
 }
 
 void Archive::write_done(std::int64_t replica, const ReplicaResult& result, int rank) {

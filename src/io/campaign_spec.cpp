@@ -1,5 +1,7 @@
 #include "jamsim/io/campaign_spec.hpp"
 
+#include <algorithm>
+
 #include <toml++/toml.h>
 
 #include <fstream>
@@ -283,7 +285,13 @@ CampaignSpec load_campaign(const std::string& path) {
 std::string fingerprint(const CampaignSpec& spec) {
     std::ostringstream os;
     os.precision(17);
-    os << "jamsim campaign v4 " << spec.name << " replicas " << spec.replicas.size() << '\n';
+    // The version names what the results mean: v4 changed the minimisers (CG's β, the line
+    // search) and so the static models' results; the dynamics' results are those of v3, so
+    // their archives still resume.
+    const bool minimises = std::any_of(spec.replicas.begin(), spec.replicas.end(),
+                                       [](const ReplicaParams& p) { return is_static_model(p.model); });
+    os << "jamsim campaign " << (minimises ? "v4 " : "v3 ") << spec.name << " replicas "
+       << spec.replicas.size() << '\n';
     for (const auto& p : spec.replicas)
         os << p.replica << ' ' << p.model << ' ' << p.n << ' ' << p.phi << ' ' << p.rate << ' '
            << p.strain << ' ' << p.time << ' ' << p.transient << ' ' << p.sample_interval << ' '

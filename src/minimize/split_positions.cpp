@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <numbers>
 
 #include "jamsim/neighbor/neighbor_list.hpp"
 
@@ -39,10 +41,13 @@ void SplitPositions::move(double s, std::span<const double> dx, std::span<const 
     // Maxima kept in four independent lanes (no long dependency chain; same bits anywhere).
     double md[4] = {0, 0, 0, 0}, mo[4] = {max_offset_, 0, 0, 0};
     const bool need_dmax = dmax < 0.0;
+    // d is a lab-frame displacement (forces are lab-frame, so −F·d is the slope of the energy
+    // along it); the sheared coordinates move by M(γ)⁻¹ d = (d_x − γ d_y, d_y).
+    const double gamma = sys_.box.strain();
     if (split_) {
         for (std::size_t i = 0; i < n; ++i) {
             const std::size_t k = i & 3;
-            off_x_[i] += s * dx[i];
+            off_x_[i] += s * (dx[i] - gamma * dy[i]);
             off_y_[i] += s * dy[i];
             p.x[i] = base_x_[i] + off_x_[i];
             p.y[i] = base_y_[i] + off_y_[i];
@@ -51,7 +56,7 @@ void SplitPositions::move(double s, std::span<const double> dx, std::span<const 
         max_offset_ = std::max(std::max(mo[0], mo[1]), std::max(mo[2], mo[3]));
     } else {
         for (std::size_t i = 0; i < n; ++i) {
-            p.x[i] += s * dx[i];
+            p.x[i] += s * (dx[i] - gamma * dy[i]);
             p.y[i] += s * dy[i];
         }
     }
@@ -60,14 +65,13 @@ void SplitPositions::move(double s, std::span<const double> dx, std::span<const 
             md[i & 3] = std::max(md[i & 3], std::max(std::abs(dx[i]), std::abs(dy[i])));
         dmax = std::max(std::max(md[0], md[1]), std::max(md[2], md[3]));
     }
-    // Lab displacement of a sheared-coordinate move (δx, δy): (δx + γ δy, δy), so at most
-    // sqrt((1 + |γ|)² + 1) times the largest component; with 1e-12 relative slack.
-    const double g = std::abs(sys_.box.strain());
+    // The lab displacement of disk i is s d_i: at most sqrt(2) |s| times the largest
+    // component, with 1e-12 relative slack for the rounding of the sheared update.
     if (forces_.builds() != builds_seen_) {
         builds_seen_ = forces_.builds();
         moved_ = 0.0;
     }
-    moved_ += std::abs(s) * dmax * std::sqrt((1 + g) * (1 + g) + 1) * (1 + 1e-12);
+    moved_ += std::abs(s) * dmax * std::numbers::sqrt2 * (1 + 1e-12);
 }
 
 ForceResult SplitPositions::evaluate(Tally tally) {
@@ -110,7 +114,7 @@ void SplitPositions::rebase_if_larger(double limit) {
 }
 
 void SplitPositions::split_if_converging(double fmax, double mean_contact_force) {
-    if (split_ || !split_requested_ || fmax > kSplitBelow * mean_contact_force) return;
+    if (split_ || !split_requested_ || fmax > converging_below(mean_contact_force)) return;
     split_ = true;
     const Particles& p = sys_.particles;
     std::copy(p.x.begin(), p.x.end(), base_x_.begin());
@@ -120,8 +124,13 @@ void SplitPositions::split_if_converging(double fmax, double mean_contact_force)
     max_offset_ = 0.0;
 }
 
+double SplitPositions::converging_below(double mean_contact_force) const {
+    return std::max(kSplitBelow * mean_contact_force,
+                    kFloorMargin * std::numeric_limits<double>::epsilon() * sys_.box.side());
+}
+
 bool SplitPositions::stalled(double max_force, double mean_contact_force, std::int64_t window) {
-    if (max_force > kSplitBelow * mean_contact_force) {  // far above the floor
+    if (max_force > converging_below(mean_contact_force)) {  // far above the floor
         best_force_ = -1.0;
         return false;
     }

@@ -34,7 +34,7 @@ struct ReplicaParams {
     double mass = 1.0;              ///< massive models (RD, CD, CDn, CDt): small-disk mass
     Integrator integrator = Integrator::Euler;
     // Minimisation (models QS, RAND, COMPRESS; see jamsim/minimize/minimizer.hpp).
-    std::string minimizer = "cg";   ///< "cg" (Polak–Ribière) or "fire" (FIRE 2.0)
+    std::string minimizer = "cg";   ///< "cg" (hybrid HS/DY), "cg-pr" (Polak–Ribière) or "fire" (FIRE 2.0)
     double strain_step = 1e-4;      ///< QS: Δγ between minimisations
     double energy_floor = 1e-16;    ///< E/N below this after minimisation: unjammed, k_e
     double force_tol = 1e-10;       ///< force balance relative to the mean contact force

@@ -26,7 +26,8 @@ struct MinimizeCriteria {
     double force_tol_abs = 1e-14;
     /// Give up (outcome NotConverged) after this many iterations ...
     std::int64_t max_iterations = 1'000'000;
-    /// ... or when, once below 1e-6 f̄, the largest force has not fallen below half its best
+    /// ... or when, once below max(1e-6 f̄, 1e3 ε L) (SplitPositions::converging_below), the
+    /// largest force has not fallen below half its best
     /// value for this many iterations (stuck at a round-off floor above the tolerance).
     std::int64_t stall_iterations = 200'000;
     /// Equal positional resolution: positions are base + offset (thesis end of §4.7).
@@ -59,7 +60,7 @@ class Minimizer {
                                     const MinimizeCriteria& criteria) = 0;
 };
 
-/// Registry: "cg" (Polak–Ribière) or "fire" (FIRE 2.0); throws std::invalid_argument
+/// Registry: "cg" (hybrid HS/DY β), "cg-pr" (Polak–Ribière) or "fire" (FIRE 2.0); throws std::invalid_argument
 /// listing the known names.
 std::unique_ptr<Minimizer> make_minimizer(std::string_view name);
 std::vector<std::string> minimizer_names();

@@ -14,21 +14,29 @@ namespace jamsim {
 /// list and for the caller) and evaluates forces into sys.particles.fx, fy.
 /// Far from convergence resolution does not matter, so a minimisation starts with plain
 /// positions (cheaper: no offsets in the force loop) and splits once the largest force has
-/// come down to kSplitBelow × f̄ (split_if_converging). Without splitting
+/// come down to converging_below(f̄) (split_if_converging). Without splitting
 /// (criteria.split_positions = false) it stays plain throughout, for comparison.
 class SplitPositions {
   public:
     SplitPositions(System& sys, ForceField& forces, bool split);
 
-    /// Switch to base + offset (base = the current positions) once fmax ≤ kSplitBelow × f̄,
-    /// if splitting was asked for.
+    /// Switch to base + offset (base = the current positions) once fmax is below
+    /// converging_below(f̄), if splitting was asked for.
     void split_if_converging(double fmax, double mean_contact_force);
     static constexpr double kSplitBelow = 1e-6;
+    /// Where a minimisation approaches the round-off regime: max(kSplitBelow × f̄,
+    /// kFloorMargin × ε L k_e/d_s) with L the cell side. The second term is the force that a
+    /// position error of one ulp of L makes in a contact of unit stiffness, with a margin: near
+    /// φ_J, f̄ is so small that 1e-6 f̄ lies below what plain coordinates can resolve.
+    double converging_below(double mean_contact_force) const;
+    static constexpr double kFloorMargin = 1e3;
 
     std::size_t size() const { return base_x_.size(); }
 
-    /// x += s d (d: a direction per disk, sheared coordinates). dmax: the largest component
-    /// of d when the caller knows it (< 0: computed here).
+    /// Move every disk by s d_i, d a lab-frame direction per disk (like the forces, so that
+    /// −F·d is the slope of the energy along d at any strain): the sheared coordinates move by
+    /// s (d_x − γ d_y, d_y). dmax: the largest component of d when the caller knows it (< 0:
+    /// computed here).
     void move(double s, std::span<const double> dx, std::span<const double> dy, double dmax = -1.0);
 
     /// Forces at the current positions (into sys.particles.fx, fy), with the tallies.
@@ -47,7 +55,7 @@ class SplitPositions {
     static constexpr double kRebaseOffset = 1e-3;  ///< d_s
 
     /// Track progress near the round-off floor: returns true when the largest force, once
-    /// below kSplitBelow × f̄, has not halved for `window` calls since its last halving (a
+    /// below converging_below(f̄), has not halved for `window` calls since its last halving (a
     /// minimisation stalled at the floor). Above that the force falls by the physics (slowly,
     /// on the soft modes near jamming, for FIRE at large N over 10⁵ steps and more), so no
     /// stall is declared there; the iteration limit bounds it.
