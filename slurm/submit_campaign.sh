@@ -7,15 +7,21 @@
 #   MERGED.h5       the one archive of the campaign; shards go to MERGED.shards/shard_K.h5
 #   SHARDS          number of array tasks; task K runs the replicas with id % SHARDS == K
 #   --throttle K    at most K tasks at once (sbatch --array=0-(SHARDS-1)%K)
-#   --wait          return when the merge job has finished (its exit status)
-#   sbatch options  passed to the array job, e.g. --ntasks=4 --time=04:00:00 --partition=short
+#   --wait          return when the merge job has finished: 0 if every replica is finished
+#                   (done or failed), 3 if some are still pending (submit again)
+#   sbatch options  passed to the array job, e.g. --ntasks=4 --time=04:00:00 --partition=short;
+#                   --account, --partition, --qos, --reservation and --clusters also go to
+#                   the merge job
 #
 # Submitting the same command again after a time limit, a node failure or a cancelled task
 # resumes: each task skips the replicas its shard already holds, and the merge completes the
-# existing archive. JAMSIM (default: build/release/jamsim of this checkout, else `jamsim` on
-# PATH) is the executable every job runs.
+# existing archive. Refused before anything is queued: a campaign file with an error, an
+# existing archive (merged or shard 0) of another campaign or jamsim version, another SHARDS
+# than the shards were made with, and an array of this campaign still in the queue.
+# JAMSIM (default: build/release/jamsim of this checkout, else `jamsim` on PATH) is the
+# executable every job runs.
 set -euo pipefail
-usage() { sed -n '4,11p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+usage() { sed -n '4,14p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 here=$(cd "$(dirname "$0")" && pwd)
 wait_flag=() throttle=""
 while [[ $# -gt 0 && $1 == --* ]]; do
@@ -50,9 +56,25 @@ abs() { local d; d=$(cd "$(dirname "$1")" && pwd) || exit 2; echo "$d/$(basename
 mkdir -p "$(dirname "$merged")"
 campaign=$(abs "$campaign") merged=$(abs "$merged")
 shard_dir=${merged%.h5}.shards
-# Check the campaign (every key, every value) before queueing anything.
+# Check the campaign (every key, every value) and the archives already there before queueing
+# anything; a dry run checks an existing output against the campaign.
 if [[ $(id -u) -eq 0 ]]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
 plan=$("$jamsim" run "$campaign" --dry-run -o "$merged") || exit 2
+if [[ -e $shard_dir/shard_0.h5 ]]; then
+  "$jamsim" run "$campaign" --dry-run -o "$shard_dir/shard_0.h5" >/dev/null || exit 2
+fi
+record=$shard_dir/submission  # "shards S array_job A" of the last submission
+if [[ -f $record ]]; then
+  read -r _ old_shards _ old_array < "$record" || true
+  if [[ -n ${old_shards:-} && $old_shards != "$shards" ]]; then
+    echo "submit_campaign.sh: SHARDS = $shards is not allowed for $merged: its shards in $shard_dir were made with $old_shards (use $old_shards, or another MERGED path)" >&2
+    exit 2
+  fi
+  if [[ -n ${old_array:-} ]] && [[ -n $(squeue -h -j "$old_array" -o %i 2>/dev/null) ]]; then
+    echo "submit_campaign.sh: array job $old_array of this campaign is still queued or running; wait for it or scancel $old_array" >&2
+    exit 2
+  fi
+fi
 replicas=$(sed -n 's/^campaign .*: \([0-9]*\) replicas.*/\1/p' <<<"$plan" | head -1)
 if [[ -n $replicas && $shards -gt $replicas ]]; then
   echo "submit_campaign.sh: note: $shards shards for $replicas replicas; shards $replicas..$((shards - 1)) will be empty" >&2
@@ -62,25 +84,49 @@ range=0-$((shards - 1))${throttle:+%$throttle}
 array=$(sbatch --parsable --array="$range" --export=ALL,JAMSIM="$jamsim" "$@" \
           "$here/campaign_array.sbatch" "$campaign" "$shard_dir" "$shards")
 array=${array%%;*}
+echo "shards $shards array_job $array" > "$record"
 echo "array job $array: $shards tasks -> $shard_dir/shard_K.h5"
 merge_output=$(dirname "$merged")/jamsim-merge_%j.out
+# Where the cluster needs them, the merge gets the array's account, partition, QOS, ...
+site=()
+args=("$@")
+for ((i = 0; i < ${#args[@]}; i++)); do
+  case ${args[i]} in
+    --account=* | --partition=* | --qos=* | --reservation=* | --clusters=*) site+=("${args[i]}") ;;
+    --account | --partition | --qos | --reservation | --clusters | -A | -p | -q | -M)
+      site+=("${args[i]}" "${args[i + 1]:-}")
+      i=$((i + 1)) ;;
+  esac
+done
 merge=$(sbatch --parsable --dependency=afterany:"$array" --export=ALL,JAMSIM="$jamsim" \
-          --output="$merge_output" "$here/merge.sbatch" "$merged" "$shard_dir")
+          "${site[@]}" --output="$merge_output" "$here/merge.sbatch" "$merged" "$shard_dir")
 merge=${merge%%;*}
 echo "merge job $merge after $array -> $merged"
 if [[ ${#wait_flag[@]} -eq 0 ]]; then
   echo "follow: squeue -j $array,$merge; $jamsim status $shard_dir/shard_0.h5"
   exit 0
 fi
-# --wait: poll the merge job's state (every 2 s; `sbatch --wait` backs off to 30 s).
+# --wait: poll the merge job's state (every 2 s; `sbatch --wait` backs off to 30 s). A job
+# record can vanish (MinJobAge) or the controller be unreachable: after 60 s without a state
+# the archive itself decides.
+unknown=0
+state=""
 while :; do
   info=$(scontrol -o show job "$merge" 2>/dev/null || true)
   state=$(sed -n 's/.*JobState=\([A-Z_]*\).*/\1/p' <<<"$info")
   case $state in
-    PENDING|RUNNING|CONFIGURING|COMPLETING|SUSPENDED|REQUEUED|RESIZING|"") sleep 2 ;;
+    PENDING | RUNNING | CONFIGURING | COMPLETING | SUSPENDED | REQUEUED | RESIZING) unknown=0 ;;
+    "") unknown=$((unknown + 1)); [[ $unknown -lt 30 ]] || break ;;
     *) break ;;
   esac
+  sleep 2
 done
-code=$(sed -n 's/.* ExitCode=\([0-9]*\):.*/\1/p' <<<"$info")
-echo "merge job $merge: $state (exit ${code:-?})"
-[[ $state == COMPLETED ]]
+echo "merge job $merge: ${state:-state unknown}"
+[[ -z $state || $state == COMPLETED ]] || { echo "submit_campaign.sh: the merge job ended $state; see $merge_output" >&2; exit 1; }
+status=$("$jamsim" status "$merged") || exit 1
+echo "$status"
+left=$(sed -n 's/.* done, \([0-9]*\) running, [0-9]* failed, \([0-9]*\) pending.*/\1 \2/p' <<<"$status" | head -1)
+if [[ -z $left || $left != "0 0" ]]; then
+  echo "submit_campaign.sh: the campaign is not finished (running, pending: ${left:-?}); submit the same command again" >&2
+  exit 3
+fi

@@ -14,6 +14,7 @@ start() {
   command -v slurmctld >/dev/null && command -v slurmd >/dev/null && command -v sbatch >/dev/null &&
     command -v munged >/dev/null || {
       echo "slurm-local: installing slurmctld slurmd slurm-client munge" >&2
+      DEBIAN_FRONTEND=noninteractive apt-get update -qq
       DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
         slurmctld slurmd slurm-client munge >/dev/null; }
   mkdir -p "$dir"/state "$dir"/spool/slurmd-localhost "$dir"/log

@@ -105,7 +105,8 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
             const CampaignSpec spec = load_campaign(opt.spec_path);
             text = spec.text;
             if (output.empty()) output = spec.output;
-            if (!opt.dry_run) error = check_output(output, spec);
+            // A dry run writes nothing, but an existing archive it names must fit the campaign.
+            if (!opt.dry_run || std::filesystem::exists(output)) error = check_output(output, spec);
         } catch (const SpecError& e) {
             error = e.what();
         }

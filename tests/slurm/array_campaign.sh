@@ -25,6 +25,12 @@ campaign=$root/tests/data/campaigns/small.toml
   --output="$work/task_%A_%a.out" | tee "$work/submit1.txt"
 array=$(sed -n 's/^array job \([0-9]*\):.*/\1/p' "$work/submit1.txt")
 merge=$(sed -n 's/^merge job \([0-9]*\) after.*/\1/p' "$work/submit1.txt")
+# A second submission while this array is queued is refused (two tasks must never write the
+# same shard).
+if "$root/slurm/submit_campaign.sh" "$campaign" "$work/merged.h5" 3 2> "$work/busy.txt"; then
+  echo "FAIL: a second submission was queued while the first array ran"; exit 1
+fi
+grep -q "array job $array of this campaign is still queued or running" "$work/busy.txt"
 scancel "${array}_2"
 until scontrol -o show job "$merge" | grep -q "JobState=COMPLETED"; do
   scontrol -o show job "$merge" | grep -qE "JobState=(PENDING|RUNNING|CONFIGURING|COMPLETING)" ||
@@ -44,9 +50,19 @@ grep -q "resuming" "$work"/task_*_0.out
 /usr/bin/python3 "$root/tests/mpi/compare_archives.py" "$work/whole.h5" "$work/merged.h5"
 
 # Bad input is refused before anything is queued.
-! "$root/slurm/submit_campaign.sh" "$root/tests/data/campaigns/unknown_key.toml" "$work/bad.h5" 2 2> "$work/bad.txt"
-grep -q "unknown_key.toml" "$work/bad.txt"
-! "$root/slurm/submit_campaign.sh" "$campaign" "$work/bad.h5" 0 2> "$work/zero.txt"
-grep -q "SHARDS = '0' is not allowed" "$work/zero.txt"
+refused() {  # refused PATTERN ARGS...: submit_campaign.sh must fail naming the problem
+  local pattern=$1
+  shift
+  if "$root/slurm/submit_campaign.sh" "$@" 2> "$work/refused.txt"; then
+    echo "FAIL: submit_campaign.sh $* was accepted"; exit 1
+  fi
+  grep -q -- "$pattern" "$work/refused.txt" || { cat "$work/refused.txt"; exit 1; }
+}
+queued=$(squeue -h | wc -l)
+refused "unknown_key.toml" "$root/tests/data/campaigns/unknown_key.toml" "$work/bad.h5" 2
+refused "SHARDS = '0' is not allowed" "$campaign" "$work/bad.h5" 0
+refused "made with 3" "$campaign" "$work/merged.h5" 2
+refused "different campaign" "$root/tests/data/campaigns/other_campaign.toml" "$work/merged.h5" 3
 test ! -e "$work/bad.shards"
+[[ $(squeue -h | wc -l) -eq $queued ]]
 echo "slurm array campaign: ok"
