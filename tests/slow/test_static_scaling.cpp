@@ -120,6 +120,11 @@ TEST(StaticScaling, HarmonicExponents) {
                 pc.mean, pc.error, ec.mean, ec.error, zc.mean, zc.error);
     ASSERT_GE(s.p.size(), 48u);
     ASSERT_GE(s.z.size(), 48u);
+    // Power: the fits must be able to tell the exponents from other candidates (harmonic from
+    // Hertzian differs by 0.5 in p and E; Z's 1/2 from 1/4 or 3/4 by 0.25).
+    EXPECT_LT(3 * pc.error, 0.1);
+    EXPECT_LT(3 * ec.error, 0.1);
+    EXPECT_LT(3 * zc.error, 0.2);
     EXPECT_NEAR(pc.mean, 1.0, 3 * pc.error);
     EXPECT_NEAR(ec.mean, 2.0, 3 * ec.error);
     EXPECT_NEAR(zc.mean, 0.5, 3 * zc.error);
@@ -136,6 +141,8 @@ TEST(StaticScaling, HertzianPressure) {
     std::printf("  with the correction fitted: p %.3f +- %.3f, E %.3f +- %.3f\n", pc.mean, pc.error,
                 ec.mean, ec.error);
     ASSERT_GE(s.p.size(), 48u);
+    EXPECT_LT(3 * pc.error, 0.1);
+    EXPECT_LT(3 * ec.error, 0.1);
     EXPECT_NEAR(pc.mean, 1.5, 3 * pc.error);
     EXPECT_NEAR(ec.mean, 2.5, 3 * ec.error);
 }
