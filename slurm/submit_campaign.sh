@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # Run a campaign as a Slurm array job, one shard per task, and merge the shards afterwards.
 #
-#   slurm/submit_campaign.sh [--wait] [--throttle K] CAMPAIGN.toml MERGED.h5 SHARDS [sbatch options]
+#   slurm/submit_campaign.sh [--wait] [--throttle K] [--retry-failed] CAMPAIGN.toml MERGED.h5 SHARDS [sbatch options]
 #
 #   CAMPAIGN.toml   the campaign file (checked here, before anything is queued)
 #   MERGED.h5       the one archive of the campaign; shards go to MERGED.shards/shard_K.h5
 #   SHARDS          number of array tasks; task K runs the replicas with id % SHARDS == K
 #   --throttle K    at most K tasks at once (sbatch --array=0-(SHARDS-1)%K)
+#   --retry-failed  the tasks run their failed replicas again (jamsim run --retry-failed)
 #   --wait          return when the merge job has finished: 0 if every replica is finished
 #                   (done or failed), 3 if some are still pending (submit again)
 #   sbatch options  passed to the array job, e.g. --ntasks=4 --time=04:00:00 --partition=short;
@@ -21,15 +22,16 @@
 # JAMSIM (default: build/release/jamsim of this checkout, else `jamsim` on PATH) is the
 # executable every job runs.
 set -euo pipefail
-usage() { sed -n '4,14p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+usage() { sed -n '4,15p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 here=$(cd "$(dirname "$0")" && pwd)
-wait_flag=() throttle=""
+wait_flag=() throttle="" run_args=""
 while [[ $# -gt 0 && $1 == --* ]]; do
   case $1 in
     --wait) wait_flag=(--wait); shift ;;
+    --retry-failed) run_args="--retry-failed"; shift ;;
     --throttle) [[ $# -ge 2 ]] || usage; throttle=$2; shift 2 ;;
     --throttle=*) throttle=${1#--throttle=}; shift ;;
-    *) echo "submit_campaign.sh: unknown option '$1' (allowed: --wait, --throttle K)" >&2; exit 2 ;;
+    *) echo "submit_campaign.sh: unknown option '$1' (allowed: --wait, --throttle K, --retry-failed)" >&2; exit 2 ;;
   esac
 done
 [[ $# -ge 3 ]] || usage
@@ -81,7 +83,7 @@ if [[ -n $replicas && $shards -gt $replicas ]]; then
 fi
 mkdir -p "$shard_dir"
 range=0-$((shards - 1))${throttle:+%$throttle}
-array=$(sbatch --parsable --array="$range" --export=ALL,JAMSIM="$jamsim" "$@" \
+array=$(sbatch --parsable --array="$range" --export=ALL,JAMSIM="$jamsim",JAMSIM_RUN_ARGS="$run_args" "$@" \
           "$here/campaign_array.sbatch" "$campaign" "$shard_dir" "$shards")
 array=${array%%;*}
 echo "shards $shards array_job $array" > "$record"

@@ -41,9 +41,13 @@ done
 grep -q "12/18 done" "$work/status1.txt"  # replicas 2, 5, 8, ... (task 2) are missing
 grep -q "JobState=COMPLETED.*ArrayTaskId=0 " "$SLURM_LOCAL_DIR/log/jobcomp.txt"
 
-# The same command again, waiting for the merge: the campaign completes.
-"$root/slurm/submit_campaign.sh" --wait "$campaign" "$work/merged.h5" 3 --ntasks=2 \
-  --output="$work/task_%A_%a.out"
+# The same command again, waiting for the merge: the campaign completes. This time the tasks
+# launch with srun (PMIx) instead of mpirun, and pass --retry-failed on to jamsim run.
+JAMSIM_LAUNCHER=srun "$root/slurm/submit_campaign.sh" --wait --retry-failed "$campaign" \
+  "$work/merged.h5" 3 --ntasks=2 --output="$work/task_%A_%a.out" | tee "$work/submit2.txt"
+array2=$(sed -n 's/^array job \([0-9]*\):.*/\1/p' "$work/submit2.txt")
+grep -q "failed ones run again" "$work/task_${array2}_0.out"
+grep -q "on 2 ranks" "$work/task_${array2}_2.out"
 "$jamsim" status "$work/merged.h5" | grep -q "18/18 done"
 # Shards 0 and 1 were finished: their second runs skipped every replica.
 grep -q "resuming" "$work"/task_*_0.out
