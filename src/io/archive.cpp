@@ -6,6 +6,8 @@
 #include <ctime>
 #include <limits>
 #include <sstream>
+#include <string_view>
+#include <utility>
 
 #include "jamsim/core/version.hpp"
 #include "jamsim/observe/velocity_correlation.hpp"
@@ -276,13 +278,18 @@ std::string Archive::check_existing(const std::string& path, const CampaignSpec&
         std::string la, lb;
         std::getline(a, la);
         std::getline(b, lb);
-        // "jamsim campaign vK <name> ...": the same campaign from a version whose results mean
-        // something else cannot be resumed or merged.
-        const auto version = [](const std::string& line) { return line.substr(0, line.find(' ', 17)); };
-        const auto rest = [](const std::string& line) { return line.substr(std::min(line.size(), line.find(' ', 17))); };
-        if (version(la) != version(lb) && rest(la) == rest(lb))
-            return "'" + path + "' was written by another version of jamsim (" + version(la) +
-                   "; this one writes " + version(lb) + "): start a new archive";
+        // The first line is "jamsim campaign vK <name> replicas N": the same campaign from a
+        // version whose results mean something else cannot be resumed or merged.
+        const auto split_version = [](const std::string& line) {
+            const std::string_view prefix = "jamsim campaign v";
+            const std::size_t end = std::min(line.size(), line.find(' ', prefix.size()));
+            return std::pair{line.substr(0, end), line.substr(end)};
+        };
+        const auto [version_a, rest_a] = split_version(la);
+        const auto [version_b, rest_b] = split_version(lb);
+        if (version_a != version_b && rest_a == rest_b)
+            return "'" + path + "' was written by another version of jamsim (" + version_a +
+                   "; this one writes " + version_b + "): start a new archive";
         while (la == lb && std::getline(a, la) && std::getline(b, lb)) {
         }
         return "'" + path + "' belongs to a different campaign (archive: \"" + la +

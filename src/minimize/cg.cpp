@@ -24,19 +24,8 @@ double dot(std::span<const double> ax, std::span<const double> ay, std::span<con
     return (s[0] + s[1]) + (s[2] + s[3]);
 }
 
-/// Largest |component| of (x, y), four partial maxima.
-double max_abs(std::span<const double> x, std::span<const double> y) {
-    double m[4] = {0, 0, 0, 0};
-    const std::size_t n = x.size(), r = n - n % 4;
-    for (std::size_t i = 0; i < r; i += 4)
-        for (std::size_t k = 0; k < 4; ++k)
-            m[k] = std::max(m[k], std::max(std::abs(x[i + k]), std::abs(y[i + k])));
-    for (std::size_t i = r; i < n; ++i) m[0] = std::max(m[0], std::max(std::abs(x[i]), std::abs(y[i])));
-    return std::max(std::max(m[0], m[1]), std::max(m[2], m[3]));
-}
-
 /// One pass over the forces after a line search: F·F, F·G (G: the force at its start) and
-/// the largest component of F, each in four lanes as dot and max_abs.
+/// the largest component of F, each in four lanes (as dot).
 struct ForceSums {
     double ff, fg, fmax;
 };
@@ -109,7 +98,7 @@ class ConjugateGradient final : public Minimizer {
         double step_guess = 0.0, last_slope0 = -1.0;
         // Running sums, so each iteration needs two passes over the disks besides the line
         // search: gg = F·F, slope0 = −F·d, dmax = max |d_i| and fmax = max |F_i| components.
-        double gg = dot(p.fx, p.fy, p.fx, p.fy), fmax = max_abs(p.fx, p.fy), dmax = fmax;
+        double gg = dot(p.fx, p.fy, p.fx, p.fy), fmax = pos.max_force(), dmax = fmax;
         double slope0 = -gg;
         auto finish = [&](MinimizeOutcome outcome, std::int64_t it) {
             if (!f.tallied) f = pos.evaluate(Tally::Full);  // same positions: same forces
@@ -130,12 +119,8 @@ class ConjugateGradient final : public Minimizer {
             const double fbar = pos.mean_contact_force(tallied);
             if (it >= c.max_iterations || pos.stalled(fmax, fbar, c.stall_iterations))
                 return finish(MinimizeOutcome::NotConverged, it);
-            // Energy and virial cost ~30% of an evaluation: the line search skips them except
-            // every 32 iterations and once the stopping rule is within reach.
             pos.split_if_converging(fmax, fbar);
-            const bool near = fmax <= 100.0 * std::max(c.force_tol_abs, c.force_tol * fbar) ||
-                              tallied.energy / static_cast<double>(n) < 1e4 * c.energy_floor;
-            const Tally tally = near || it % 32 == 31 ? Tally::Full : Tally::ForcesOnly;
+            const Tally tally = tally_for(it, fmax, fbar, tallied, n, c);  // for the line search
             if (slope0 >= 0.0) {  // not a descent direction: restart along the force
                 std::copy(p.fx.begin(), p.fx.end(), dx.begin());
                 std::copy(p.fy.begin(), p.fy.end(), dy.begin());

@@ -44,11 +44,7 @@ class Fire final : public Minimizer {
                 return summarize(pos, sys, f, MinimizeOutcome::NotConverged, it);
             }
             pos.split_if_converging(fmax, fbar);
-            // As in CG: energy and virial only every 32 steps and once the stopping rule is
-            // within reach (they cost ~30% of an evaluation).
-            const bool near = fmax <= 100.0 * std::max(c.force_tol_abs, c.force_tol * fbar) ||
-                              tallied.energy / static_cast<double>(n) < 1e4 * c.energy_floor;
-            const Tally tally = near || it % 32 == 31 ? Tally::Full : Tally::ForcesOnly;
+            const Tally tally = tally_for(it, fmax, fbar, tallied, n, c);
             double power = 0.0;
             for (std::size_t i = 0; i < n; ++i) power += p.fx[i] * vx[i] + p.fy[i] * vy[i];
             if (power > 0.0) {

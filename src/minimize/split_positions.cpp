@@ -157,6 +157,14 @@ MinimizeResult summarize(const SplitPositions& pos, const System& sys, const For
     return r;
 }
 
+Tally tally_for(std::int64_t iteration, double max_force, double mean_contact_force,
+                const ForceResult& last_tallied, std::size_t disks, const MinimizeCriteria& c) {
+    const bool near =
+        max_force <= 100.0 * std::max(c.force_tol_abs, c.force_tol * mean_contact_force) ||
+        last_tallied.energy / static_cast<double>(disks) < 1e4 * c.energy_floor;
+    return near || iteration % 32 == 31 ? Tally::Full : Tally::ForcesOnly;
+}
+
 MinimizeOutcome check_stop(const SplitPositions& pos, const System& sys, const ForceResult& f,
                            const MinimizeCriteria& c, double fmax) {
     if (f.energy / static_cast<double>(sys.particles.size()) < c.energy_floor)

@@ -16,12 +16,13 @@
 namespace jamsim {
 
 bool is_static_model(const std::string& model) {
-    const auto names = static_model_names();
+    const auto& names = static_model_names();
     return std::find(names.begin(), names.end(), model) != names.end();
 }
 
-std::vector<std::string> static_model_names() {
-    return {"QS", "RAND", "COMPRESS", "COOL", "COOL_COMPRESS", "SHEARED"};
+const std::vector<std::string>& static_model_names() {
+    static const std::vector<std::string> names{"QS", "RAND", "COMPRESS", "COOL", "COOL_COMPRESS", "SHEARED"};
+    return names;
 }
 
 namespace {
@@ -73,25 +74,7 @@ ReplicaResult run_static_replica(const ReplicaParams& p, const std::function<voi
         evaluations += st.minimum.force_evaluations;
         return st;
     };
-    if (p.model == "RAND") {
-        record(minimise(), 0.0, 0.0);
-    } else if (p.model == "COOL" || p.model == "COOL_COMPRESS") {
-        evaluations += cool(sys, forces, {p.temperature, p.cooling_time, p.dt, p.kd},
-                            RngStream(p.seed, p.replica, RngPurpose::ThermalNoise));
-        if (p.model == "COOL") {
-            record(minimise(), 0.0, 0.0);
-        } else {  // Paper I: cooling followed by compression (or decompression) to φ_J
-            const JammingPoint jp = find_jamming_point(sys, forces, *minimizer, c, 1e-3, p.phi_tol);
-            evaluations += jp.force_evaluations;
-            record(jp.state, 0.0, 0.0);
-        }
-    } else if (p.model == "COMPRESS" || p.model == "SHEARED") {
-        if (p.model == "SHEARED")  // the sheared ensemble: QS shear to `strain` at φ first
-            evaluations += shear_quasistatically(sys, forces, *minimizer, c, p.strain, p.strain_step);
-        const JammingPoint jp = find_jamming_point(sys, forces, *minimizer, c, 1e-3, p.phi_tol);
-        evaluations += jp.force_evaluations;
-        record(jp.state, 0.0, 0.0);
-    } else {  // QS: γ → γ + Δγ through the Lees–Edwards box (affine), then minimise
+    if (p.model == "QS") {  // γ → γ + Δγ through the Lees–Edwards box (affine), then minimise
         const auto [steps, every] = schedule_of(p);
         double strain = 0.0;
         for (std::int64_t step = 0;; ++step) {
@@ -100,6 +83,20 @@ ReplicaResult run_static_replica(const ReplicaParams& p, const std::function<voi
             if (step == steps) break;
             strain = static_cast<double>(step + 1) * p.strain_step;
             apply_strain(sys, forces, sys.box.strain() + p.strain_step);
+        }
+    } else {
+        // The preparation (Paper I), then a quench of the prepared state or its φ_J search.
+        if (p.model == "COOL" || p.model == "COOL_COMPRESS")
+            evaluations += cool(sys, forces, {p.temperature, p.cooling_time, p.dt, p.kd},
+                                RngStream(p.seed, p.replica, RngPurpose::ThermalNoise));
+        if (p.model == "SHEARED")  // the sheared ensemble: QS shear to `strain` at φ first
+            evaluations += shear_quasistatically(sys, forces, *minimizer, c, p.strain, p.strain_step);
+        if (p.model == "RAND" || p.model == "COOL") {
+            record(minimise(), 0.0, 0.0);
+        } else {  // COMPRESS, COOL_COMPRESS, SHEARED: compression/decompression to φ_J
+            const JammingPoint jp = find_jamming_point(sys, forces, *minimizer, c, 1e-3, p.phi_tol);
+            evaluations += jp.force_evaluations;
+            record(jp.state, 0.0, 0.0);
         }
     }
     result.force_evaluations = evaluations;

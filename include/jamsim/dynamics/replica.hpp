@@ -60,7 +60,7 @@ struct ReplicaParams {
 ///   COOL_COMPRESS: the same cooling, then the compression/decompression search for the
 ///             cooled configuration's φ_J (Paper I): one sample, as COMPRESS
 bool is_static_model(const std::string& model);
-std::vector<std::string> static_model_names();
+const std::vector<std::string>& static_model_names();
 
 /// A problem with one parameter, phrased for a person.
 struct ParamError {

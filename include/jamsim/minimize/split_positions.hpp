@@ -85,6 +85,13 @@ MinimizeResult summarize(const SplitPositions& pos, const System& sys, const For
 
 /// The stopping rule of MinimizeCriteria for a tallied evaluation whose largest force
 /// component is `max_force` (SplitPositions::max_force); NotConverged = go on.
+/// What the minimiser's next evaluations must tally: energy and virial cost ~30% of an
+/// evaluation and only the stopping rule needs them, so Full every 32 iterations and on
+/// every one once the rule is within reach (fmax within 100× of the force tolerance, or E/N
+/// of the last tallied evaluation within 1e4× of the energy floor); ForcesOnly otherwise.
+Tally tally_for(std::int64_t iteration, double max_force, double mean_contact_force,
+                const ForceResult& last_tallied, std::size_t disks, const MinimizeCriteria& c);
+
 MinimizeOutcome check_stop(const SplitPositions& pos, const System& sys, const ForceResult& f,
                            const MinimizeCriteria& c, double max_force);
 
