@@ -12,7 +12,8 @@
 #include "jamsim/io/archive.hpp"
 #include "jamsim/io/campaign_spec.hpp"
 #include "jamsim/linalg/contact_solver.hpp"
-#include "jamsim/parallel/farm.hpp"
+#include "jamsim/campaign/farm.hpp"
+#include "jamsim/run/model_registry.hpp"
 #include "jamsim/parallel/mpi.hpp"
 
 namespace jamsim::app {
@@ -81,10 +82,11 @@ void print_dry_run(const CampaignSpec& spec, const std::string& output) {
     std::printf("%6s %7s %8s %10s %6s %9s %14s %10s\n", "id", "N", "phi", "rate", "seed",
                 "samples", "cost(p-evals)", "est. s");
     double total = 0;
-    for (const auto& p : spec.replicas) {
+    for (std::size_t id = 0; id < spec.replicas.size(); ++id) {
+        const ReplicaParams& p = spec.replicas[id];
         const double c = estimated_cost(p);
         total += c;
-        std::printf("%6u %7lld %8.4g %10.3g %6llu %9lld %14.4g %10.1f\n", p.replica,
+        std::printf("%6zu %7lld %8.4g %10.3g %6llu %9lld %14.4g %10.1f\n", id,
                     static_cast<long long>(p.n), p.phi, p.rate,
                     static_cast<unsigned long long>(p.seed),
                     static_cast<long long>(sample_count(p)), c, c / kNominalRate);

@@ -7,6 +7,7 @@
 #include "jamsim/core/version.hpp"
 #include "campaign_commands.hpp"
 #include "minimize_command.hpp"
+#include "reference_commands.hpp"
 #include "replica_command.hpp"
 
 int main(int argc, char** argv) {
@@ -18,6 +19,8 @@ int main(int argc, char** argv) {
     jamsim::app::add_status_command(app);
     jamsim::app::add_merge_command(app, argc, argv);
     jamsim::app::add_minimize_command(app);
+    jamsim::app::add_parameters_command(app);
+    jamsim::app::add_models_command(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

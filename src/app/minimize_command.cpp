@@ -11,7 +11,7 @@
 #include <stdexcept>
 
 #include "jamsim/core/system.hpp"
-#include "jamsim/dynamics/force_field.hpp"
+#include "jamsim/force/force_field.hpp"
 #include "jamsim/minimize/minimizer.hpp"
 
 namespace jamsim::app {

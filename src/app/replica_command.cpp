@@ -5,10 +5,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <string>
 
-#include "jamsim/dynamics/replica.hpp"
+#include "jamsim/run/model_registry.hpp"
+#include "jamsim/run/replica.hpp"
 #include "jamsim/io/replica_file.hpp"
 #include "jamsim/linalg/contact_solver.hpp"
 #include "jamsim/observe/time_series.hpp"
@@ -18,8 +20,7 @@ namespace jamsim::app {
 namespace {
 
 struct ReplicaOptions {
-    ReplicaParams params;
-    std::string integrator = "euler";
+    std::map<std::string, std::string> given;  ///< parameter key -> text from the command line
     std::string output;
 };
 
@@ -44,14 +45,31 @@ void check_output_path(const std::string& path) {
     if (fs::is_directory(p, ec)) usage_error("output", path, "a file name, not a directory");
 }
 
-void run(const ReplicaOptions& opt) {
-    ReplicaParams params = opt.params;
-    try {
-        params.integrator = integrator_from_string(opt.integrator);
-    } catch (const std::invalid_argument&) {
-        usage_error("integrator", opt.integrator, "euler or heun");
+/// The parameters from the command line: defaults, then each given option, checked against
+/// the parameter table and the model's registration.
+ReplicaParams params_of(const ReplicaOptions& opt) {
+    ReplicaParams params;
+    for (const auto& [key, text] : opt.given) {
+        const ParamInfo& info = *find_parameter(key);
+        ParamValue value;
+        if (!parse_value(info, text, value) || !set_value(params, info, value))
+            usage_error(std::string(info.flag.substr(2)), text,
+                        is_numeric(info) ? "a number" : "a string");
     }
-    for (const auto& e : validate(params)) usage_error(e.key, e.value, e.allowed);
+    for (const auto& e : validate(params)) {
+        const ParamInfo* info = find_parameter(e.key);
+        usage_error(info ? std::string(info->flag.substr(2)) : e.key, e.value, e.allowed);
+    }
+    // A parameter the model does not use would be silently ignored: refuse it.
+    for (const auto& [key, text] : opt.given)
+        if (!uses_parameter(params, key))
+            usage_error(std::string(find_parameter(key)->flag.substr(2)), text,
+                        "not used by model " + params.model);
+    return params;
+}
+
+void run(const ReplicaOptions& opt) {
+    const ReplicaParams params = params_of(opt);
     check_output_path(opt.output);
     const linalg::PetscScope petsc;  // CD0 initialises PETSc on first use; finalise it here
 
@@ -75,51 +93,19 @@ void run(const ReplicaOptions& opt) {
 
 CLI::App* add_replica_command(CLI::App& app) {
     auto opt = std::make_shared<ReplicaOptions>();
-    ReplicaParams& p = opt->params;
     auto* cmd = app.add_subcommand("replica", "Run one sheared replica and write an HDF5 file");
-    cmd->add_option("--model", p.model, "Dynamical model")->capture_default_str();
-    cmd->add_option("--N", p.n, "Number of disks")->capture_default_str();
-    cmd->add_option("--phi", p.phi, "Packing fraction")->capture_default_str();
-    cmd->add_option("--rate", p.rate, "Shear rate (1/tau)")->capture_default_str();
-    cmd->add_option("--strain", p.strain, "Total strain (when rate > 0)")->capture_default_str();
-    cmd->add_option("--time", p.time, "Total time in tau (when rate = 0)")->capture_default_str();
-    cmd->add_option("--transient", p.transient, "Strain excluded from the printed averages")
-        ->capture_default_str();
-    cmd->add_option("--sample-interval", p.sample_interval,
-                    "Strain between samples (time when rate = 0)")
-        ->capture_default_str();
-    cmd->add_option("--dt", p.dt, "Time step (tau)")->capture_default_str();
-    cmd->add_option("--alpha", p.alpha, "Potential exponent (2 harmonic, 2.5 Hertzian)")
-        ->capture_default_str();
-    cmd->add_option("--size-ratio", p.size_ratio, "Large/small diameter (1 = monodisperse)")
-        ->capture_default_str();
-    cmd->add_option("--skin", p.skin, "Neighbour-list skin (d_s)")->capture_default_str();
-    cmd->add_option("--kd", p.kd, "Dissipation coefficient k_d")->capture_default_str();
-    cmd->add_option("--delta", p.delta, "CD0 substrate drag delta = k_0/k_d")
-        ->capture_default_str();
-    cmd->add_option("--mass", p.mass, "Small-disk mass (RD, CD, CDn, CDt)")->capture_default_str();
-    cmd->add_option("--solver", p.solver, "CD0 backend: auto (eigen up to N = 65536, petsc above), petsc (KSP) or eigen (sparse LDLT)")
-        ->capture_default_str();
-    cmd->add_option("--petsc-options", p.petsc_options,
-                    "CD0 solver options, e.g. \"-cd0_pc_type icc -cd0_ksp_rtol 1e-8\"");
-    cmd->add_option("--integrator", opt->integrator, "euler or heun")->capture_default_str();
-    cmd->add_option("--minimizer", p.minimizer, "static models: cg, cg-pr or fire")->capture_default_str();
-    cmd->add_option("--strain-step", p.strain_step, "QS: strain step between minimisations")
-        ->capture_default_str();
-    cmd->add_option("--energy-floor", p.energy_floor, "E/N below which a minimised state is unjammed")
-        ->capture_default_str();
-    cmd->add_option("--force-tol", p.force_tol, "force balance relative to the mean contact force")
-        ->capture_default_str();
-    cmd->add_option("--force-tol-abs", p.force_tol_abs, "force balance floor (k_e/d_s)")
-        ->capture_default_str();
-    cmd->add_option("--phi-tol", p.phi_tol, "COMPRESS: width of the final phi_J bracket")
-        ->capture_default_str();
-    cmd->add_option("--temperature", p.temperature, "COOL: starting temperature (k_e)")->capture_default_str();
-    cmd->add_option("--cooling-time", p.cooling_time, "COOL: time over which T falls linearly to 0")
-        ->capture_default_str();
-    cmd->add_option("--seed", p.seed, "Random seed")->capture_default_str();
-    cmd->add_option("--replica", p.replica, "Replica id (part of the random key)")
-        ->capture_default_str();
+    // One option per row of the parameter table (jamsim/params/parameters.hpp).
+    for (const auto& info : parameters()) {
+        std::string help(info.description);
+        if (!info.units.empty() && info.units != "1") help += " [" + std::string(info.units) + "]";
+        help += "; allowed: " + std::string(info.allowed);
+        if (info.key == "model") help += " (" + model_list() + ")";
+        const std::string key(info.key);
+        cmd->add_option_function<std::string>(
+               std::string(info.flag), [opt, key](const std::string& v) { opt->given[key] = v; },
+               help)
+            ->default_str(default_text(info));
+    }
     cmd->add_option("-o,--output", opt->output, "Output HDF5 file")->required();
     cmd->callback([opt] { run(*opt); });
     return cmd;

@@ -20,31 +20,21 @@ void Cd0::solve(const ForceField& forces, const Box& box, std::span<const double
     contact_ry_.resize(list.size());
     bx_.resize(n);
     by_.resize(n);
-    const double inv_kd = 1.0 / params_.kd;
+    const double inv_kd = 1.0 / kd_;
     for (std::size_t i = 0; i < n; ++i) {
         bx_[i] = fx[i] * inv_kd;
         by_[i] = fy[i] * inv_kd;
     }
     // Contacts and the affine part of the contact drag: −γ̇ Σ_j [y_i − y_j] (k_d cancels).
-    const auto sx = list.shift_x(), sy = list.shift_y(), contact = list.contact();
-    for (std::size_t k = 0; k < list.size(); ++k) {
-        const auto i = static_cast<std::size_t>(pairs_[k].i), j = static_cast<std::size_t>(pairs_[k].j);
-        const Vec2 r = box.lab(x[i] - x[j] + sx[k], y[i] - y[j] + sy[k]);
+    for_each_contact(list, box, x, y, [&](std::size_t k, std::size_t i, std::size_t j, Vec2 r) {
         contact_rx_[k] = r.x;
         contact_ry_[k] = r.y;
-        if (norm2(r) >= contact[k] * contact[k]) continue;
         in_contact_[k] = 1;
         bx_[i] -= rate * r.y;
         bx_[j] += rate * r.y;
-    }
-    if (params_.solver == "eigen" || (params_.solver == "auto" && n <= auto_eigen_max_n)) {
-        if (!eigen_) eigen_ = std::make_unique<linalg::EigenContactSolver>(n, params_.delta);
-        last_ = eigen_->solve(pairs_, in_contact_, pairs_version_, bx_, by_, ux, uy);
-    } else {
-        if (!solver_)
-            solver_ = std::make_unique<linalg::ContactSolver>(n, params_.delta, params_.petsc_options);
-        last_ = solver_->solve(pairs_, in_contact_, pairs_version_, bx_, by_, ux, uy);
-    }
+    });
+    if (!solver_) solver_ = linalg::make_contact_solver(backend_, n, delta_, petsc_options_);
+    last_ = solver_->solve(pairs_, in_contact_, pairs_version_, bx_, by_, ux, uy);
 }
 
 void Cd0::prepare(System& sys, ForceField& forces, double rate) {
@@ -52,32 +42,19 @@ void Cd0::prepare(System& sys, ForceField& forces, double rate) {
     solve(forces, sys.box, p.x, p.y, p.fx, p.fy, rate, p.ux, p.uy);
 }
 
-void Cd0::advance(System& sys, ForceField& forces, double dt, double rate) {
+void Cd0::advance(System& sys, ForceField& forces, double dt, double rate, std::int64_t) {
     Particles& p = sys.particles;
-    const std::size_t n = p.size();
-    const double gamma0 = sys.box.strain();
-    const double gamma1 = gamma0 + rate * dt;
-    if (params_.integrator == Integrator::Euler) {
-        drift(p.x, p.y, p.ux, p.uy, gamma0, dt);
-        apply_strain(sys, forces, gamma1);
-        return;
-    }
-    x0_.assign(p.x.begin(), p.x.end());
-    y0_.assign(p.y.begin(), p.y.end());
-    fx1_.resize(n);
-    fy1_.resize(n);
-    ux1_.assign(p.ux.begin(), p.ux.end());  // warm start of the second solve
-    uy1_.assign(p.uy.begin(), p.uy.end());
-    drift(p.x, p.y, p.ux, p.uy, gamma0, dt);
-    sys.box.set_strain_unwrapped(gamma1);
-    forces.compute_at(sys.box, p.x, p.y, p.diameter, fx1_, fy1_);
-    solve(forces, sys.box, p.x, p.y, fx1_, fy1_, rate, ux1_, uy1_);
-    const double half = 0.5 * dt;
-    for (std::size_t i = 0; i < n; ++i) {
-        p.x[i] = x0_[i] + half * ((p.ux[i] - gamma0 * p.uy[i]) + (ux1_[i] - gamma1 * uy1_[i]));
-        p.y[i] = y0_[i] + half * (p.uy[i] + uy1_[i]);
-    }
-    apply_strain(sys, forces, gamma1);
+    overdamped_step(sys, forces, dt, rate, heun_, 1.0, p.ux, p.uy, scratch_, [&](System& s) {
+        // Forces and a second solve at the predicted positions, warm-started from u.
+        const std::size_t n = p.size();
+        fx1_.resize(n);
+        fy1_.resize(n);
+        ux1_.assign(p.ux.begin(), p.ux.end());
+        uy1_.assign(p.uy.begin(), p.uy.end());
+        forces.compute_at(s.box, p.x, p.y, p.diameter, fx1_, fy1_);
+        solve(forces, s.box, p.x, p.y, fx1_, fy1_, rate, ux1_, uy1_);
+        return std::pair<std::span<const double>, std::span<const double>>{ux1_, uy1_};
+    });
 }
 
 Dissipation Cd0::dissipation(const System& sys, const ForceField& /*forces*/,
@@ -90,23 +67,31 @@ Dissipation Cd0::dissipation(const System& sys, const ForceField& /*forces*/,
         const auto i = static_cast<std::size_t>(pairs_[k].i), j = static_cast<std::size_t>(pairs_[k].j);
         const double wx = p.ux[i] - p.ux[j] + rate * contact_ry_[k];  // relative lab velocity
         const double wy = p.uy[i] - p.uy[j];
-        d.power += params_.kd * (wx * wx + wy * wy);
-        const double fx = -params_.kd * wx, fy = -params_.kd * wy;  // on i from j
+        d.power += kd_ * (wx * wx + wy * wy);
+        const double fx = -kd_ * wx, fy = -kd_ * wy;  // on i from j
         vxx += contact_rx_[k] * fx;
         vyy += contact_ry_[k] * fy;
         vyx += contact_ry_[k] * fx;
     }
-    d.power += params_.kd * params_.delta * static_cast<double>(p.size()) * nonaffine_velocity_sq(sys);
+    d.power += kd_ * delta_ * static_cast<double>(p.size()) * mean_square_velocity(p);
     d.pressure = 0.5 * (vxx + vyy) / sys.box.area();
     d.shear_stress = -vyx / sys.box.area();
     return d;
 }
 
-double Cd0::nonaffine_velocity_sq(const System& sys) const {
-    const Particles& p = sys.particles;
-    double sum = 0.0;
-    for (std::size_t i = 0; i < p.size(); ++i) sum += p.ux[i] * p.ux[i] + p.uy[i] * p.uy[i];
-    return p.size() ? sum / static_cast<double>(p.size()) : 0.0;
+namespace {
+constexpr std::string_view kCd0Parameters[] = {"dt", "integrator", "kd", "delta", "solver",
+                                               "petsc_options"};
+}
+
+DynamicsInfo cd0_model() {
+    return {.name = "CD0",
+            .summary = "overdamped, contact dissipation: a contact-matrix solve per step "
+                       "(thesis eqs. 4.15-4.19)",
+            .parameters = kCd0Parameters,
+            .evaluations_per_step = [](const ReplicaParams& p) { return p.integrator == "heun" ? 2 : 1; },
+            .stable_dt = no_dt_limit,
+            .make = [](const ReplicaParams& p) -> std::unique_ptr<Model> { return std::make_unique<Cd0>(p); }};
 }
 
 } // namespace jamsim

@@ -29,7 +29,35 @@ double sllod_stable_dt(Damping damping, double m, double kd) {
     return std::min(damping_limit, elastic_limit);
 }
 
-double Sllod::stable_dt() const { return sllod_stable_dt(damping_, params_.mass, params_.kd); }
+double Sllod::stable_dt() const { return sllod_stable_dt(damping_, mass_, kd_); }
+
+namespace {
+constexpr std::string_view kSllodParameters[] = {"dt", "kd", "mass"};
+
+template <Damping kDamping> DynamicsInfo sllod_model(std::string_view name, std::string_view summary) {
+    return {.name = name,
+            .summary = summary,
+            .parameters = kSllodParameters,
+            .evaluations_per_step = [](const ReplicaParams&) { return kDamping == Damping::RD ? 1 : 2; },
+            .stable_dt = [](const ReplicaParams& p) { return sllod_stable_dt(kDamping, p.mass, p.kd); },
+            .make = [](const ReplicaParams& p) -> std::unique_ptr<Model> {
+                return std::make_unique<Sllod>(p, kDamping);
+            }};
+}
+} // namespace
+
+DynamicsInfo rd_model() {
+    return sllod_model<Damping::RD>("RD", "massive (SLLOD), reservoir drag -k_d u_i (eqs. 4.31-4.32)");
+}
+DynamicsInfo cd_model() {
+    return sllod_model<Damping::CD>("CD", "massive (SLLOD), contact dissipation (eqs. 4.26-4.28)");
+}
+DynamicsInfo cdn_model() {
+    return sllod_model<Damping::CDn>("CDn", "massive (SLLOD), normal contact dissipation (eq. 4.29)");
+}
+DynamicsInfo cdt_model() {
+    return sllod_model<Damping::CDt>("CDt", "massive (SLLOD), tangential contact dissipation (eq. 4.30)");
+}
 
 void Sllod::rates(const System& sys, const ForceField& forces, double gamma, double rate,
                   const std::vector<double>& x, const std::vector<double>& y,
@@ -39,32 +67,24 @@ void Sllod::rates(const System& sys, const ForceField& forces, double gamma, dou
     const std::size_t n = p.size();
     fdx_.assign(n, 0.0);
     fdy_.assign(n, 0.0);
-    {  // contact damping (RD never gets here: it uses the splitting)
-        const NeighborList& list = forces.list();
-        const auto owner = list.owner(), neighbor = list.neighbor();
-        const auto sx = list.shift_x(), sy = list.shift_y(), contact = list.contact();
-        Box box = sys.box;
-        box.set_strain_unwrapped(gamma);
-        for (std::size_t k = 0; k < list.size(); ++k) {
-            const auto i = static_cast<std::size_t>(owner[k]), j = static_cast<std::size_t>(neighbor[k]);
-            const Vec2 r = box.lab(x[i] - x[j] + sx[k], y[i] - y[j] + sy[k]);
-            const double r2 = norm2(r);
-            if (r2 >= contact[k] * contact[k]) continue;
-            const double inv_r = 1.0 / std::sqrt(r2);
-            const Vec2 w{ux[i] - ux[j] + rate * r.y, uy[i] - uy[j]};
-            const Vec2 f = contact_damping(damping_, params_.kd, w, {r.x * inv_r, r.y * inv_r});
-            fdx_[i] += f.x;
-            fdy_[i] += f.y;
-            fdx_[j] -= f.x;
-            fdy_[j] -= f.y;
-        }
-    }
+    // Contact damping (RD never gets here: it uses the splitting).
+    Box box = sys.box;
+    box.set_strain_unwrapped(gamma);
+    for_each_contact(forces.list(), box, x, y, [&](std::size_t, std::size_t i, std::size_t j, Vec2 r) {
+        const double inv_r = 1.0 / std::sqrt(norm2(r));
+        const Vec2 w{ux[i] - ux[j] + rate * r.y, uy[i] - uy[j]};
+        const Vec2 f = contact_damping(damping_, kd_, w, {r.x * inv_r, r.y * inv_r});
+        fdx_[i] += f.x;
+        fdy_[i] += f.y;
+        fdx_[j] -= f.x;
+        fdy_[j] -= f.y;
+    });
     dx_.resize(n);
     dy_.resize(n);
     dux_.resize(n);
     duy_.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
-        const double inv_m = 1.0 / (params_.mass * p.diameter[i] * p.diameter[i]);
+        const double inv_m = 1.0 / (mass_ * p.diameter[i] * p.diameter[i]);
         dx_[i] = ux[i] - gamma * uy[i];
         dy_[i] = uy[i];
         dux_[i] = (fx[i] + fdx_[i]) * inv_m - rate * uy[i];
@@ -72,12 +92,12 @@ void Sllod::rates(const System& sys, const ForceField& forces, double gamma, dou
     }
 }
 
-void Sllod::advance(System& sys, ForceField& forces, double dt, double rate) {
+void Sllod::advance(System& sys, ForceField& forces, double dt, double rate, std::int64_t) {
     if (dt > stable_dt())
-        throw std::runtime_error(std::string(name_) + ": time step dt = " + std::to_string(dt) +
+        throw std::runtime_error("SLLOD: time step dt = " + std::to_string(dt) +
                                  " exceeds the stable limit " + std::to_string(stable_dt()) +
-                                 " for mass " + std::to_string(params_.mass) + " and kd " +
-                                 std::to_string(params_.kd));
+                                 " for mass " + std::to_string(mass_) + " and kd " +
+                                 std::to_string(kd_));
     if (damping_ == Damping::RD)
         advance_split_rd(sys, forces, dt, rate);
     else
@@ -90,7 +110,7 @@ void Sllod::advance_split_rd(System& sys, ForceField& forces, double dt, double 
     const double half = 0.5 * dt, gamma0 = sys.box.strain();
     auto kick = [&] {  // B(Δt/2) with the forces in p.fx, p.fy
         for (std::size_t i = 0; i < n; ++i) {
-            const double h_m = half / (params_.mass * p.diameter[i] * p.diameter[i]);
+            const double h_m = half / (mass_ * p.diameter[i] * p.diameter[i]);
             p.ux[i] += h_m * p.fx[i];
             p.uy[i] += h_m * p.fy[i];
         }
@@ -98,7 +118,7 @@ void Sllod::advance_split_rd(System& sys, ForceField& forces, double dt, double 
     kick();
     drift(p.x, p.y, p.ux, p.uy, gamma0 + 0.25 * rate * dt, half);  // A, γ at its midpoint
     // O: exact for the drag and the SLLOD coupling; e^{−cΔt} for the two disk sizes.
-    const double c_small = params_.kd / params_.mass;
+    const double c_small = kd_ / mass_;
     double d_cached = -1.0, decay = 1.0;
     for (std::size_t i = 0; i < n; ++i) {
         if (p.diameter[i] != d_cached) {
@@ -148,20 +168,13 @@ void Sllod::advance_heun(System& sys, ForceField& forces, double dt, double rate
     apply_strain(sys, forces, gamma1);
 }
 
-double Sllod::nonaffine_velocity_sq(const System& sys) const {
-    const Particles& p = sys.particles;
-    double sum = 0.0;
-    for (std::size_t i = 0; i < p.size(); ++i) sum += p.ux[i] * p.ux[i] + p.uy[i] * p.uy[i];
-    return p.size() ? sum / static_cast<double>(p.size()) : 0.0;
-}
-
 Dissipation Sllod::dissipation(const System& sys, const ForceField& forces,
                                double rate) const {
     const Particles& p = sys.particles;
     Dissipation d;
     double kxx = 0, kyy = 0, kxy = 0;
     for (std::size_t i = 0; i < p.size(); ++i) {
-        const double m = params_.mass * p.diameter[i] * p.diameter[i];
+        const double m = mass_ * p.diameter[i] * p.diameter[i];
         d.kinetic_energy += 0.5 * m * (p.ux[i] * p.ux[i] + p.uy[i] * p.uy[i]);
         kxx += m * p.ux[i] * p.ux[i];
         kyy += m * p.uy[i] * p.uy[i];
@@ -171,20 +184,20 @@ Dissipation Sllod::dissipation(const System& sys, const ForceField& forces,
     d.pressure_kinetic = 0.5 * (kxx + kyy) / area;
     d.shear_stress_kinetic = -kxy / area;
     if (damping_ == Damping::RD) {
-        d.power = params_.kd * static_cast<double>(p.size()) * nonaffine_velocity_sq(sys);
+        d.power = kd_ * static_cast<double>(p.size()) * mean_square_velocity(p);
         return d;
     }
     // Contacts at the current (step-boundary) state: the list is valid for it.
     double vxx = 0, vyy = 0, vyx = 0;
-    for (const Contact& c : find_contacts(forces.list(), sys.box, p.x, p.y)) {
-        const Vec2 w{p.ux[c.i] - p.ux[c.j] + rate * c.ry, p.uy[c.i] - p.uy[c.j]};
-        const double r = std::sqrt(c.rx * c.rx + c.ry * c.ry);
-        const Vec2 f = contact_damping(damping_, params_.kd, w, {c.rx / r, c.ry / r});
+    for_each_contact(forces.list(), sys.box, p.x, p.y, [&](std::size_t, std::size_t i, std::size_t j, Vec2 c) {
+        const Vec2 w{p.ux[i] - p.ux[j] + rate * c.y, p.uy[i] - p.uy[j]};
+        const double r = std::sqrt(c.x * c.x + c.y * c.y);
+        const Vec2 f = contact_damping(damping_, kd_, w, {c.x / r, c.y / r});
         d.power -= f.x * w.x + f.y * w.y;  // −f·w ≥ 0 for each of the three forms
-        vxx += c.rx * f.x;
-        vyy += c.ry * f.y;
-        vyx += c.ry * f.x;
-    }
+        vxx += c.x * f.x;
+        vyy += c.y * f.y;
+        vyx += c.y * f.x;
+    });
     d.pressure = 0.5 * (vxx + vyy) / area;
     d.shear_stress = -vyx / area;
     return d;

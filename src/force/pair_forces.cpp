@@ -25,14 +25,9 @@ JAMSIM_CLONES void evaluate_block(const potential::Hertzian& eval, const double*
 std::vector<Contact> find_contacts(const NeighborList& list, const Box& box,
                                    std::span<const double> x, std::span<const double> y) {
     std::vector<Contact> out;
-    const auto owner = list.owner();
-    const auto neighbor = list.neighbor();
-    const auto sx = list.shift_x(), sy = list.shift_y(), contact = list.contact();
-    for (std::size_t k = 0; k < list.size(); ++k) {
-        const auto i = static_cast<std::size_t>(owner[k]), j = static_cast<std::size_t>(neighbor[k]);
-        const Vec2 r = box.lab(x[i] - x[j] + sx[k], y[i] - y[j] + sy[k]);
-        if (norm2(r) < contact[k] * contact[k]) out.push_back({i, j, r.x, r.y});
-    }
+    for_each_contact(list, box, x, y, [&](std::size_t, std::size_t i, std::size_t j, Vec2 r) {
+        out.push_back({i, j, r.x, r.y});
+    });
     return out;
 }
 

@@ -1,6 +1,7 @@
 #include "jamsim/io/archive.hpp"
 
 #include <algorithm>
+#include <functional>
 #include <chrono>
 #include <cmath>
 #include <ctime>
@@ -12,6 +13,7 @@
 #include "jamsim/core/version.hpp"
 #include "jamsim/observe/velocity_correlation.hpp"
 #include "jamsim/parallel/mpi.hpp"
+#include "jamsim/run/replica.hpp"
 
 namespace jamsim {
 
@@ -20,140 +22,43 @@ namespace {
 using h5::check;
 using h5::Handle;
 
+/// Independent write of a block of an archive dataset (the rank that runs a replica).
+void write_block(hid_t file, const std::string& path, hid_t memtype, std::vector<hsize_t> start,
+                 std::vector<hsize_t> count, const void* data) {
+    const Handle dxpl = h5::independent_transfer();
+    h5::write_block(file, path, memtype, std::move(start), std::move(count), data, dxpl.get());
+}
+
 constexpr std::size_t kReasonLength = 200;  // bytes of /replicas/failure_reason
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-Handle reason_type() {
-    Handle t(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
-    check(H5Tset_size(t.get(), kReasonLength), "string size");
-    check(H5Tset_strpad(t.get(), H5T_STR_NULLTERM), "string padding");
-    return t;
-}
+/// A numeric per-replica column: a used parameter, or a derived figure.
+struct Column {
+    std::string name, units, description;
+    std::function<double(const ReplicaParams&)> value;
+};
 
-Handle independent_transfer() {
-    Handle dxpl(H5Pcreate(H5P_DATASET_XFER), H5Pclose, "transfer properties");
-    check(H5Pset_dxpl_mpio(dxpl.get(), H5FD_MPIO_INDEPENDENT), "independent transfer");
-    return dxpl;
-}
-
-/// Collective: a dataset of the given shape, allocated now and filled with `fill`.
-void create_dataset(hid_t file, const std::string& path, hid_t type, std::vector<hsize_t> dims,
-            const void* fill, const std::string& units, const std::string& description) {
-    Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose,
-                 "dataspace of " + path);
-    Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "creation properties");
-    check(H5Pset_alloc_time(dcpl.get(), H5D_ALLOC_TIME_EARLY), "early allocation");
-    check(H5Pset_fill_time(dcpl.get(), H5D_FILL_TIME_ALLOC), "fill time");
-    check(H5Pset_fill_value(dcpl.get(), type, fill), "fill value");
-    Handle set(H5Dcreate2(file, path.c_str(), type, space.get(), H5P_DEFAULT, dcpl.get(),
-                          H5P_DEFAULT),
-               H5Dclose, "create dataset " + path);
-    h5::write_attribute(set.get(), "units", units);
-    h5::write_attribute(set.get(), "description", description);
-    set.close(path);
-}
-
-/// Independent write of a block [start, start + count) of a dataset.
-void write_block(hid_t file, const std::string& path, hid_t memtype, std::vector<hsize_t> start,
-                 std::vector<hsize_t> count, const void* data) {
-    Handle set(H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose, "open " + path);
-    Handle space(H5Dget_space(set.get()), H5Sclose, "dataspace of " + path);
-    check(H5Sselect_hyperslab(space.get(), H5S_SELECT_SET, start.data(), nullptr, count.data(),
-                              nullptr),
-          "select in " + path);
-    Handle mem(H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr), H5Sclose,
-               "memory space");
-    const Handle dxpl = independent_transfer();
-    check(H5Dwrite(set.get(), memtype, mem.get(), space.get(), dxpl.get(), data),
-          "write " + path);
-    set.close(path);
-}
-
-template <class T> std::vector<T> read_all(hid_t file, const std::string& path, hid_t memtype,
-                                           hid_t dxpl = H5P_DEFAULT) {
-    Handle set(H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose, "open " + path);
-    Handle space(H5Dget_space(set.get()), H5Sclose, "dataspace of " + path);
-    const hssize_t n = H5Sget_simple_extent_npoints(space.get());
-    check(static_cast<hid_t>(n), "size of " + path);
-    std::vector<T> out(static_cast<std::size_t>(n));
-    if (n > 0) check(H5Dread(set.get(), memtype, H5S_ALL, H5S_ALL, dxpl, out.data()), "read " + path);
+/// The parameter columns of a campaign: every numeric parameter that its model uses for at
+/// least one replica (NaN for replicas that do not use it), then the derived figures.
+std::vector<Column> parameter_columns(const CampaignSpec& spec) {
+    std::vector<Column> out;
+    for (const auto& info : parameters()) {
+        if (!is_numeric(info)) continue;
+        if (std::none_of(spec.replicas.begin(), spec.replicas.end(),
+                         [&](const ReplicaParams& p) { return uses_parameter(p, info.key); }))
+            continue;
+        out.push_back({std::string(info.key), std::string(info.units), std::string(info.description),
+                       [&info](const ReplicaParams& p) {
+                           return uses_parameter(p, info.key) ? numeric_value(p, info) : kNaN;
+                       }});
+    }
+    out.push_back({"n_samples", "1", "rows of this replica in /timeseries",
+                   [](const ReplicaParams& p) { return double(sample_count(p)); }});
+    out.push_back({"estimated_cost", "particle force evaluations",
+                   "estimated N x steps x evaluations per step",
+                   [](const ReplicaParams& p) { return estimated_cost(p); }});
     return out;
 }
-
-std::string read_string_attribute(hid_t obj, const std::string& name) {
-    if (H5Aexists(obj, name.c_str()) <= 0) return "";
-    Handle attr(H5Aopen(obj, name.c_str(), H5P_DEFAULT), H5Aclose, "open attribute " + name);
-    Handle type(H5Aget_type(attr.get()), H5Tclose, "type of " + name);
-    if (H5Tis_variable_str(type.get()) > 0) {
-        char* text = nullptr;
-        check(H5Aread(attr.get(), type.get(), &text), "read attribute " + name);
-        std::string out = text ? text : "";
-        H5free_memory(text);
-        return out;
-    }
-    std::string out(H5Tget_size(type.get()), '\0');
-    check(H5Aread(attr.get(), type.get(), out.data()), "read attribute " + name);
-    return out.substr(0, out.find('\0'));
-}
-
-/// Serial read-only open that works while another job writes the file.
-Handle open_readonly(const std::string& path) {
-    Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "file access properties");
-    check(H5Pset_file_locking(fapl.get(), false, true), "disable file locking");
-    return Handle(H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl.get()), H5Fclose,
-                  "open '" + path + "'");
-}
-
-Handle mpio_access(MPI_Comm comm) {
-    Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "file access properties");
-    check(H5Pset_fapl_mpio(fapl.get(), comm, MPI_INFO_NULL), "MPI-IO driver");
-    check(H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_SEMI), "close degree");
-    return fapl;
-}
-
-struct Column1D {
-    const char* name;
-    const char* units;
-    const char* description;
-    double (*get)(const ReplicaParams&);
-};
-const Column1D kParamColumns[] = {
-    {"N", "1", "number of disks", [](const ReplicaParams& p) { return double(p.n); }},
-    {"phi", "1", "packing fraction", [](const ReplicaParams& p) { return p.phi; }},
-    {"rate", "1/tau", "shear rate", [](const ReplicaParams& p) { return p.rate; }},
-    {"seed", "1", "random seed (with the replica id, the RNG key)",
-     [](const ReplicaParams& p) { return double(p.seed); }},
-    {"strain", "1", "total strain run", [](const ReplicaParams& p) { return p.strain; }},
-    {"time", "tau", "total time run (rate = 0)", [](const ReplicaParams& p) { return p.time; }},
-    {"transient", "1", "strain (time at rate 0) to discard",
-     [](const ReplicaParams& p) { return p.transient; }},
-    {"sample_interval", "1", "strain (time at rate 0) between samples",
-     [](const ReplicaParams& p) { return p.sample_interval; }},
-    {"dt", "tau", "time step", [](const ReplicaParams& p) { return p.dt; }},
-    {"alpha", "1", "potential exponent", [](const ReplicaParams& p) { return p.alpha; }},
-    {"size_ratio", "1", "large/small diameter", [](const ReplicaParams& p) { return p.size_ratio; }},
-    {"skin", "d_s", "neighbour-list skin", [](const ReplicaParams& p) { return p.skin; }},
-    {"kd", "k_e tau/d_s^2", "dissipation coefficient", [](const ReplicaParams& p) { return p.kd; }},
-    {"mass", "small-disk mass", "mass of a small disk (massive models; large disks by area)",
-     [](const ReplicaParams& p) { return p.mass; }},
-    {"delta", "1", "CD0 substrate drag k_0/k_d (on the non-affine velocity)",
-     [](const ReplicaParams& p) { return p.delta; }},
-    {"strain_step", "1", "QS: strain between minimisations", [](const ReplicaParams& p) { return p.strain_step; }},
-    {"energy_floor", "k_e", "minimisation: E/N below this is unjammed",
-     [](const ReplicaParams& p) { return p.energy_floor; }},
-    {"force_tol", "1", "minimisation: largest force component / mean contact force at convergence",
-     [](const ReplicaParams& p) { return p.force_tol; }},
-    {"force_tol_abs", "k_e/d_s", "minimisation: absolute force floor at convergence",
-     [](const ReplicaParams& p) { return p.force_tol_abs; }},
-    {"phi_tol", "1", "COMPRESS: width of the final phi_J bracket", [](const ReplicaParams& p) { return p.phi_tol; }},
-    {"temperature", "k_e", "COOL: starting temperature", [](const ReplicaParams& p) { return p.temperature; }},
-    {"cooling_time", "tau", "COOL: time over which T falls linearly to 0",
-     [](const ReplicaParams& p) { return p.cooling_time; }},
-    {"n_samples", "1", "rows of this replica in /timeseries",
-     [](const ReplicaParams& p) { return double(sample_count(p)); }},
-    {"estimated_cost", "particle force evaluations", "N x steps x evaluations per step",
-     [](const ReplicaParams& p) { return estimated_cost(p); }},
-};
 
 } // namespace
 
@@ -178,7 +83,7 @@ std::string utc_now() {
 
 Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSpec& spec) {
     h5::quiet_errors();
-    const auto fapl = mpio_access(comm);
+    const auto fapl = h5::mpio_file_access(comm);
     Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose,
                 "create archive '" + path + "'");
     const hid_t f = file.get();
@@ -194,12 +99,15 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
     h5::write_attribute(f, "spec_path", spec.path);
     h5::write_attribute(f, "spec_text", spec.text);
     h5::write_attribute(f, "spec_fingerprint", fingerprint(spec));
-    h5::write_attribute(f, "model", spec.replicas.front().model);
-    h5::write_attribute(f, "integrator", to_string(spec.replicas.front().integrator));
+    // Text parameters are campaign-wide (they cannot be swept): root attributes.
+    for (const ParamInfo* info : used_parameters(spec.replicas.front()))
+        if (!is_numeric(*info))
+            h5::write_attribute(f, std::string(info->key),
+                                show_value(get_value(spec.replicas.front(), *info)));
     h5::write_attribute(f, "code_version", std::string(kVersion));
     h5::write_attribute(f, "build_flags", std::string(kBuildFlags));
     h5::write_attribute(f, "created", created);
-    h5::write_attribute(f, "layout_version", std::int64_t{1});
+    h5::write_attribute(f, "layout_version", std::int64_t{2});
     h5::write_attribute(f, "n_replicas", static_cast<std::int64_t>(replicas));
     for (const char* g : {"replicas", "timeseries", "final"}) h5::create_group(f, g).close(g);
 
@@ -207,28 +115,29 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
     const std::int8_t pending = 0;
     const std::int32_t no_rank = -1;
     const std::int64_t zero = 0;
-    for (const auto& c : kParamColumns)
-        create_dataset(f, std::string("/replicas/") + c.name, H5T_NATIVE_DOUBLE, {replicas}, &nan,
-               c.units, c.description);
-    create_dataset(f, "/replicas/status", H5T_NATIVE_INT8, {replicas}, &pending, "1",
+    const std::vector<Column> columns = parameter_columns(spec);
+    for (const auto& c : columns)
+        h5::create_filled_dataset(f, "/replicas/" + c.name, H5T_NATIVE_DOUBLE, {replicas}, &nan, c.units,
+                       c.description);
+    h5::create_filled_dataset(f, "/replicas/status", H5T_NATIVE_INT8, {replicas}, &pending, "1",
            "0 pending, 1 running, 2 done, 3 failed; written after the replica's data");
-    create_dataset(f, "/replicas/rank", H5T_NATIVE_INT32, {replicas}, &no_rank, "1",
+    h5::create_filled_dataset(f, "/replicas/rank", H5T_NATIVE_INT32, {replicas}, &no_rank, "1",
            "MPI rank that ran the replica (-1: not run)");
-    create_dataset(f, "/replicas/wall_seconds", H5T_NATIVE_DOUBLE, {replicas}, &nan, "s",
+    h5::create_filled_dataset(f, "/replicas/wall_seconds", H5T_NATIVE_DOUBLE, {replicas}, &nan, "s",
            "wall time of the replica");
-    create_dataset(f, "/replicas/force_evaluations", H5T_NATIVE_INT64, {replicas}, &zero, "1",
+    h5::create_filled_dataset(f, "/replicas/force_evaluations", H5T_NATIVE_INT64, {replicas}, &zero, "1",
            "force evaluations of the replica");
     {
-        const Handle rt = reason_type();
+        const Handle rt = h5::fixed_string_type(kReasonLength);
         const char empty[kReasonLength] = {};
-        create_dataset(f, "/replicas/failure_reason", rt.get(), {replicas}, empty, "",
+        h5::create_filled_dataset(f, "/replicas/failure_reason", rt.get(), {replicas}, empty, "",
                "why a failed replica failed (empty otherwise)");
     }
     for (const auto& c : kSampleColumns)
-        create_dataset(f, std::string("/timeseries/") + c.name, H5T_NATIVE_DOUBLE, {replicas, samples},
+        h5::create_filled_dataset(f, std::string("/timeseries/") + c.name, H5T_NATIVE_DOUBLE, {replicas, samples},
                &nan, c.units, std::string(c.description) + "; row = replica, NaN past n_samples");
     for (const char* name : {"x", "y", "diameter"})
-        create_dataset(f, std::string("/final/") + name, H5T_NATIVE_DOUBLE, {replicas, particles}, &nan,
+        h5::create_filled_dataset(f, std::string("/final/") + name, H5T_NATIVE_DOUBLE, {replicas, particles}, &nan,
                "d_s",
                std::string(name) + " of the final configuration by particle index (NaN past N); "
                                    "x, y sheared coordinates in [0, L), lab x = x + box_strain y");
@@ -236,21 +145,20 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
     for (const auto& p : spec.replicas)
         bins = std::max<hsize_t>(bins, VelocityCorrelation::bins_for(box_side_for(p.n, p.phi, p.size_ratio)));
     h5::create_group(f, "correlation").close("correlation");
-    create_dataset(f, "/correlation/x", H5T_NATIVE_DOUBLE, {replicas, bins}, &nan, "d_s",
+    h5::create_filled_dataset(f, "/correlation/x", H5T_NATIVE_DOUBLE, {replicas, bins}, &nan, "d_s",
                    "bin centres of g_y: lab x distance of disks within a strip |dy| < 1/2");
-    create_dataset(f, "/correlation/g_y", H5T_NATIVE_DOUBLE, {replicas, bins}, &nan, "1",
+    h5::create_filled_dataset(f, "/correlation/g_y", H5T_NATIVE_DOUBLE, {replicas, bins}, &nan, "1",
                    "g_y(x) = <u_y(r) u_y(r + x)>/<u_y^2> over the steady state (thesis eq. 4.23)");
-    create_dataset(f, "/final/box_side", H5T_NATIVE_DOUBLE, {replicas}, &nan, "d_s", "cell side L");
-    create_dataset(f, "/final/box_strain", H5T_NATIVE_DOUBLE, {replicas}, &nan, "1",
+    h5::create_filled_dataset(f, "/final/box_side", H5T_NATIVE_DOUBLE, {replicas}, &nan, "d_s", "cell side L");
+    h5::create_filled_dataset(f, "/final/box_strain", H5T_NATIVE_DOUBLE, {replicas}, &nan, "1",
            "Lees-Edwards strain gamma in [-1/2, 1/2)");
 
     // Parameter columns: rank 0 writes them (independently), then everyone flushes.
     if (mpi::rank(comm) == 0)
-        for (const auto& c : kParamColumns) {
+        for (const auto& c : columns) {
             std::vector<double> v;
-            for (const auto& p : spec.replicas) v.push_back(c.get(p));
-            write_block(f, std::string("/replicas/") + c.name, H5T_NATIVE_DOUBLE, {0}, {replicas},
-                        v.data());
+            for (const auto& p : spec.replicas) v.push_back(c.value(p));
+            write_block(f, "/replicas/" + c.name, H5T_NATIVE_DOUBLE, {0}, {replicas}, v.data());
         }
     check(H5Fflush(f, H5F_SCOPE_GLOBAL), "flush '" + path + "'");
     return Archive(std::move(file), comm);
@@ -258,7 +166,7 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
 
 Archive Archive::open(MPI_Comm comm, const std::string& path) {
     h5::quiet_errors();
-    const auto fapl = mpio_access(comm);
+    const auto fapl = h5::mpio_file_access(comm);
     Handle file(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl.get()), H5Fclose,
                 "open archive '" + path + "'");
     return Archive(std::move(file), comm);
@@ -268,8 +176,8 @@ std::string Archive::check_existing(const std::string& path, const CampaignSpec&
     h5::quiet_errors();
     if (H5Fis_hdf5(path.c_str()) <= 0) return "'" + path + "' exists but is not an HDF5 file";
     try {
-        const Handle file = open_readonly(path);
-        const std::string stored = read_string_attribute(file.get(), "spec_fingerprint");
+        const Handle file = h5::open_unlocked_readonly(path);
+        const std::string stored = h5::read_string_attribute(file.get(), "spec_fingerprint");
         if (stored.empty()) return "'" + path + "' is not a jamsim campaign archive";
         const std::string wanted = fingerprint(spec);
         if (stored == wanted) return "";
@@ -308,7 +216,7 @@ void Archive::mark_running(std::int64_t replica, int rank) {
     // A replica run again (--retry-failed) forgets an old failure; after the status, so that
     // an interruption in between never leaves a failed replica without its reason.
     const char no_reason[kReasonLength] = {};
-    const Handle rt = reason_type();
+    const Handle rt = h5::fixed_string_type(kReasonLength);
     write_block(file_.get(), "/replicas/failure_reason", rt.get(), {r}, {1}, no_reason);
 }
 
@@ -352,7 +260,7 @@ void Archive::write_failed(std::int64_t replica, const std::string& reason, doub
     const auto r = static_cast<hsize_t>(replica);
     char text[kReasonLength] = {};
     reason.copy(text, kReasonLength - 1);
-    const Handle rt = reason_type();
+    const Handle rt = h5::fixed_string_type(kReasonLength);
     write_block(f, "/replicas/failure_reason", rt.get(), {r}, {1}, text);
     write_block(f, "/replicas/wall_seconds", H5T_NATIVE_DOUBLE, {r}, {1}, &wall_seconds);
     const std::int32_t who = rank;
@@ -362,44 +270,35 @@ void Archive::write_failed(std::int64_t replica, const std::string& reason, doub
 }
 
 void Archive::import_replica(const std::string& source_path, std::int64_t replica) {
-    const Handle src = open_readonly(source_path);
+    const Handle src = h5::open_unlocked_readonly(source_path);
     const auto r = static_cast<hsize_t>(replica);
     // Everything that belongs to one replica; the parameters are equal by the fingerprint.
     std::vector<std::string> paths;
     for (const auto& c : kSampleColumns) paths.push_back(std::string("/timeseries/") + c.name);
-    for (const char* p : {"/correlation/x", "/correlation/g_y", "/final/x", "/final/y", "/final/diameter", "/final/box_side",
-                          "/final/box_strain", "/replicas/rank", "/replicas/wall_seconds",
-                          "/replicas/force_evaluations", "/replicas/failure_reason",
-                          "/replicas/status"})  // status last: it validates the rest
+    for (const char* p : {"/correlation/x", "/correlation/g_y", "/final/x", "/final/y",
+                          "/final/diameter", "/final/box_side", "/final/box_strain",
+                          "/replicas/rank", "/replicas/wall_seconds", "/replicas/force_evaluations",
+                          "/replicas/failure_reason", "/replicas/status"})  // status last: it validates the rest
         paths.emplace_back(p);
     for (const auto& path : paths) {
+        const std::vector<hsize_t> dims = h5::dataset_shape(src.get(), path);
         Handle set(H5Dopen2(src.get(), path.c_str(), H5P_DEFAULT), H5Dclose, "open " + path);
-        Handle space(H5Dget_space(set.get()), H5Sclose, "dataspace of " + path);
-        hsize_t dims[2] = {0, 1};
-        const int rank = H5Sget_simple_extent_ndims(space.get());
-        check(rank, "rank of " + path);
-        check(H5Sget_simple_extent_dims(space.get(), dims, nullptr), "shape of " + path);
         Handle stored(H5Dget_type(set.get()), H5Tclose, "type of " + path);
         Handle type(H5Tget_native_type(stored.get(), H5T_DIR_DEFAULT), H5Tclose, "native type");
         std::vector<hsize_t> start{r}, count{1};
-        if (rank == 2) {
+        if (dims.size() == 2) {
             start.push_back(0);
             count.push_back(dims[1]);
         }
-        check(H5Sselect_hyperslab(space.get(), H5S_SELECT_SET, start.data(), nullptr,
-                                  count.data(), nullptr),
-              "select in " + path);
-        Handle mem(H5Screate_simple(rank, count.data(), nullptr), H5Sclose, "memory space");
-        std::vector<unsigned char> buffer(H5Tget_size(type.get()) * (rank == 2 ? dims[1] : 1));
-        check(H5Dread(set.get(), type.get(), mem.get(), space.get(), H5P_DEFAULT, buffer.data()),
-              "read " + path + " of '" + source_path + "'");
+        std::vector<unsigned char> buffer(H5Tget_size(type.get()) * (dims.size() == 2 ? dims[1] : 1));
+        h5::read_block(src.get(), path, type.get(), start, count, buffer.data());
         write_block(file_.get(), path, type.get(), start, count, buffer.data());
     }
 }
 
 std::vector<ReplicaStatus> Archive::read_status() const {
-    const Handle dxpl = independent_transfer();
-    const auto raw = read_all<std::int8_t>(file_.get(), "/replicas/status", H5T_NATIVE_INT8,
+    const Handle dxpl = h5::independent_transfer();
+    const auto raw = h5::read_all<std::int8_t>(file_.get(), "/replicas/status", H5T_NATIVE_INT8,
                                            dxpl.get());
     std::vector<ReplicaStatus> out;
     for (auto v : raw) out.push_back(static_cast<ReplicaStatus>(v));
@@ -410,11 +309,8 @@ void Archive::stamp(const std::string& attribute) {
     std::string now = utc_now();
     mpi::broadcast(now, 0, comm_);
     const hid_t f = file_.get();
-    if (H5Aexists(f, attribute.c_str()) > 0)
-        check(H5Adelete(f, attribute.c_str()), "replace attribute " + attribute);
-    h5::write_attribute(f, attribute, now);
-    if (H5Aexists(f, "n_ranks") > 0) check(H5Adelete(f, "n_ranks"), "replace attribute n_ranks");
-    h5::write_attribute(f, "n_ranks", static_cast<std::int64_t>(mpi::size(comm_)));
+    h5::replace_attribute(f, attribute, now);
+    h5::replace_attribute(f, "n_ranks", static_cast<std::int64_t>(mpi::size(comm_)));
     check(H5Fflush(f, H5F_SCOPE_GLOBAL), "flush archive");
 }
 
@@ -422,31 +318,28 @@ void Archive::close() { file_.close("archive"); }
 
 StoredCampaign read_stored_campaign(const std::string& path) {
     h5::quiet_errors();
-    const Handle file = open_readonly(path);
-    const std::string text = read_string_attribute(file.get(), "spec_text");
+    const Handle file = h5::open_unlocked_readonly(path);
+    const std::string text = h5::read_string_attribute(file.get(), "spec_text");
     if (text.empty()) throw h5::Error("'" + path + "' is not a jamsim campaign archive");
-    StoredCampaign out{parse_campaign(text, read_string_attribute(file.get(), "spec_path")), {}};
-    for (auto v : read_all<std::int8_t>(file.get(), "/replicas/status", H5T_NATIVE_INT8))
+    StoredCampaign out{parse_campaign(text, h5::read_string_attribute(file.get(), "spec_path")), {}};
+    for (auto v : h5::read_all<std::int8_t>(file.get(), "/replicas/status", H5T_NATIVE_INT8))
         out.status.push_back(static_cast<ReplicaStatus>(v));
     return out;
 }
 
 ArchiveSummary summarize_archive(const std::string& path) {
     h5::quiet_errors();
-    const Handle file = open_readonly(path);
+    const Handle file = h5::open_unlocked_readonly(path);
     ArchiveSummary s;
-    s.campaign = read_string_attribute(file.get(), "campaign");
+    s.campaign = h5::read_string_attribute(file.get(), "campaign");
     if (s.campaign.empty()) throw h5::Error("'" + path + "' is not a jamsim campaign archive");
-    s.started = read_string_attribute(file.get(), "run_started");
-    s.finished = read_string_attribute(file.get(), "run_finished");
-    const auto status = read_all<std::int8_t>(file.get(), "/replicas/status", H5T_NATIVE_INT8);
-    const auto wall = read_all<double>(file.get(), "/replicas/wall_seconds", H5T_NATIVE_DOUBLE);
-    const auto cost = read_all<double>(file.get(), "/replicas/estimated_cost", H5T_NATIVE_DOUBLE);
-    if (H5Aexists(file.get(), "n_ranks") > 0) {
-        Handle attr(H5Aopen(file.get(), "n_ranks", H5P_DEFAULT), H5Aclose, "open n_ranks");
-        check(H5Aread(attr.get(), H5T_NATIVE_INT64, &s.ranks), "read n_ranks");
-    }
-    const Handle rt = reason_type();
+    s.started = h5::read_string_attribute(file.get(), "run_started");
+    s.finished = h5::read_string_attribute(file.get(), "run_finished");
+    const auto status = h5::read_all<std::int8_t>(file.get(), "/replicas/status", H5T_NATIVE_INT8);
+    const auto wall = h5::read_all<double>(file.get(), "/replicas/wall_seconds", H5T_NATIVE_DOUBLE);
+    const auto cost = h5::read_all<double>(file.get(), "/replicas/estimated_cost", H5T_NATIVE_DOUBLE);
+    if (H5Aexists(file.get(), "n_ranks") > 0) s.ranks = h5::read_int64_attribute(file.get(), "n_ranks");
+    const Handle rt = h5::fixed_string_type(kReasonLength);
     std::vector<char> reasons(status.size() * kReasonLength);
     {
         Handle set(H5Dopen2(file.get(), "/replicas/failure_reason", H5P_DEFAULT), H5Dclose,

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 
+#include "jamsim/run/model_registry.hpp"
+
 #include <toml++/toml.h>
 
 #include <fstream>
-#include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -104,25 +106,41 @@ class Reader {
     std::string path_;
 };
 
-/// Where each ReplicaParams key lives in the file, for messages.
-const std::map<std::string, std::string> kKeyLocation = {
-    {"model", "[model] name"},       {"N", "[sweep] N"},
-    {"phi", "[sweep] phi"},          {"rate", "[sweep] rate"},
-    {"strain", "[run] strain"},      {"time", "[run] time"},
-    {"transient", "[run] transient"}, {"sample-interval", "[run] sample_interval"},
-    {"dt", "[model] dt"},            {"alpha", "[potential] alpha"},
-    {"size-ratio", "[system] size_ratio"}, {"skin", "[system] skin"},
-    {"kd", "[model] kd"},             {"delta", "[model] delta"}, {"solver", "[model] solver"}, {"mass", "[model] mass"},
-    {"minimizer", "[model] minimizer"}, {"strain-step", "[model] strain_step"},
-    {"energy-floor", "[model] energy_floor"}, {"force-tol", "[model] force_tol"},
-    {"force-tol-abs", "[model] force_tol_abs"}, {"phi-tol", "[model] phi_tol"},
-    {"temperature", "[model] temperature"}, {"cooling-time", "[model] cooling_time"},
-};
-
 struct Point {
     std::int64_t n;
     double phi, rate;
 };
+
+/// Named potentials of [potential] name: presets of the exponent alpha.
+constexpr std::pair<std::string_view, double> kNamedPotentials[] = {{"harmonic", 2.0},
+                                                                   {"hertzian", 2.5}};
+
+/// Where a parameter is written in a campaign file, for messages: "[sweep] phi".
+std::string location(const ParamInfo& info) {
+    std::string out = "[";
+    out.append(info.table).append("] ").append(info.toml_key);
+    return out;
+}
+
+/// A TOML scalar as a parameter value (nullopt for tables, arrays, booleans, dates).
+std::optional<ParamValue> scalar(const toml::node& node) {
+    if (auto s = node.as_string()) return ParamValue{s->get()};
+    if (node.is_integer()) return ParamValue{*node.value<std::int64_t>()};
+    if (node.is_floating_point()) return ParamValue{*node.value<double>()};
+    return std::nullopt;
+}
+
+std::string kind_of(const ParamInfo& info) {
+    if (!is_numeric(info)) return "a string";
+    return std::holds_alternative<double ReplicaParams::*>(info.field) ? "a number" : "an integer";
+}
+
+/// Set one parameter from a node, or fail naming where it was written.
+void read_into(const Reader& r, ReplicaParams& p, const ParamInfo& info, const toml::node& node,
+               const std::string& where) {
+    const auto value = scalar(node);
+    if (!value || !set_value(p, info, *value)) r.fail(where, show(node), kind_of(info));
+}
 
 } // namespace
 
@@ -137,24 +155,13 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path) {
            << ": malformed TOML: " << e.description();
         throw SpecError(os.str());
     }
-    r.only_keys(root, "", {"campaign", "model", "potential", "system", "run", "sweep"});
-    const toml::table empty;
+    const std::set<std::string> tables{"campaign", "model", "potential", "system", "run", "sweep"};
+    r.only_keys(root, "", tables);
     const auto* campaign = r.table(root, "campaign");
     if (!campaign) r.fail("[campaign]", "(missing)", "a [campaign] table with name and output");
-    const auto& model = r.table(root, "model") ? *r.table(root, "model") : empty;
-    const auto& pot = r.table(root, "potential") ? *r.table(root, "potential") : empty;
-    const auto& system = r.table(root, "system") ? *r.table(root, "system") : empty;
-    const auto& run = r.table(root, "run") ? *r.table(root, "run") : empty;
     const auto* sweep = r.table(root, "sweep");
     if (!sweep) r.fail("[sweep]", "(missing)", "a [sweep] table");
     r.only_keys(*campaign, "[campaign]", {"name", "output"});
-    r.only_keys(model, "[model]", {"name", "integrator", "dt", "kd", "delta", "petsc_options", "solver", "mass",
-                                   "minimizer", "strain_step", "energy_floor", "force_tol",
-                                   "force_tol_abs", "phi_tol", "temperature", "cooling_time"});
-    r.only_keys(pot, "[potential]", {"name", "alpha"});
-    r.only_keys(system, "[system]", {"size_ratio", "skin"});
-    r.only_keys(run, "[run]", {"transient", "strain", "time", "sample_interval"});
-    r.only_keys(*sweep, "[sweep]", {"N", "phi", "rate", "seeds", "points"});
 
     CampaignSpec spec;
     spec.path = path;
@@ -164,43 +171,55 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path) {
     if (spec.name.empty()) r.fail("[campaign] name", "\"\"", "a non-empty string");
     if (spec.output.empty()) r.fail("[campaign] output", "\"\"", "a non-empty path");
 
+    // Every key of every table must be a parameter of that table (so a typo is never
+    // ignored); the model's name comes first, since it decides which parameters apply.
     ReplicaParams base;
-    base.model = r.string(model, "[model]", "name", base.model);
-    const std::string integ = r.string(model, "[model]", "integrator", "euler");
-    try {
-        base.integrator = integrator_from_string(integ);
-    } catch (const std::invalid_argument&) {
-        r.fail("[model] integrator", "\"" + integ + "\"", "\"euler\" or \"heun\"");
+    const toml::table empty;
+    std::vector<std::pair<const ParamInfo*, std::string>> given;  // parameters set, for the use check
+    for (const std::string table : {"model", "potential", "system", "run", "sweep"}) {
+        const toml::table* t = r.table(root, table);
+        std::set<std::string> keys;
+        for (const auto& info : parameters())
+            if (info.table == table) keys.insert(std::string(info.toml_key));
+        if (table == "potential") keys.insert("name");
+        if (table == "sweep") keys.insert("points");
+        r.only_keys(t ? *t : empty, "[" + table + "]", keys);
+        if (!t || table == "sweep") continue;
+        for (const auto& info : parameters()) {
+            if (info.table != table) continue;
+            if (const toml::node* node = t->get(info.toml_key)) {
+                read_into(r, base, info, *node, location(info));
+                given.emplace_back(&info, show(*node));
+            }
+        }
     }
-    base.dt = r.number(model, "[model]", "dt", base.dt);
-    base.kd = r.number(model, "[model]", "kd", base.kd);
-    base.delta = r.number(model, "[model]", "delta", base.delta);
-    base.petsc_options = r.string(model, "[model]", "petsc_options", "");
-    base.solver = r.string(model, "[model]", "solver", base.solver);
-    base.mass = r.number(model, "[model]", "mass", base.mass);
-    base.minimizer = r.string(model, "[model]", "minimizer", base.minimizer);
-    base.strain_step = r.number(model, "[model]", "strain_step", base.strain_step);
-    base.energy_floor = r.number(model, "[model]", "energy_floor", base.energy_floor);
-    base.force_tol = r.number(model, "[model]", "force_tol", base.force_tol);
-    base.force_tol_abs = r.number(model, "[model]", "force_tol_abs", base.force_tol_abs);
-    base.phi_tol = r.number(model, "[model]", "phi_tol", base.phi_tol);
-    base.temperature = r.number(model, "[model]", "temperature", base.temperature);
-    base.cooling_time = r.number(model, "[model]", "cooling_time", base.cooling_time);
-    const std::string pot_name = r.string(pot, "[potential]", "name", "");
-    if (!pot_name.empty() && pot.get("alpha"))
-        r.fail("[potential] alpha", show(*pot.get("alpha")),
-               "either name or alpha, not both");
-    if (pot_name == "harmonic") base.alpha = 2.0;
-    else if (pot_name == "hertzian") base.alpha = 2.5;
-    else if (!pot_name.empty())
-        r.fail("[potential] name", "\"" + pot_name + "\"", "\"harmonic\" or \"hertzian\"");
-    base.alpha = r.number(pot, "[potential]", "alpha", base.alpha);
-    base.size_ratio = r.number(system, "[system]", "size_ratio", base.size_ratio);
-    base.skin = r.number(system, "[system]", "skin", base.skin);
-    base.transient = r.number(run, "[run]", "transient", base.transient);
-    base.strain = r.number(run, "[run]", "strain", base.strain);
-    base.time = r.number(run, "[run]", "time", base.time);
-    base.sample_interval = r.number(run, "[run]", "sample_interval", base.sample_interval);
+    if (!find_model(base.model))
+        r.fail("[model] name", base.model, "one of: " + model_list());
+    if (const toml::table* pot = r.table(root, "potential")) {
+        const std::string name = r.string(*pot, "[potential]", "name", "");
+        if (!name.empty() && pot->get("alpha"))
+            r.fail("[potential] alpha", show(*pot->get("alpha")), "either name or alpha, not both");
+        if (!name.empty()) {
+            const auto* named = std::find_if(std::begin(kNamedPotentials), std::end(kNamedPotentials),
+                                             [&](const auto& e) { return e.first == name; });
+            if (named == std::end(kNamedPotentials))
+                r.fail("[potential] name", "\"" + name + "\"", "\"harmonic\" or \"hertzian\"");
+            base.alpha = named->second;
+        }
+    }
+    for (const auto& [info, shown] : given)
+        if (!uses_parameter(base, info->key)) {
+            std::string users;
+            for (const auto& m : models()) {
+                ReplicaParams q = base;
+                q.model = std::string(m.name);
+                q.rate = info->key == "time" ? 0.0 : 1.0;  // the run length follows the rate
+                if (uses_parameter(q, info->key)) users += (users.empty() ? "" : ", ") + q.model;
+            }
+            r.fail(location(*info), shown,
+                   base.model + " does not use " + std::string(info->key) + " (used by: " +
+                       (users.empty() ? "none" : users) + ")");
+        }
 
     std::vector<std::uint64_t> seeds;
     if (const toml::node* s = sweep->get("seeds"); s && !s->is_array()) {
@@ -217,6 +236,18 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path) {
         seeds.push_back(1);
     }
 
+    // Models without a shear rate (the minimisation protocols) take rate 0; a sweep may say
+    // so explicitly (rate = [0]) but not ask for another rate.
+    ReplicaParams rate_probe = base;
+    const bool uses_rate = (rate_probe.rate = 1.0, uses_parameter(rate_probe, "rate"));
+    if (!uses_rate) base.rate = 0.0;
+    auto sweep_number = [&](const toml::node& n, const std::string& where, const char* key) {
+        const auto v = n.value<double>();
+        if (!v || !(n.is_floating_point() || n.is_integer())) r.fail(where, show(n), "a number");
+        if (std::string(key) == "rate" && !uses_rate && *v != 0.0)
+            r.fail(where, show(n), "0 or no rate: " + base.model + " does not use a shear rate");
+        return *v;
+    };
     std::vector<Point> points;
     const bool grid = sweep->get("N") || sweep->get("phi") || sweep->get("rate");
     if (grid) {
@@ -224,16 +255,15 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path) {
         std::vector<double> phis, rates;
         r.each(*sweep, "[sweep]", "N",
                [&](const toml::node& n, const std::string& w) { ns.push_back(r.integer(n, w)); });
-        auto numbers = [&](const std::string& key, std::vector<double>& out) {
-            r.each(*sweep, "[sweep]", key, [&](const toml::node& n, const std::string& w) {
-                if (auto v = n.value<double>(); v && (n.is_floating_point() || n.is_integer()))
-                    out.push_back(*v);
-                else
-                    r.fail(w, show(n), "a number");
+        r.each(*sweep, "[sweep]", "phi", [&](const toml::node& n, const std::string& w) {
+            phis.push_back(sweep_number(n, w, "phi"));
+        });
+        if (uses_rate || sweep->get("rate"))
+            r.each(*sweep, "[sweep]", "rate", [&](const toml::node& n, const std::string& w) {
+                rates.push_back(sweep_number(n, w, "rate"));
             });
-        };
-        numbers("phi", phis);
-        numbers("rate", rates);
+        else
+            rates.push_back(0.0);
         for (auto n : ns)
             for (double phi : phis)
                 for (double rate : rates) points.push_back({n, phi, rate});
@@ -247,9 +277,12 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path) {
             if (!t) r.fail(where, show(*arr->get(k)), "a table {N = .., phi = .., rate = ..}");
             r.only_keys(*t, where, {"N", "phi", "rate"});
             for (const char* key : {"N", "phi", "rate"})
-                if (!t->get(key)) r.fail(where + " " + key, "(missing)", "required in a point");
+                if (!t->get(key) && (uses_rate || std::string(key) != "rate"))
+                    r.fail(where + " " + key, "(missing)", "required in a point");
+            const toml::node* rate = t->get("rate");
             points.push_back({r.integer(*t->get("N"), where + " N"),
-                              r.number(*t, where, "phi", 0.0), r.number(*t, where, "rate", 0.0)});
+                              sweep_number(*t->get("phi"), where + " phi", "phi"),
+                              rate ? sweep_number(*rate, where + " rate", "rate") : 0.0});
         }
     }
     if (points.empty())
@@ -266,8 +299,8 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path) {
             const auto errors = validate(p);
             if (!errors.empty()) {
                 const auto& e = errors.front();
-                const auto loc = kKeyLocation.find(e.key);
-                r.fail(loc == kKeyLocation.end() ? e.key : loc->second, e.value, e.allowed);
+                const ParamInfo* info = find_parameter(e.key);
+                r.fail(info ? location(*info) : e.key, e.value, e.allowed);
             }
             spec.replicas.push_back(p);
         }
@@ -283,42 +316,14 @@ CampaignSpec load_campaign(const std::string& path) {
 }
 
 std::string fingerprint(const CampaignSpec& spec) {
-    std::ostringstream os;
-    os.precision(17);
-    // The version names what the results mean: v4 changed the minimisers (CG's β, the line
-    // search) and so the static models' results; the dynamics' results are those of v3, so
-    // their archives still resume.
-    const bool minimises = std::any_of(spec.replicas.begin(), spec.replicas.end(),
-                                       [](const ReplicaParams& p) { return is_static_model(p.model); });
-    os << "jamsim campaign " << (minimises ? "v4 " : "v3 ") << spec.name << " replicas "
-       << spec.replicas.size() << '\n';
-    for (const auto& p : spec.replicas)
-        os << p.replica << ' ' << p.model << ' ' << p.n << ' ' << p.phi << ' ' << p.rate << ' '
-           << p.strain << ' ' << p.time << ' ' << p.transient << ' ' << p.sample_interval << ' '
-           << p.dt << ' ' << p.alpha << ' ' << p.size_ratio << ' ' << p.skin << ' ' << p.kd
-           << ' ' << to_string(p.integrator) << ' ' << p.seed << ' ' << p.delta << ' ' << p.solver << ' ' << p.mass << ' ' << p.minimizer << ' ' << p.strain_step << ' '
-           << p.energy_floor << ' ' << p.force_tol << ' ' << p.force_tol_abs << ' ' << p.phi_tol
-           << ' ' << p.temperature << ' ' << p.cooling_time
-           << " [" << p.petsc_options << "]\n";
-    return os.str();
-}
-
-double estimated_cost(const ReplicaParams& p) {
-    // Minimisations: rough force evaluations (a RAND quench ~1e3, a φ_J search ~2e4, a QS
-    // step ~1e2); only the order of replicas matters (longest first).
-    if (p.model == "RAND") return static_cast<double>(p.n) * 1e3;
-    if (p.model == "COMPRESS") return static_cast<double>(p.n) * 2e4;
-    if (p.model == "SHEARED") return static_cast<double>(p.n) * (2e4 + 1e2 * (p.strain / p.strain_step));
-    if (p.model == "COOL") return static_cast<double>(p.n) * (1e3 + p.cooling_time / p.dt);
-    if (p.model == "COOL_COMPRESS") return static_cast<double>(p.n) * (2e4 + p.cooling_time / p.dt);
-    if (p.model == "QS") return static_cast<double>(p.n) * 1e2 * (p.strain / p.strain_step);
-    const Schedule s = schedule_of(p);
-    return static_cast<double>(p.n) * static_cast<double>(s.steps) * evaluations_per_step(p);
-}
-
-std::int64_t sample_count(const ReplicaParams& p) {
-    const Schedule s = schedule_of(p);
-    return s.steps / s.sample_every + 1;
+    // The version names what the results mean: v5 keys every random number by the replica's
+    // identity (its physical parameters and seed) instead of its position in the sweep, and
+    // records only the parameters a model uses.
+    std::string out = "jamsim campaign v5 " + spec.name + " replicas " +
+                      std::to_string(spec.replicas.size()) + '\n';
+    for (std::size_t k = 0; k < spec.replicas.size(); ++k)
+        out += std::to_string(k) + ' ' + describe(spec.replicas[k]) + '\n';
+    return out;
 }
 
 } // namespace jamsim

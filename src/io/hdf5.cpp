@@ -88,4 +88,128 @@ double read_double_attribute(hid_t obj, const std::string& name) {
     return v;
 }
 
+std::int64_t read_int64_attribute(hid_t obj, const std::string& name) {
+    Handle attr(H5Aopen(obj, name.c_str(), H5P_DEFAULT), H5Aclose,
+                "open attribute '" + name + "'");
+    std::int64_t v = 0;
+    check(H5Aread(attr.get(), H5T_NATIVE_INT64, &v), "read attribute '" + name + "'");
+    return v;
+}
+
+std::string read_string_attribute(hid_t obj, const std::string& name) {
+    if (H5Aexists(obj, name.c_str()) <= 0) return "";
+    Handle attr(H5Aopen(obj, name.c_str(), H5P_DEFAULT), H5Aclose, "open attribute " + name);
+    Handle type(H5Aget_type(attr.get()), H5Tclose, "type of " + name);
+    if (H5Tis_variable_str(type.get()) > 0) {
+        char* text = nullptr;
+        check(H5Aread(attr.get(), type.get(), &text), "read attribute " + name);
+        std::string out = text ? text : "";
+        H5free_memory(text);
+        return out;
+    }
+    std::string out(H5Tget_size(type.get()), '\0');
+    check(H5Aread(attr.get(), type.get(), out.data()), "read attribute " + name);
+    return out.substr(0, out.find('\0'));
+}
+
+void replace_attribute(hid_t obj, const std::string& name, const std::string& value) {
+    if (H5Aexists(obj, name.c_str()) > 0)
+        check(H5Adelete(obj, name.c_str()), "replace attribute " + name);
+    write_attribute(obj, name, value);
+}
+
+void replace_attribute(hid_t obj, const std::string& name, std::int64_t value) {
+    if (H5Aexists(obj, name.c_str()) > 0)
+        check(H5Adelete(obj, name.c_str()), "replace attribute " + name);
+    write_attribute(obj, name, value);
+}
+
+Handle mpio_file_access(MPI_Comm comm) {
+    Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "file access properties");
+    check(H5Pset_fapl_mpio(fapl.get(), comm, MPI_INFO_NULL), "MPI-IO driver");
+    check(H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_SEMI), "close degree");
+    return fapl;
+}
+
+Handle open_unlocked_readonly(const std::string& path) {
+    Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "file access properties");
+    check(H5Pset_file_locking(fapl.get(), false, true), "disable file locking");
+    return Handle(H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl.get()), H5Fclose,
+                  "open '" + path + "'");
+}
+
+Handle independent_transfer() {
+    Handle dxpl(H5Pcreate(H5P_DATASET_XFER), H5Pclose, "transfer properties");
+    check(H5Pset_dxpl_mpio(dxpl.get(), H5FD_MPIO_INDEPENDENT), "independent transfer");
+    return dxpl;
+}
+
+Handle fixed_string_type(std::size_t bytes) {
+    Handle t(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
+    check(H5Tset_size(t.get(), bytes), "string size");
+    check(H5Tset_strpad(t.get(), H5T_STR_NULLTERM), "string padding");
+    return t;
+}
+
+void create_filled_dataset(hid_t file, const std::string& path, hid_t type,
+                           std::vector<hsize_t> dims, const void* fill, const std::string& units,
+                           const std::string& description) {
+    Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose,
+                 "dataspace of " + path);
+    Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "creation properties");
+    check(H5Pset_alloc_time(dcpl.get(), H5D_ALLOC_TIME_EARLY), "early allocation");
+    check(H5Pset_fill_time(dcpl.get(), H5D_FILL_TIME_ALLOC), "fill time");
+    check(H5Pset_fill_value(dcpl.get(), type, fill), "fill value");
+    Handle set(H5Dcreate2(file, path.c_str(), type, space.get(), H5P_DEFAULT, dcpl.get(),
+                          H5P_DEFAULT),
+               H5Dclose, "create dataset " + path);
+    write_attribute(set.get(), "units", units);
+    write_attribute(set.get(), "description", description);
+    set.close(path);
+}
+
+namespace {
+/// The dataset, its file space with the block selected, and the block's memory space.
+struct Selection {
+    Handle set, space, mem;
+};
+Selection select_block(hid_t file, const std::string& path, const std::vector<hsize_t>& start,
+                       const std::vector<hsize_t>& count) {
+    Selection s;
+    s.set = Handle(H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose, "open " + path);
+    s.space = Handle(H5Dget_space(s.set.get()), H5Sclose, "dataspace of " + path);
+    check(H5Sselect_hyperslab(s.space.get(), H5S_SELECT_SET, start.data(), nullptr, count.data(),
+                              nullptr),
+          "select in " + path);
+    s.mem = Handle(H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr),
+                   H5Sclose, "memory space");
+    return s;
+}
+} // namespace
+
+void write_block(hid_t file, const std::string& path, hid_t memtype, std::vector<hsize_t> start,
+                 std::vector<hsize_t> count, const void* data, hid_t dxpl) {
+    Selection s = select_block(file, path, start, count);
+    check(H5Dwrite(s.set.get(), memtype, s.mem.get(), s.space.get(), dxpl, data),
+          "write " + path);
+    s.set.close(path);
+}
+
+void read_block(hid_t file, const std::string& path, hid_t memtype, std::vector<hsize_t> start,
+                std::vector<hsize_t> count, void* data, hid_t dxpl) {
+    Selection s = select_block(file, path, start, count);
+    check(H5Dread(s.set.get(), memtype, s.mem.get(), s.space.get(), dxpl, data),
+          "read " + path);
+}
+
+std::vector<hsize_t> dataset_shape(hid_t file, const std::string& path) {
+    Handle set(H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose, "open " + path);
+    Handle space(H5Dget_space(set.get()), H5Sclose, "dataspace of " + path);
+    const int rank = H5Sget_simple_extent_ndims(space.get());
+    check(rank, "rank of " + path);
+    std::vector<hsize_t> dims(static_cast<std::size_t>(rank));
+    check(H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr), "shape of " + path);
+    return dims;
+}
+
 } // namespace jamsim::h5

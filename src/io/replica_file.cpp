@@ -6,10 +6,12 @@
 #include <cstdio>
 #include <stdexcept>
 #include <filesystem>
+#include <variant>
 #include <vector>
 
 #include "jamsim/core/version.hpp"
 #include "jamsim/io/hdf5.hpp"
+#include "jamsim/run/model_registry.hpp"
 
 namespace jamsim {
 
@@ -25,27 +27,13 @@ void sync_to_disk(const std::string& path) {
     ::close(fd);
 }
 
+/// The parameters the replica's model uses, one attribute each (numbers as float64 or
+/// int64, text as strings), as the parameter table names them.
 void write_params(hid_t root, const ReplicaParams& p) {
-    h5::write_attribute(root, "model", p.model);
-    h5::write_attribute(root, "N", p.n);
-    h5::write_attribute(root, "phi", p.phi);
-    h5::write_attribute(root, "rate", p.rate);
-    h5::write_attribute(root, "strain", p.strain);
-    h5::write_attribute(root, "time", p.time);
-    h5::write_attribute(root, "transient", p.transient);
-    h5::write_attribute(root, "sample_interval", p.sample_interval);
-    h5::write_attribute(root, "dt", p.dt);
-    h5::write_attribute(root, "alpha", p.alpha);
-    h5::write_attribute(root, "size_ratio", p.size_ratio);
-    h5::write_attribute(root, "skin", p.skin);
-    h5::write_attribute(root, "kd", p.kd);
-    h5::write_attribute(root, "delta", p.delta);
-    h5::write_attribute(root, "petsc_options", p.petsc_options);
-    h5::write_attribute(root, "solver", p.solver);
-    h5::write_attribute(root, "mass", p.mass);
-    h5::write_attribute(root, "integrator", to_string(p.integrator));
-    h5::write_attribute(root, "seed", static_cast<std::int64_t>(p.seed));
-    h5::write_attribute(root, "replica", static_cast<std::int64_t>(p.replica));
+    for (const ParamInfo* info : used_parameters(p)) {
+        const std::string key(info->key);
+        std::visit([&](const auto& v) { h5::write_attribute(root, key, v); }, get_value(p, *info));
+    }
 }
 
 void write_final(hid_t root, const System& sys) {

@@ -1,4 +1,5 @@
-#include "jamsim/linalg/contact_solver.hpp"
+#include "jamsim/linalg/petsc_contact_solver.hpp"
+#include "jamsim/linalg/eigen_contact_solver.hpp"
 
 #include <petscksp.h>
 
@@ -42,7 +43,7 @@ PetscScope::~PetscScope() {
     if (up && !down) PetscFinalize();
 }
 
-struct ContactSolver::Impl {
+struct PetscContactSolver::Impl {
     PetscInt n;
     double delta;
     Mat A = nullptr;
@@ -140,7 +141,7 @@ struct ContactSolver::Impl {
                                      " did not converge: " + KSPConvergedReasons[reason]);
         PetscInt its = 0;
         check(KSPGetIterationNumber(ksp, &its), "KSPGetIterationNumber");
-        if (its > ContactSolver::refresh_iterations) refresh_pc = true;
+        if (its > PetscContactSolver::refresh_iterations) refresh_pc = true;
         const PetscScalar* q = nullptr;
         check(VecGetArrayRead(x, &q), "VecGetArrayRead");
         std::copy(q, q + n, u.begin());
@@ -149,7 +150,7 @@ struct ContactSolver::Impl {
     }
 };
 
-ContactSolver::ContactSolver(std::size_t n, double delta, const std::string& options)
+PetscContactSolver::PetscContactSolver(std::size_t n, double delta, const std::string& options)
     : impl_(new Impl{}) {
     try {
         ensure_petsc();
@@ -174,12 +175,12 @@ ContactSolver::ContactSolver(std::size_t n, double delta, const std::string& opt
         check(KSPSetNormType(impl_->ksp, KSP_NORM_UNPRECONDITIONED), "KSPSetNormType");
         check(KSPSetFromOptions(impl_->ksp), "KSPSetFromOptions");  // last: options win
     } catch (...) {
-        this->~ContactSolver();
+        this->~PetscContactSolver();
         throw;
     }
 }
 
-ContactSolver::~ContactSolver() {
+PetscContactSolver::~PetscContactSolver() {
     if (!impl_) return;
     if (impl_->ksp) KSPDestroy(&impl_->ksp);
     if (impl_->A) MatDestroy(&impl_->A);
@@ -189,7 +190,7 @@ ContactSolver::~ContactSolver() {
     impl_ = nullptr;
 }
 
-SolveInfo ContactSolver::solve(std::span<const ContactPair> pairs,
+SolveInfo PetscContactSolver::solve(std::span<const ContactPair> pairs,
                                std::span<const std::uint8_t> in_contact,
                                std::size_t pattern_version, std::span<const double> b_x,
                                std::span<const double> b_y, std::span<double> u_x,
@@ -201,6 +202,17 @@ SolveInfo ContactSolver::solve(std::span<const ContactPair> pairs,
     info.iterations_x = impl_->solve_one(b_x, u_x, "x");
     info.iterations_y = impl_->solve_one(b_y, u_y, "y");
     return info;
+}
+
+std::unique_ptr<ContactSolver> make_contact_solver(std::string_view backend, std::size_t n,
+                                                   double delta,
+                                                   const std::string& petsc_options) {
+    if (backend == "eigen" || (backend == "auto" && n <= kAutoEigenMaxN))
+        return std::make_unique<EigenContactSolver>(n, delta);
+    if (backend == "petsc" || backend == "auto")
+        return std::make_unique<PetscContactSolver>(n, delta, petsc_options);
+    throw std::invalid_argument("unknown CD0 solver '" + std::string(backend) +
+                                "' (known: auto, petsc, eigen)");
 }
 
 } // namespace jamsim::linalg

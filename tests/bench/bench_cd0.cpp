@@ -5,9 +5,9 @@
 #include <petscsys.h>
 
 #include "jamsim/dynamics/cd0.hpp"
-#include "jamsim/dynamics/force_field.hpp"
+#include "jamsim/force/force_field.hpp"
 #include "jamsim/dynamics/rd0.hpp"
-#include "jamsim/dynamics/replica.hpp"
+#include "jamsim/run/replica.hpp"
 
 using namespace jamsim;
 
@@ -18,19 +18,19 @@ template <class ModelT> static void run_model(benchmark::State& state, const cha
     p.rate = 1e-4;
     System sys = initial_system(p);
     ForceField ff(potential::make_soft_sphere(2.0), p.skin);
-    ModelParams params;
+    ReplicaParams params = p;
     params.solver = solver;
     ModelT model(params);
     for (int s = 0; s < 1000; ++s) {  // untimed: leave the random start behind
         ff.compute(sys, Tally::ForcesOnly);
         model.prepare(sys, ff, p.rate);
-        model.advance(sys, ff, p.dt, p.rate);
+        model.advance(sys, ff, p.dt, p.rate, 0);
     }
     double iterations = 0, refactored = 0, updates = 0;
     for (auto _ : state) {
         ff.compute(sys, Tally::ForcesOnly);
         model.prepare(sys, ff, p.rate);
-        model.advance(sys, ff, p.dt, p.rate);
+        model.advance(sys, ff, p.dt, p.rate, 0);
         if constexpr (std::is_same_v<ModelT, Cd0>)
         {
             iterations += model.last_solve().iterations_x + model.last_solve().iterations_y;

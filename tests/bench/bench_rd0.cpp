@@ -4,9 +4,9 @@
 // sheared steady-state-like configuration rather than the random start.
 #include <benchmark/benchmark.h>
 
-#include "jamsim/dynamics/force_field.hpp"
+#include "jamsim/force/force_field.hpp"
 #include "jamsim/dynamics/rd0.hpp"
-#include "jamsim/dynamics/replica.hpp"
+#include "jamsim/run/replica.hpp"
 #include "jamsim/dynamics/sllod.hpp"
 
 using namespace jamsim;
@@ -16,21 +16,21 @@ static void BM_Rd0(benchmark::State& state) {
     p.n = state.range(0);
     p.phi = 0.84;
     p.rate = 1e-4;
-    const auto integ = state.range(1) ? Integrator::Heun : Integrator::Euler;
+    const std::string integ = state.range(1) ? "heun" : "euler";
     System sys = initial_system(p);
     ForceField ff(potential::make_soft_sphere(2.0), p.skin);
-    Rd0 model(ModelParams{1.0, integ});
+    Rd0 model(ReplicaParams{.integrator = integ, .kd = 1.0});
     for (int s = 0; s < 2000; ++s) {
         ff.compute(sys);
-        model.advance(sys, ff, p.dt, p.rate);
+        model.advance(sys, ff, p.dt, p.rate, 0);
     }
     const auto builds0 = ff.list().builds();
     for (auto _ : state) {
         ff.compute(sys, Tally::ForcesOnly);  // as on the steps between samples
-        model.advance(sys, ff, p.dt, p.rate);
+        model.advance(sys, ff, p.dt, p.rate, 0);
     }
     const double steps = static_cast<double>(state.iterations());
-    const double evals_per_step = integ == Integrator::Heun ? 2.0 : 1.0;
+    const double evals_per_step = integ == "heun" ? 2.0 : 1.0;
     state.SetItemsProcessed(static_cast<std::int64_t>(steps) * p.n);
     state.counters["force_evals_per_s"] = benchmark::Counter(
         steps * evals_per_step * static_cast<double>(p.n), benchmark::Counter::kIsRate);
@@ -62,13 +62,13 @@ static void BM_RdMassive(benchmark::State& state) {
     p.dt = 0.1;
     System sys = initial_system(p);
     ForceField ff(potential::make_soft_sphere(2.0), p.skin);
-    ModelParams params{1.0, Integrator::Heun};
+    ReplicaParams params{.integrator = "heun", .kd = 1.0};
     params.mass = 1.0;
-    Sllod model(params, Damping::RD, "RD");
+    Sllod model(params, Damping::RD);
     ff.compute(sys);
     model.prepare(sys, ff, p.rate);
-    for (int s = 0; s < 2000; ++s) model.advance(sys, ff, p.dt, p.rate);  // untimed
-    for (auto _ : state) model.advance(sys, ff, p.dt, p.rate);
+    for (int s = 0; s < 2000; ++s) model.advance(sys, ff, p.dt, p.rate, 0);  // untimed
+    for (auto _ : state) model.advance(sys, ff, p.dt, p.rate, 0);
     state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * p.n);
 }
 BENCHMARK(BM_RdMassive)->ArgName("N")->Arg(1024)->Arg(16384)->Unit(benchmark::kMillisecond)->MinTime(2.0);

@@ -3,8 +3,8 @@
 #include <cmath>
 
 #include "jamsim/dynamics/cd0.hpp"
-#include "jamsim/dynamics/force_field.hpp"
-#include "jamsim/dynamics/replica.hpp"
+#include "jamsim/force/force_field.hpp"
+#include "jamsim/run/replica.hpp"
 
 using namespace jamsim;
 
@@ -38,7 +38,7 @@ TEST(Cd0, TwoDisksAnalytic) {
     ForceField ff(potential::make_soft_sphere(2.0), 0.3);
     ff.compute(sys);
     const double kd = 2.0, delta = 0.05;
-    Cd0 model(ModelParams{kd, Integrator::Euler, delta});
+    Cd0 model(ReplicaParams{.integrator = "euler", .kd = kd, .delta = delta});
     model.prepare(sys, ff, 0.0);
     const auto& s = sys.particles;
     for (std::size_t i = 0; i < 2; ++i) {

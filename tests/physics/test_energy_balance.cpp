@@ -9,7 +9,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "jamsim/dynamics/replica.hpp"
+#include "jamsim/run/replica.hpp"
 #include "support/statistics.hpp"
 
 using namespace jamsim;
@@ -21,7 +21,7 @@ void check_balance(const std::string& model, const std::string& solver) {
         ReplicaParams p;
         p.model = model;
         p.solver = solver;
-        p.integrator = Integrator::Heun;
+        p.integrator = "heun";
         p.dt = 0.1;
         p.n = 128;
         p.phi = 0.80;

@@ -5,8 +5,8 @@
 #include <cstdio>
 #include <vector>
 
-#include "jamsim/dynamics/force_field.hpp"
-#include "jamsim/dynamics/replica.hpp"
+#include "jamsim/force/force_field.hpp"
+#include "jamsim/run/replica.hpp"
 #include "jamsim/dynamics/sllod.hpp"
 #include "support/statistics.hpp"
 
@@ -72,13 +72,13 @@ TEST(Massive, Momentum) {
         ReplicaParams p = massive(model, 2);
         System sys = initial_system(p);
         ForceField ff(potential::make_soft_sphere(2.0), p.skin);
-        auto m = make_model(p.model, ModelParams{p.kd, Integrator::Heun, 1e-3, "", "petsc", p.mass});
+        auto m = model_of(p).make(p);
         for (auto& u : sys.particles.ux) u = 0.1;
         const Vec2 start = momentum(sys, p.mass);
         for (int s = 0; s < 2000; ++s) {  // t = 100 ≫ m/k_d
             ff.compute(sys, Tally::ForcesOnly);
             m->prepare(sys, ff, p.rate);
-            m->advance(sys, ff, p.dt, p.rate);
+            m->advance(sys, ff, p.dt, p.rate, 0);
         }
         const Vec2 end = momentum(sys, p.mass);
         if (std::string(model) == "RD") {
@@ -102,11 +102,11 @@ TEST(Massive, DiluteGasStaysAffine) {
         ff.compute(sys);
         const auto x0 = sys.particles.x, y0 = sys.particles.y;
         ASSERT_EQ(ff.compute(sys).contacts, 0) << "dilute start must have no contacts";
-        auto m = make_model(p.model, ModelParams{p.kd, Integrator::Heun, 1e-3, "", "petsc", p.mass});
+        auto m = model_of(p).make(p);
         for (int s = 0; s < 500; ++s) {
             ff.compute(sys, Tally::ForcesOnly);
             m->prepare(sys, ff, p.rate);
-            m->advance(sys, ff, p.dt, p.rate);
+            m->advance(sys, ff, p.dt, p.rate, 0);
         }
         for (std::size_t i = 0; i < sys.particles.size(); ++i) {
             ASSERT_EQ(sys.particles.ux[i], 0.0);
@@ -130,7 +130,7 @@ TEST(Massive, SmallMassRdReproducesRd0) {
         p.transient = 0.5;
         p.strain = 2.0;
         p.seed = seed;
-        p.integrator = Integrator::Heun;
+        p.integrator = "heun";
         p.dt = 0.05;
         rd0.push_back(mean_after(run_replica(p).series, &Sample::pressure, p.transient));
         p.model = "RD";

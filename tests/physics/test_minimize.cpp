@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "jamsim/dynamics/force_field.hpp"
+#include "jamsim/force/force_field.hpp"
 #include "jamsim/minimize/minimizer.hpp"
 #include "jamsim/observe/contact_network.hpp"
 #include "jamsim/protocols/jamming.hpp"

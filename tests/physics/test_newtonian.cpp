@@ -13,7 +13,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "jamsim/dynamics/replica.hpp"
+#include "jamsim/run/replica.hpp"
 #include "support/statistics.hpp"
 
 using namespace jamsim;

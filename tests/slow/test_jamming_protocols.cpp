@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "jamsim/dynamics/replica.hpp"
+#include "jamsim/run/replica.hpp"
 #include "support/statistics.hpp"
 
 using namespace jamsim;

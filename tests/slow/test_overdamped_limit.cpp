@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "jamsim/dynamics/replica.hpp"
+#include "jamsim/run/replica.hpp"
 #include "support/statistics.hpp"
 
 using namespace jamsim;
@@ -22,7 +22,7 @@ TEST(OverdampedLimit, SmallMassCdReproducesCd0) {
         p.transient = 0.5;
         p.strain = 2.0;
         p.seed = seed;
-        p.integrator = Integrator::Heun;
+        p.integrator = "heun";
         p.model = "CD0";
         p.solver = "eigen";
         p.dt = 0.05;

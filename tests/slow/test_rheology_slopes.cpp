@@ -9,7 +9,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "jamsim/dynamics/replica.hpp"
+#include "jamsim/run/replica.hpp"
 #include "support/statistics.hpp"
 
 using namespace jamsim;
@@ -31,7 +31,7 @@ Stat pressure(const std::string& model, double rate) {
         p.seed = seed;
         if (model == "CDn") {
             p.mass = 1.0;
-            p.integrator = Integrator::Heun;
+            p.integrator = "heun";
             p.dt = 0.2;
         }
         v.push_back(mean_after(run_replica(p).series, &Sample::pressure, p.transient));

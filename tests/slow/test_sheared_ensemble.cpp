@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "jamsim/dynamics/replica.hpp"
+#include "jamsim/run/replica.hpp"
 #include "jamsim/protocols/jamming.hpp"
 #include "jamsim/protocols/preparation.hpp"
 #include "support/statistics.hpp"

@@ -15,7 +15,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "jamsim/dynamics/force_field.hpp"
+#include "jamsim/force/force_field.hpp"
 #include "jamsim/minimize/minimizer.hpp"
 #include "jamsim/observe/contact_network.hpp"
 #include "jamsim/protocols/jamming.hpp"

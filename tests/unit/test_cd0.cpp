@@ -8,7 +8,7 @@
 #include <cmath>
 
 #include "jamsim/dynamics/cd0.hpp"
-#include "jamsim/dynamics/force_field.hpp"
+#include "jamsim/force/force_field.hpp"
 #include "support/configurations.hpp"
 
 using namespace jamsim;
@@ -69,7 +69,7 @@ TEST(Cd0, ContactSolveMatchesDenseEigen) {
             ForceField ff(potential::make_soft_sphere(2.0), 0.3);
             ff.compute(sys);
             const double rate = 0.01, kd = 1.5, delta = 1e-2;
-            ModelParams params{kd, Integrator::Euler, delta};
+            ReplicaParams params{.integrator = "euler", .kd = kd, .delta = delta};
             params.solver = solver;
             Cd0 model(params);
             model.prepare(sys, ff, rate);
@@ -106,7 +106,7 @@ TEST(Cd0, StaleFactorSolvesMeetTheTolerance) {
     for (const char* solver : {"petsc", "eigen"}) {
         System sys = random_configuration(200, 0.85, 0.0, 5);
         ForceField ff(potential::make_soft_sphere(2.0), 0.3);
-        ModelParams params{kd, Integrator::Euler, delta};
+        ReplicaParams params{.integrator = "euler", .kd = kd, .delta = delta};
         params.solver = solver;
         Cd0 model(params);
         int stale_solves = 0, checked = 0, refactored = 0;
@@ -126,7 +126,7 @@ TEST(Cd0, StaleFactorSolvesMeetTheTolerance) {
                 EXPECT_LE((d.by - d.A * uy).norm(), rtol * d.by.norm() * (1 + 1e-6)) << solver << " step " << step;
                 ++checked;
             }
-            model.advance(sys, ff, 0.2, rate);
+            model.advance(sys, ff, 0.2, rate, 0);
         }
         EXPECT_GT(stale_solves, 10) << solver << ": the stale-factor/update path was not exercised";
         EXPECT_EQ(checked, 20);

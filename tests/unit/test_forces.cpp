@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "jamsim/dynamics/force_field.hpp"
+#include "jamsim/force/force_field.hpp"
 #include "support/configurations.hpp"
 
 using namespace jamsim;

@@ -5,7 +5,7 @@
 #include <utility>
 
 #include "jamsim/core/rng.hpp"
-#include "jamsim/dynamics/force_field.hpp"
+#include "jamsim/force/force_field.hpp"
 #include "jamsim/neighbor/neighbor_list.hpp"
 #include "support/configurations.hpp"
 

@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "jamsim/core/system.hpp"
-#include "jamsim/dynamics/force_field.hpp"
+#include "jamsim/force/force_field.hpp"
 #include "jamsim/force/pair_forces.hpp"
 #include "jamsim/potential/soft_sphere.hpp"
 

@@ -3,9 +3,9 @@
 #include <vector>
 
 #include "jamsim/dynamics/model.hpp"
+#include "jamsim/dynamics/overdamped_step.hpp"
 #include "jamsim/force/pair_forces.hpp"
 #include "jamsim/linalg/contact_solver.hpp"
-#include "jamsim/linalg/eigen_contact_solver.hpp"
 
 namespace jamsim {
 
@@ -20,11 +20,12 @@ namespace jamsim {
 /// ẋ = u_x − γ u_y, ẏ = u_y (Euler, or Heun with a second solve).
 class Cd0 final : public Model {
   public:
-    explicit Cd0(const ModelParams& params) : params_(params) {}
-    std::string_view name() const override { return "CD0"; }
+    explicit Cd0(const ReplicaParams& params)
+        : kd_(params.kd), delta_(params.delta), heun_(params.integrator == "heun"),
+          backend_(params.solver), petsc_options_(params.petsc_options) {}
     void prepare(System& sys, ForceField& forces, double rate) override;
-    void advance(System& sys, ForceField& forces, double dt, double rate) override;
-    double nonaffine_velocity_sq(const System& sys) const override;
+    void advance(System& sys, ForceField& forces, double dt, double rate,
+                 std::int64_t step) override;
     /// P = k_d Σ_contacts |u_i − u_j + γ̇ [y_i − y_j] x̂|² + k_0 Σ |u_i|²; the contact
     /// dissipative forces f^dis_ij = −k_d (u_i − u_j + γ̇ r_ij,y x̂) give the stress.
     Dissipation dissipation(const System& sys, const ForceField& forces,
@@ -32,11 +33,6 @@ class Cd0 final : public Model {
 
     /// Krylov iterations of the most recent solve (diagnostics, benchmarks).
     linalg::SolveInfo last_solve() const { return last_; }
-    /// `solver = "auto"` uses Eigen (factor updated in place) up to this N, the largest size
-    /// measured, and PETSc above (jamsim_bench_cd0 at φ = 0.84, per step: Eigen 61 µs against
-    /// PETSc 267 µs at N = 1024, 0.35 ms against 3.4 ms at 4096, 3.2 ms against 36 ms at 16384,
-    /// Eigen 48 ms at 65536).
-    static constexpr std::size_t auto_eigen_max_n = 65536;
 
     double solver_iterations() const override {
         return 0.5 * (last_.iterations_x + last_.iterations_y);
@@ -49,15 +45,20 @@ class Cd0 final : public Model {
                std::span<const double> fy, double rate, std::span<double> ux,
                std::span<double> uy);
 
-    ModelParams params_;
+    double kd_, delta_;
+    bool heun_;
+    std::string backend_, petsc_options_;
     linalg::SolveInfo last_;
     std::unique_ptr<linalg::ContactSolver> solver_;
-    std::unique_ptr<linalg::EigenContactSolver> eigen_;
     std::vector<linalg::ContactPair> pairs_;
     std::vector<std::uint8_t> in_contact_;
-    std::vector<double> contact_rx_, contact_ry_;  // lab separation of each candidate pair
+    std::vector<double> contact_rx_, contact_ry_;  // lab separation of each touching pair
     std::size_t pairs_version_ = static_cast<std::size_t>(-1);
-    std::vector<double> bx_, by_, x0_, y0_, fx1_, fy1_, ux1_, uy1_;
+    OverdampedScratch scratch_;
+    std::vector<double> bx_, by_, fx1_, fy1_, ux1_, uy1_;
 };
+
+/// Registration (src/run/model_registry.cpp).
+DynamicsInfo cd0_model();
 
 } // namespace jamsim

@@ -1,11 +1,13 @@
 #pragma once
+#include <cmath>
+#include <limits>
 #include <memory>
-#include <string>
+#include <span>
 #include <string_view>
-#include <vector>
 
 #include "jamsim/core/system.hpp"
-#include "jamsim/dynamics/force_field.hpp"
+#include "jamsim/force/force_field.hpp"
+#include "jamsim/params/parameters.hpp"
 
 namespace jamsim {
 
@@ -19,50 +21,37 @@ struct Dissipation {
     double shear_stress_kinetic = 0.0;  ///< −(1/A) Σ m_i u_ix u_iy, k_e/d_s²
 };
 
-/// Time integration scheme for first-order (overdamped) models.
-enum class Integrator { Euler, Heun };
-
-/// Parameters every dynamical model may read. Units: k_e = k_d = d_s = 1 unless changed.
-struct ModelParams {
-    double kd = 1.0;                          ///< dissipation coefficient k_d
-    Integrator integrator = Integrator::Euler;
-    double delta = 1e-3;                      ///< CD0 substrate drag δ = k_0/k_d
-    std::string petsc_options = "";           ///< CD0: extra PETSc options (prefix cd0_)
-    std::string solver = "auto";              ///< CD0 backend: "auto", "petsc" (KSP) or "eigen" (LDLT)
-    double mass = 1.0;                        ///< massive models: mass of a small disk
-};
-
 /// A dynamical model advances a System under constant shear rate. The driver calls, per step:
 ///   forces.compute(sys)          (elastic forces of the current state into sys.particles)
 ///   model.prepare(sys, forces, rate)
-///   [observables of that state]
+///   [at samples: model.store_velocities(sys), then the observables of that state]
 ///   model.advance(sys, forces, dt, rate)
 /// so advance() may use the forces already in sys.particles.fx, fy as its first stage.
+/// A model reads its parameters from the ReplicaParams it is made with (its registration
+/// lists which, so that only those are recorded).
 class Model {
   public:
     virtual ~Model() = default;
-    virtual std::string_view name() const = 0;
 
     /// Called after the forces of the current state are computed and before it is sampled;
     /// models that solve for velocities (CD0) do so here. Default: nothing.
     virtual void prepare(System& /*sys*/, ForceField& /*forces*/, double /*rate*/) {}
 
     /// Advance positions and γ by one step of length dt (time unit τ = k_d d_s² / k_e)
-    /// at shear rate `rate` (1/τ).
-    virtual void advance(System& sys, ForceField& forces, double dt, double rate) = 0;
+    /// at shear rate `rate` (1/τ). `step` is the index of the step (0, 1, ...): models with
+    /// noise key their random numbers by it, so a run is the same however it is scheduled.
+    virtual void advance(System& sys, ForceField& forces, double dt, double rate,
+                         std::int64_t step) = 0;
 
-    /// Mean square non-affine velocity (1/N) Σ |u_i|², u = v − γ̇ y x̂, of the state whose
-    /// forces are in sys.particles (units (d_s/τ)²).
-    virtual double nonaffine_velocity_sq(const System& sys) const = 0;
+    /// Make particles.ux, uy hold the non-affine velocity u = v − γ̇ y x̂ of the current state
+    /// (called at samples, after prepare(); models that carry or solve for u have it already).
+    virtual void store_velocities(System& /*sys*/) const {}
 
     /// Dissipated power and the stress of dissipative *contact* forces (zero for drag
-    /// against the reservoir, which is a one-body force), for the state after prepare().
+    /// against the reservoir, which is a one-body force), for the state after prepare() and
+    /// store_velocities().
     virtual Dissipation dissipation(const System& sys, const ForceField& forces,
                                     double rate) const = 0;
-
-    /// Make particles.ux, uy hold the non-affine velocity of the current state (called only
-    /// at samples; models that solve for u have it already).
-    virtual void store_velocities(System& /*sys*/) const {}
 
     /// Krylov iterations per solve in the last prepare() (CD0 with PETSc; 0 otherwise).
     virtual double solver_iterations() const { return 0.0; }
@@ -73,10 +62,24 @@ class Model {
     virtual bool leaves_forces_current() const { return false; }
 };
 
-/// Registry: a model by name ("RD0"); throws std::invalid_argument listing the known names.
-std::unique_ptr<Model> make_model(std::string_view name, const ModelParams& params);
+/// Mean square non-affine velocity (1/N) Σ |u_i|² of particles.ux, uy, (d_s/τ)².
+double mean_square_velocity(const Particles& p);
 
-/// Names accepted by make_model.
-std::vector<std::string> model_names();
+/// What the run layer needs to know of a dynamical model: its registration. Each model's
+/// file defines one (a function returning it); src/run/model_registry.cpp lists them.
+struct DynamicsInfo {
+    std::string_view name;     ///< as written in campaigns ("RD0")
+    std::string_view summary;  ///< one line for --help and the README
+    /// Parameters it reads besides the common ones (N, phi, rate, seed, run length and
+    /// sampling, alpha, size_ratio, skin): recorded for its replicas, refused for others.
+    std::span<const std::string_view> parameters;
+    /// Force evaluations per step.
+    int (*evaluations_per_step)(const ReplicaParams& p);
+    /// Largest stable Δt for these parameters (+∞ when the model sets no limit).
+    double (*stable_dt)(const ReplicaParams& p);
+    std::unique_ptr<Model> (*make)(const ReplicaParams& p);
+};
+
+inline double no_dt_limit(const ReplicaParams&) { return std::numeric_limits<double>::infinity(); }
 
 } // namespace jamsim

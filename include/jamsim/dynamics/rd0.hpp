@@ -2,6 +2,7 @@
 #include <vector>
 
 #include "jamsim/dynamics/model.hpp"
+#include "jamsim/dynamics/overdamped_step.hpp"
 
 namespace jamsim {
 
@@ -11,18 +12,23 @@ namespace jamsim {
 /// Forward Euler (one force evaluation per step) or Heun (two; second order in Δt).
 class Rd0 final : public Model {
   public:
-    explicit Rd0(const ModelParams& params) : params_(params) {}
-    std::string_view name() const override { return "RD0"; }
-    void advance(System& sys, ForceField& forces, double dt, double rate) override;
-    double nonaffine_velocity_sq(const System& sys) const override;
+    explicit Rd0(const ReplicaParams& params)
+        : kd_(params.kd), heun_(params.integrator == "heun") {}
+    void advance(System& sys, ForceField& forces, double dt, double rate,
+                 std::int64_t step) override;
     /// P = k_d Σ |u_i|² (drag against the reservoir); no contact stress.
     Dissipation dissipation(const System& sys, const ForceField& forces,
                             double rate) const override;
     void store_velocities(System& sys) const override;
 
   private:
-    ModelParams params_;
-    std::vector<double> x0_, y0_, fx1_, fy1_;  // Heun scratch, shape [N]
+    double kd_;
+    bool heun_;
+    OverdampedScratch scratch_;
+    std::vector<double> fx1_, fy1_;  // Heun: forces at the predicted positions, shape [N]
 };
+
+/// Registration (src/run/model_registry.cpp).
+DynamicsInfo rd0_model();
 
 } // namespace jamsim

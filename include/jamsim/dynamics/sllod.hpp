@@ -33,11 +33,10 @@ double sllod_stable_dt(Damping damping, double mass, double kd);
 ///    evaluated inside advance() for the closing kick.
 class Sllod final : public Model {
   public:
-    Sllod(const ModelParams& params, Damping damping, std::string_view name)
-        : params_(params), damping_(damping), name_(name) {}
-    std::string_view name() const override { return name_; }
-    void advance(System& sys, ForceField& forces, double dt, double rate) override;
-    double nonaffine_velocity_sq(const System& sys) const override;
+    Sllod(const ReplicaParams& params, Damping damping)
+        : mass_(params.mass), kd_(params.kd), damping_(damping) {}
+    void advance(System& sys, ForceField& forces, double dt, double rate,
+                 std::int64_t step) override;
     Dissipation dissipation(const System& sys, const ForceField& forces,
                             double rate) const override;
 
@@ -58,11 +57,16 @@ class Sllod final : public Model {
                const std::vector<double>& ux, const std::vector<double>& uy,
                const std::vector<double>& fx, const std::vector<double>& fy);
 
-    ModelParams params_;
+    double mass_, kd_;
     Damping damping_;
-    std::string_view name_;
     std::vector<double> dx_, dy_, dux_, duy_, x0_, y0_, ux0_, uy0_, fx1_, fy1_, k1x_, k1y_,
         k1ux_, k1uy_, fdx_, fdy_;
 };
+
+/// Registrations (src/run/model_registry.cpp).
+DynamicsInfo rd_model();
+DynamicsInfo cd_model();
+DynamicsInfo cdn_model();
+DynamicsInfo cdt_model();
 
 } // namespace jamsim

@@ -157,6 +157,21 @@ struct Contact {
     double rx, ry;  ///< lab separation r_i − r_j
 };
 
+/// Calls f(k, i, j, r) for every listed pair k = (i, j) that touches at positions (x, y) in
+/// `box` (lab separation r = r_i − r_j, |r| < d_ij), in list order. The one contact
+/// traversal beside the force loop: contact dissipation (CD0, CD, CDn, CDt), contact networks.
+template <class F>
+void for_each_contact(const NeighborList& list, const Box& box, std::span<const double> x,
+                      std::span<const double> y, F&& f) {
+    const auto owner = list.owner(), neighbor = list.neighbor();
+    const auto sx = list.shift_x(), sy = list.shift_y(), contact = list.contact();
+    for (std::size_t k = 0; k < list.size(); ++k) {
+        const auto i = static_cast<std::size_t>(owner[k]), j = static_cast<std::size_t>(neighbor[k]);
+        const Vec2 r = box.lab(x[i] - x[j] + sx[k], y[i] - y[j] + sy[k]);
+        if (norm2(r) < contact[k] * contact[k]) f(k, i, j, r);
+    }
+}
+
 /// The contacts among the listed pairs, in list order (deterministic).
 std::vector<Contact> find_contacts(const NeighborList& list, const Box& box,
                                    std::span<const double> x, std::span<const double> y);

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "jamsim/dynamics/replica.hpp"
+#include "jamsim/run/replica.hpp"
 #include "jamsim/io/campaign_spec.hpp"
 #include "jamsim/io/hdf5.hpp"
 

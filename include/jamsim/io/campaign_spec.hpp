@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-#include "jamsim/dynamics/replica.hpp"
+#include "jamsim/params/parameters.hpp"
 
 namespace jamsim {
 
@@ -15,18 +15,15 @@ struct SpecError : std::runtime_error {
 
 /// A campaign: common parameters and the sweep, expanded into replicas.
 ///
-/// File format (TOML; every key optional unless marked):
-///   [campaign] name (required), output (archive path, relative to the working directory)
-///   [model]    name = "RD0" | "CD0" | "RD" | "CD" | "CDn" | "CDt", mass = 1.0, integrator = "euler" | "heun", dt = 0.2, kd = 1.0,
-///              delta = 1e-3, petsc_options = "-cd0_pc_type icc" (CD0)
-///   [potential] name = "harmonic" | "hertzian" (sets alpha), or alpha = 2.0
-///   [system]   size_ratio = 1.4, skin = 0.3
-///   [run]      transient (strain discarded), strain (total; rate > 0), time (total; rate = 0),
-///              sample_interval (strain, or time at rate 0)
-///   [sweep]    N = [..], phi = [..], rate = [..]  (Cartesian product), seeds = count | [list],
-///              points = [{N = .., phi = .., rate = ..}, ...] (extra non-grid points)
-/// Replicas are the grid (N outermost, then phi, rate, seed) followed by the points (each
-/// with every seed); replica id = position in that list, and (seed, id) keys its RNG.
+/// File format (TOML): the tables [campaign] (name and output, both required; output is
+/// relative to the working directory), [model] (name plus the model's parameters),
+/// [potential] (name = "harmonic" | "hertzian", or alpha), [system], [run] and [sweep]
+/// (N, phi, rate lists expanded as a Cartesian product; seeds = a count or a list; points =
+/// [{N = .., phi = .., rate = ..}, ...] for non-grid points, each with every seed). The keys
+/// of [model], [potential], [system], [run] and the sweep's parameters come from the
+/// parameter table (jamsim/params/parameters.hpp); a key the campaign's model does not use is
+/// refused. Replicas are the grid (N outermost, then phi, rate, seed) followed by the points;
+/// a replica's id is its position in that list, used only to address it in the archive.
 struct CampaignSpec {
     std::string path;  ///< file it was read from (for messages)
     std::string text;  ///< the file's full text, stored in the archive
@@ -42,13 +39,8 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path);
 CampaignSpec load_campaign(const std::string& path);
 
 /// Canonical description of everything that determines the replicas' output (one line per
-/// replica). Two specs with the same fingerprint produce the same archive contents.
+/// replica, its used parameters). Two specs with the same fingerprint produce the same
+/// archive contents.
 std::string fingerprint(const CampaignSpec& spec);
-
-/// Estimated cost of a replica in particle force evaluations (N × steps × evaluations/step).
-double estimated_cost(const ReplicaParams& params);
-
-/// Samples a replica writes (rows of its time series).
-std::int64_t sample_count(const ReplicaParams& params);
 
 } // namespace jamsim

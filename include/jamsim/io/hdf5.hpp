@@ -1,5 +1,6 @@
 #pragma once
 #include <hdf5.h>
+#include <mpi.h>
 
 #include <cstdint>
 #include <span>
@@ -76,5 +77,50 @@ void write_dataset(hid_t parent, const std::string& name, std::span<const double
 
 std::vector<double> read_dataset(hid_t parent, const std::string& name);
 double read_double_attribute(hid_t obj, const std::string& name);
+std::int64_t read_int64_attribute(hid_t obj, const std::string& name);
+/// A string attribute (variable or fixed length); "" when it does not exist.
+std::string read_string_attribute(hid_t obj, const std::string& name);
+/// Delete the attribute if it exists, then write it.
+void replace_attribute(hid_t obj, const std::string& name, const std::string& value);
+void replace_attribute(hid_t obj, const std::string& name, std::int64_t value);
+
+// --- Parallel files (MPI-IO driver) and datasets written block by block ---
+
+/// File access through the MPI-IO driver on `comm`, semi close degree (a close that
+/// succeeds means nothing was left open).
+Handle mpio_file_access(MPI_Comm comm);
+/// Serial read-only open that works while another job writes the file (no file locking).
+Handle open_unlocked_readonly(const std::string& path);
+/// Transfer properties for independent MPI-IO writes and reads.
+Handle independent_transfer();
+/// Fixed-length, NUL-terminated string type of `bytes` bytes.
+Handle fixed_string_type(std::size_t bytes);
+
+/// Collective: a dataset of shape `dims`, allocated now and filled with `fill`, with "units"
+/// and "description" attributes.
+void create_filled_dataset(hid_t file, const std::string& path, hid_t type,
+                           std::vector<hsize_t> dims, const void* fill, const std::string& units,
+                           const std::string& description);
+/// Write the block [start, start + count) of a dataset with transfer properties `dxpl`
+/// (independent_transfer() under MPI-IO; asking a file for its driver would be collective).
+void write_block(hid_t file, const std::string& path, hid_t memtype, std::vector<hsize_t> start,
+                 std::vector<hsize_t> count, const void* data, hid_t dxpl = H5P_DEFAULT);
+/// Read the block [start, start + count) of a dataset into `data`.
+void read_block(hid_t file, const std::string& path, hid_t memtype, std::vector<hsize_t> start,
+                std::vector<hsize_t> count, void* data, hid_t dxpl = H5P_DEFAULT);
+/// Shape of a dataset.
+std::vector<hsize_t> dataset_shape(hid_t file, const std::string& path);
+
+/// A whole dataset as a vector of T (memtype the native type of T).
+template <class T> std::vector<T> read_all(hid_t file, const std::string& path, hid_t memtype,
+                                           hid_t dxpl = H5P_DEFAULT) {
+    Handle set(H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose, "open " + path);
+    Handle space(H5Dget_space(set.get()), H5Sclose, "dataspace of " + path);
+    const hssize_t n = H5Sget_simple_extent_npoints(space.get());
+    check(static_cast<hid_t>(n), "size of " + path);
+    std::vector<T> out(static_cast<std::size_t>(n));
+    if (n > 0) check(H5Dread(set.get(), memtype, H5S_ALL, H5S_ALL, dxpl, out.data()), "read " + path);
+    return out;
+}
 
 } // namespace jamsim::h5

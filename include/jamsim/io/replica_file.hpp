@@ -1,7 +1,7 @@
 #pragma once
 #include <string>
 
-#include "jamsim/dynamics/replica.hpp"
+#include "jamsim/run/replica.hpp"
 
 namespace jamsim {
 

@@ -16,18 +16,16 @@ namespace jamsim::linalg {
 ///    rebuilt from scratch if round-off accumulated by the changes makes it miss;
 ///  - a new neighbour-list pattern starts with a fresh analysis and factorisation.
 /// Same interface and matrix as ContactSolver (PETSc).
-class EigenContactSolver {
+class EigenContactSolver final : public ContactSolver {
   public:
     EigenContactSolver(std::size_t n, double delta, double rtol = 1e-10);
-    ~EigenContactSolver();
+    ~EigenContactSolver() override;
     EigenContactSolver(const EigenContactSolver&) = delete;
     EigenContactSolver& operator=(const EigenContactSolver&) = delete;
 
     SolveInfo solve(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,
                     std::size_t pattern_version, std::span<const double> b_x,
-                    std::span<const double> b_y, std::span<double> u_x, std::span<double> u_y);
-
-
+                    std::span<const double> b_y, std::span<double> u_x, std::span<double> u_y) override;
 
   private:
     struct Impl;

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "jamsim/core/system.hpp"
-#include "jamsim/dynamics/force_field.hpp"
+#include "jamsim/force/force_field.hpp"
 
 namespace jamsim {
 

@@ -3,7 +3,7 @@
 #include <vector>
 
 #include "jamsim/core/system.hpp"
-#include "jamsim/dynamics/force_field.hpp"
+#include "jamsim/force/force_field.hpp"
 #include "jamsim/minimize/minimizer.hpp"
 
 namespace jamsim {

@@ -1,6 +1,6 @@
 #pragma once
 #include "jamsim/core/system.hpp"
-#include "jamsim/dynamics/force_field.hpp"
+#include "jamsim/force/force_field.hpp"
 #include "jamsim/minimize/minimizer.hpp"
 #include "jamsim/observe/contact_network.hpp"
 

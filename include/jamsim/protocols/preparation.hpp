@@ -5,7 +5,7 @@
 
 #include "jamsim/core/rng.hpp"
 #include "jamsim/core/system.hpp"
-#include "jamsim/dynamics/force_field.hpp"
+#include "jamsim/force/force_field.hpp"
 #include "jamsim/minimize/minimizer.hpp"
 
 namespace jamsim {

@@ -1,4 +1,4 @@
-#include "jamsim/dynamics/force_field.hpp"
+#include "jamsim/force/force_field.hpp"
 
 namespace jamsim {
 

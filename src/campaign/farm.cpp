@@ -1,4 +1,4 @@
-#include "jamsim/parallel/farm.hpp"
+#include "jamsim/campaign/farm.hpp"
 
 #include <algorithm>
 #include <chrono>

@@ -1,0 +1,86 @@
+#pragma once
+// Every model and protocol a replica can run, registered once with what the run layer needs:
+// the parameters it reads, its force evaluations per step, its stable time step, its
+// schedule and cost estimate, and its run function. Nothing outside this registry compares
+// model names.
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "jamsim/dynamics/model.hpp"
+#include "jamsim/params/parameters.hpp"
+
+namespace jamsim {
+
+struct ReplicaResult;
+
+/// Called after every sample (the campaign farm answers work requests from it); it must not
+/// touch the replica.
+using SampleHook = std::function<void()>;
+
+/// Steps a replica takes and steps between its samples (both ends are sampled).
+struct Schedule {
+    std::int64_t steps = 0;
+    std::int64_t sample_every = 1;
+};
+
+enum class ModelKind : std::uint8_t {
+    Dynamics,      ///< integrates equations of motion (RD0, CD0, RD, CD, CDn, CDt, ...)
+    Minimisation,  ///< minimises the energy (QS, RAND, COMPRESS, COOL, ...)
+};
+
+struct ModelInfo {
+    std::string_view name;
+    ModelKind kind;
+    std::string_view summary;
+    /// Parameters read besides the common ones (kCommonParameters).
+    std::span<const std::string_view> parameters;
+    int (*evaluations_per_step)(const ReplicaParams& p);
+    /// Largest stable Δt (+∞: no limit); validate() refuses a larger dt.
+    double (*stable_dt)(const ReplicaParams& p);
+    Schedule (*schedule)(const ReplicaParams& p);
+    /// Estimated particle force evaluations of the whole replica (for ordering and --dry-run).
+    double (*cost)(const ReplicaParams& p);
+    ReplicaResult (*run)(const ReplicaParams& p, const SampleHook& after_sample);
+    /// Dynamics: the model (nullptr for minimisation protocols).
+    std::unique_ptr<Model> (*make)(const ReplicaParams& p) = nullptr;
+};
+
+/// Every registered model, in registration order.
+std::span<const ModelInfo> models();
+/// The registration of `name`, or nullptr.
+const ModelInfo* find_model(std::string_view name);
+/// The registration of p.model; throws std::invalid_argument listing the known names.
+const ModelInfo& model_of(const ReplicaParams& p);
+/// "RD0, CD0, ..." for messages.
+std::string model_list();
+
+/// Parameters every replica uses: model, N, phi, seed, alpha, size_ratio, skin. The
+/// dynamics also use rate, transient, sample_interval and strain (rate > 0) or time (rate 0).
+bool uses_parameter(const ReplicaParams& p, std::string_view key);
+/// The rows of the parameter table that p's model uses, in table order.
+std::vector<const ParamInfo*> used_parameters(const ReplicaParams& p);
+
+/// Every violation among the parameters p's model uses, including its stable Δt (empty when
+/// usable). An unknown model is the only error reported then.
+std::vector<ParamError> validate(const ReplicaParams& p);
+
+Schedule schedule_of(const ReplicaParams& p);
+double estimated_cost(const ReplicaParams& p);
+int evaluations_per_step(const ReplicaParams& p);
+/// Samples (rows) a replica writes.
+std::int64_t sample_count(const ReplicaParams& p);
+
+/// "key=value key=value ..." of the parameters p's model uses (17 significant digits where
+/// needed): the canonical description of a replica (fingerprints, messages).
+std::string describe(const ReplicaParams& p);
+/// The replica's random identity: a 64-bit hash of its model and of the physical parameters
+/// it uses (Identity::Physics), seed excluded. With the seed it keys every random number,
+/// so a replica is the same in any campaign that contains it and whatever its position in
+/// the sweep, run length, time step or numerical settings.
+std::uint64_t replica_identity(const ReplicaParams& p);
+
+} // namespace jamsim

@@ -1,0 +1,220 @@
+#include "jamsim/params/parameters.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
+
+#include "jamsim/minimize/minimizer.hpp"
+
+namespace jamsim {
+
+namespace {
+
+using R = ReplicaParams;
+constexpr auto kPhys = Identity::Physics;
+constexpr auto kNum = Identity::Numerics;
+
+bool positive(double v) { return std::isfinite(v) && v > 0.0; }
+bool non_negative(double v) { return std::isfinite(v) && v >= 0.0; }
+
+// Checks: "" when usable, else what is allowed (the row's `allowed` when it says it all).
+#define JAMSIM_CHECK(cond, text) [](const R& p) -> std::string { return (cond) ? "" : (text); }
+
+std::string check_n(const R& p) {
+    if (p.n < 2) return "an integer >= 2";
+    if (p.size_ratio != 1.0 && p.n % 2 != 0)
+        return "an even number (50:50 mixture; size_ratio = 1 allows odd N)";
+    return "";
+}
+
+std::string check_minimizer(const R& p) {
+    const auto names = minimizer_names();
+    if (std::find(names.begin(), names.end(), p.minimizer) != names.end()) return "";
+    std::string list;
+    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+    return list;
+}
+
+std::string check_force_tol(const R& p) {
+    if (!non_negative(p.force_tol)) return "force_tol >= 0";
+    if (p.force_tol == 0.0 && p.force_tol_abs == 0.0)
+        return "force_tol > 0 or force_tol_abs > 0 (a reachable stopping rule)";
+    return "";
+}
+
+// The table. Order: identity of the replica, run length and sampling, the model's
+// parameters, minimisation, potential, system.
+const ParamInfo kParameters[] = {
+    {"model", "model", "name", "--model", "", "model or protocol", &R::model, kPhys, nullptr,
+     "a registered model (jamsim models)"},
+    {"N", "sweep", "N", "--N", "1", "number of disks", &R::n, kPhys, check_n,
+     "an integer >= 2, even unless size_ratio = 1"},
+    {"phi", "sweep", "phi", "--phi", "1", "packing fraction sum(pi d_i^2/4) / L^2", &R::phi, kPhys,
+     JAMSIM_CHECK(p.phi > 0.0 && p.phi < 1.0, "0 < phi < 1"), "0 < phi < 1"},
+    {"rate", "sweep", "rate", "--rate", "1/tau", "shear rate", &R::rate, kPhys,
+     JAMSIM_CHECK(non_negative(p.rate), "rate >= 0"), "rate >= 0"},
+    {"seed", "sweep", "seeds", "--seed", "1",
+     "random seed; with the replica's physical parameters it keys every random number",
+     &R::seed, kPhys, nullptr, "an integer >= 0 (in a campaign: a count or a list)"},
+    {"strain", "run", "strain", "--strain", "1",
+     "total strain (dynamics at rate > 0; QS and SHEARED: strain of the quasistatic shear)",
+     &R::strain, kNum, JAMSIM_CHECK(positive(p.strain), "strain > 0"), "strain > 0"},
+    {"time", "run", "time", "--time", "tau", "total time of a dynamics run at rate 0", &R::time,
+     kNum, JAMSIM_CHECK(positive(p.time), "time > 0 (needed when rate = 0)"), "time > 0"},
+    {"transient", "run", "transient", "--transient", "1",
+     "strain (time at rate 0) excluded from averages and g_y", &R::transient, kNum,
+     JAMSIM_CHECK(non_negative(p.transient), "transient >= 0"), "transient >= 0"},
+    {"sample_interval", "run", "sample_interval", "--sample-interval", "1",
+     "strain (time at rate 0) between samples, rounded to whole steps", &R::sample_interval,
+     kNum, JAMSIM_CHECK(positive(p.sample_interval), "sample_interval > 0"),
+     "sample_interval > 0"},
+    {"dt", "model", "dt", "--dt", "tau", "time step", &R::dt, kNum,
+     JAMSIM_CHECK(positive(p.dt), "dt > 0"), "dt > 0 (and below the model's stable limit)"},
+    {"integrator", "model", "integrator", "--integrator", "",
+     "overdamped models: euler (1 force evaluation per step) or heun (2, second order)",
+     &R::integrator, kNum,
+     JAMSIM_CHECK(p.integrator == "euler" || p.integrator == "heun", "euler or heun"),
+     "euler, heun"},
+    {"kd", "model", "kd", "--kd", "k_e tau/d_s^2", "dissipation coefficient k_d", &R::kd, kPhys,
+     JAMSIM_CHECK(positive(p.kd), "kd > 0"), "kd > 0"},
+    {"mass", "model", "mass", "--mass", "k_e tau^2/d_s^2",
+     "mass of a small disk (large disks scale by area)", &R::mass, kPhys,
+     JAMSIM_CHECK(positive(p.mass), "mass > 0"), "mass > 0"},
+    {"delta", "model", "delta", "--delta", "1",
+     "CD0 substrate drag k_0/k_d on the non-affine velocity", &R::delta, kPhys,
+     JAMSIM_CHECK(positive(p.delta), "delta > 0"), "delta > 0"},
+    {"solver", "model", "solver", "--solver", "",
+     "CD0 backend: auto (eigen up to N = 65536, petsc above), petsc (KSP) or eigen (LDLT)",
+     &R::solver, kNum,
+     JAMSIM_CHECK(p.solver == "auto" || p.solver == "petsc" || p.solver == "eigen",
+                  "auto, petsc or eigen"),
+     "auto, petsc, eigen"},
+    {"petsc_options", "model", "petsc_options", "--petsc-options", "",
+     "CD0 PETSc options with prefix cd0_, e.g. \"-cd0_pc_type icc\"", &R::petsc_options, kNum,
+     nullptr, "PETSc options"},
+    {"temperature", "model", "temperature", "--temperature", "k_e",
+     "temperature (COOL, COOL_COMPRESS: the starting temperature T_0)", &R::temperature, kPhys,
+     JAMSIM_CHECK(positive(p.temperature), "temperature > 0"), "temperature > 0"},
+    {"cooling_time", "model", "cooling_time", "--cooling-time", "tau",
+     "time over which T falls linearly to 0", &R::cooling_time, kPhys,
+     JAMSIM_CHECK(positive(p.cooling_time), "cooling_time > 0"), "cooling_time > 0"},
+    {"minimizer", "model", "minimizer", "--minimizer", "",
+     "cg (hybrid HS/DY), cg-pr (Polak-Ribiere) or fire (FIRE 2.0)", &R::minimizer, kNum,
+     check_minimizer, "cg, cg-pr, fire"},
+    {"strain_step", "model", "strain_step", "--strain-step", "1",
+     "quasistatic shear: strain between minimisations", &R::strain_step, kNum,
+     JAMSIM_CHECK(positive(p.strain_step), "strain_step > 0"), "strain_step > 0"},
+    {"energy_floor", "model", "energy_floor", "--energy-floor", "k_e",
+     "minimisation: E/N below this is unjammed", &R::energy_floor, kNum,
+     JAMSIM_CHECK(positive(p.energy_floor), "energy_floor > 0"), "energy_floor > 0"},
+    {"force_tol", "model", "force_tol", "--force-tol", "1",
+     "minimisation: largest force component / mean contact force at convergence", &R::force_tol,
+     kNum, check_force_tol, "force_tol >= 0"},
+    {"force_tol_abs", "model", "force_tol_abs", "--force-tol-abs", "k_e/d_s",
+     "minimisation: absolute force floor at convergence", &R::force_tol_abs, kNum,
+     JAMSIM_CHECK(non_negative(p.force_tol_abs), "force_tol_abs >= 0"), "force_tol_abs >= 0"},
+    {"phi_tol", "model", "phi_tol", "--phi-tol", "1", "phi_J search: width of the final bracket",
+     &R::phi_tol, kNum, JAMSIM_CHECK(p.phi_tol > 0.0 && p.phi_tol < 1e-2, "0 < phi_tol < 0.01"),
+     "0 < phi_tol < 0.01"},
+    {"alpha", "potential", "alpha", "--alpha", "1",
+     "potential exponent: V = k_e/alpha (1 - r/d)^alpha ([potential] name = harmonic: 2, "
+     "hertzian: 2.5)",
+     &R::alpha, kPhys, JAMSIM_CHECK(std::isfinite(p.alpha) && p.alpha > 1.0, "alpha > 1"),
+     "alpha > 1"},
+    {"size_ratio", "system", "size_ratio", "--size-ratio", "1",
+     "large/small diameter of the 50:50 mixture (1: monodisperse)", &R::size_ratio, kPhys,
+     JAMSIM_CHECK(std::isfinite(p.size_ratio) && p.size_ratio >= 1.0, "size_ratio >= 1"),
+     "size_ratio >= 1"},
+    {"skin", "system", "skin", "--skin", "d_s", "neighbour-list skin", &R::skin, kNum,
+     JAMSIM_CHECK(positive(p.skin), "skin > 0"), "skin > 0"},
+};
+#undef JAMSIM_CHECK
+
+} // namespace
+
+std::span<const ParamInfo> parameters() { return kParameters; }
+
+const ParamInfo* find_parameter(std::string_view key) {
+    for (const auto& info : kParameters)
+        if (info.key == key) return &info;
+    return nullptr;
+}
+
+ParamValue get_value(const ReplicaParams& p, const ParamInfo& info) {
+    return std::visit(
+        [&](auto member) -> ParamValue {
+            const auto& v = p.*member;
+            using T = std::decay_t<decltype(v)>;
+            if constexpr (std::is_same_v<T, std::uint64_t>) return static_cast<std::int64_t>(v);
+            else return v;
+        },
+        info.field);
+}
+
+bool set_value(ReplicaParams& p, const ParamInfo& info, const ParamValue& value) {
+    return std::visit(
+        [&](auto member) -> bool {
+            auto& target = p.*member;
+            using T = std::decay_t<decltype(target)>;
+            if constexpr (std::is_same_v<T, std::string>) {
+                if (const auto* s = std::get_if<std::string>(&value)) return target = *s, true;
+            } else if constexpr (std::is_same_v<T, double>) {
+                if (const auto* d = std::get_if<double>(&value)) return target = *d, true;
+                if (const auto* i = std::get_if<std::int64_t>(&value))
+                    return target = static_cast<double>(*i), true;
+            } else {  // integers
+                if (const auto* i = std::get_if<std::int64_t>(&value)) {
+                    if (std::is_unsigned_v<T> && *i < 0) return false;
+                    return target = static_cast<T>(*i), true;
+                }
+            }
+            return false;
+        },
+        info.field);
+}
+
+bool is_numeric(const ParamInfo& info) {
+    return !std::holds_alternative<std::string ReplicaParams::*>(info.field);
+}
+
+double numeric_value(const ReplicaParams& p, const ParamInfo& info) {
+    const ParamValue v = get_value(p, info);
+    if (const auto* d = std::get_if<double>(&v)) return *d;
+    if (const auto* i = std::get_if<std::int64_t>(&v)) return static_cast<double>(*i);
+    return std::nan("");
+}
+
+std::string show_value(const ParamValue& value) {
+    if (const auto* s = std::get_if<std::string>(&value)) return *s;
+    if (const auto* i = std::get_if<std::int64_t>(&value)) return std::to_string(*i);
+    const double d = std::get<double>(value);
+    // Shortest of 15 or 17 significant digits that reads back to the same double.
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.15g", d);
+    if (std::strtod(buf, nullptr) != d) std::snprintf(buf, sizeof buf, "%.17g", d);
+    return buf;
+}
+
+std::string default_text(const ParamInfo& info) {
+    return show_value(get_value(ReplicaParams{}, info));
+}
+
+bool parse_value(const ParamInfo& info, const std::string& text, ParamValue& out) {
+    if (!is_numeric(info)) return out = text, true;
+    if (text.empty()) return false;
+    char* end = nullptr;
+    if (std::holds_alternative<double ReplicaParams::*>(info.field)) {
+        const double d = std::strtod(text.c_str(), &end);
+        if (*end != '\0') return false;
+        return out = d, true;
+    }
+    errno = 0;
+    const long long i = std::strtoll(text.c_str(), &end, 10);
+    if (*end != '\0' || errno != 0) return false;
+    out = static_cast<std::int64_t>(i);
+    return true;
+}
+
+} // namespace jamsim

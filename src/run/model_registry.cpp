@@ -1,0 +1,159 @@
+#include "jamsim/run/model_registry.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "jamsim/dynamics/cd0.hpp"
+#include "jamsim/dynamics/rd0.hpp"
+#include "jamsim/dynamics/sllod.hpp"
+#include "jamsim/run/replica.hpp"
+
+namespace jamsim {
+
+// Minimisation protocols (src/run/static_protocols.cpp).
+ModelInfo qs_protocol();
+ModelInfo rand_protocol();
+ModelInfo compress_protocol();
+ModelInfo cool_protocol();
+ModelInfo cool_compress_protocol();
+ModelInfo sheared_protocol();
+
+namespace {
+
+Schedule dynamics_schedule(const ReplicaParams& p) {
+    const double duration = p.rate > 0.0 ? p.strain / p.rate : p.time;
+    const double sample_time = p.rate > 0.0 ? p.sample_interval / p.rate : p.sample_interval;
+    return {.steps = static_cast<std::int64_t>(std::ceil(duration / p.dt - 1e-9)),
+            .sample_every = std::max<std::int64_t>(1, std::llround(sample_time / p.dt))};
+}
+
+/// A dynamical model's registration as the run layer sees it.
+ModelInfo dynamics(const DynamicsInfo& d) {
+    return {.name = d.name,
+            .kind = ModelKind::Dynamics,
+            .summary = d.summary,
+            .parameters = d.parameters,
+            .evaluations_per_step = d.evaluations_per_step,
+            .stable_dt = d.stable_dt,
+            .schedule = dynamics_schedule,
+            .cost =
+                [](const ReplicaParams& p) {
+                    return static_cast<double>(p.n) *
+                           static_cast<double>(dynamics_schedule(p).steps) *
+                           evaluations_per_step(p);
+                },
+            .run = run_dynamics,
+            .make = d.make};
+}
+
+/// One line per model or protocol: adding one is its own file plus a line here.
+const std::vector<ModelInfo>& registry() {
+    static const std::vector<ModelInfo> all{
+        dynamics(rd0_model()),  dynamics(cd0_model()), dynamics(rd_model()),
+        dynamics(cd_model()),   dynamics(cdn_model()), dynamics(cdt_model()),
+        qs_protocol(),          rand_protocol(),       compress_protocol(),
+        cool_protocol(),        cool_compress_protocol(), sheared_protocol(),
+    };
+    return all;
+}
+
+constexpr std::string_view kCommonParameters[] = {"model", "N",          "phi", "seed",
+                                                  "alpha", "size_ratio", "skin"};
+
+bool contains(std::span<const std::string_view> keys, std::string_view key) {
+    return std::find(keys.begin(), keys.end(), key) != keys.end();
+}
+
+/// FNV-1a over the text, then the splitmix64 finaliser (full avalanche of all 64 bits).
+std::uint64_t hash64(std::string_view text) {
+    std::uint64_t h = 0xcbf29ce484222325ull;
+    for (unsigned char c : text) h = (h ^ c) * 0x100000001b3ull;
+    h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ull;
+    h = (h ^ (h >> 27)) * 0x94d049bb133111ebull;
+    return h ^ (h >> 31);
+}
+
+} // namespace
+
+std::span<const ModelInfo> models() { return registry(); }
+
+const ModelInfo* find_model(std::string_view name) {
+    for (const auto& m : registry())
+        if (m.name == name) return &m;
+    return nullptr;
+}
+
+std::string model_list() {
+    std::string list;
+    for (const auto& m : registry()) list += (list.empty() ? "" : ", ") + std::string(m.name);
+    return list;
+}
+
+const ModelInfo& model_of(const ReplicaParams& p) {
+    if (const ModelInfo* m = find_model(p.model)) return *m;
+    throw std::invalid_argument("unknown model '" + p.model + "' (known: " + model_list() + ")");
+}
+
+bool uses_parameter(const ReplicaParams& p, std::string_view key) {
+    if (contains(kCommonParameters, key)) return true;
+    const ModelInfo* m = find_model(p.model);
+    if (!m) return false;
+    if (m->kind == ModelKind::Dynamics) {
+        if (key == "rate" || key == "transient" || key == "sample_interval") return true;
+        if (key == "strain") return p.rate > 0.0;
+        if (key == "time") return p.rate == 0.0;
+    }
+    return contains(m->parameters, key);
+}
+
+std::vector<const ParamInfo*> used_parameters(const ReplicaParams& p) {
+    std::vector<const ParamInfo*> out;
+    for (const auto& info : parameters())
+        if (uses_parameter(p, info.key)) out.push_back(&info);
+    return out;
+}
+
+std::vector<ParamError> validate(const ReplicaParams& p) {
+    const ModelInfo* m = find_model(p.model);
+    if (!m) return {{"model", p.model, "one of: " + model_list()}};
+    std::vector<ParamError> errors;
+    for (const ParamInfo* info : used_parameters(p))
+        if (info->check)
+            if (std::string allowed = info->check(p); !allowed.empty())
+                errors.push_back({std::string(info->key), show_value(get_value(p, *info)), allowed});
+    if (errors.empty() && uses_parameter(p, "dt") && p.dt > m->stable_dt(p))
+        errors.push_back({"dt", show_value(p.dt),
+                          "dt <= " + show_value(m->stable_dt(p)) + " for " + p.model +
+                              " with mass " + show_value(p.mass) + " and kd " +
+                              show_value(p.kd) + " (stability of the integrator)"});
+    return errors;
+}
+
+Schedule schedule_of(const ReplicaParams& p) { return model_of(p).schedule(p); }
+double estimated_cost(const ReplicaParams& p) { return model_of(p).cost(p); }
+int evaluations_per_step(const ReplicaParams& p) { return model_of(p).evaluations_per_step(p); }
+
+std::int64_t sample_count(const ReplicaParams& p) {
+    const Schedule s = schedule_of(p);
+    return s.steps / s.sample_every + 1;
+}
+
+std::string describe(const ReplicaParams& p) {
+    std::string out;
+    for (const ParamInfo* info : used_parameters(p)) {
+        if (!out.empty()) out.push_back(' ');
+        out.append(info->key).append("=").append(show_value(get_value(p, *info)));
+    }
+    return out;
+}
+
+std::uint64_t replica_identity(const ReplicaParams& p) {
+    std::string text = "jamsim replica";
+    for (const ParamInfo* info : used_parameters(p))
+        if (info->identity == Identity::Physics && info->key != "seed")
+            text.append(" ").append(info->key).append("=").append(show_value(get_value(p, *info)));
+    return hash64(text);
+}
+
+} // namespace jamsim

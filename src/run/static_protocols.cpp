@@ -1,0 +1,216 @@
+// The minimisation protocols of a campaign: QS shear, the RAND and COOL quenches and the
+// compression to φ_J (COMPRESS, COOL_COMPRESS, SHEARED). Each produces rows of the same
+// TimeSeries as the dynamics, with the static columns (packing_fraction,
+// contact_number_nonrattler, rattler_fraction, excess_contacts, jammed, max_force) filled in
+// and solver_iterations holding the minimiser's iterations. `time` is NaN: a quasistatic
+// state has no time; QS rows carry their strain.
+#include <algorithm>
+#include <cmath>
+
+#include "jamsim/core/rng.hpp"
+#include "jamsim/minimize/minimizer.hpp"
+#include "jamsim/protocols/jamming.hpp"
+#include "jamsim/protocols/preparation.hpp"
+#include "jamsim/run/replica.hpp"
+#include "replica_run.hpp"
+
+namespace jamsim {
+
+namespace {
+
+MinimizeCriteria criteria_of(const ReplicaParams& p) {
+    MinimizeCriteria c;
+    c.energy_floor = p.energy_floor;
+    c.force_tol = p.force_tol;
+    c.force_tol_abs = p.force_tol_abs;
+    return c;
+}
+
+Sample sample_of(const StaticState& st, const System& sys, double strain) {
+    const double n = static_cast<double>(sys.particles.size());
+    const bool jammed = st.jammed();  // an unjammed state's contacts are round-off, not a network
+    return {.time = Sample::kNone,
+            .strain = strain,
+            .energy_per_particle = st.minimum.energy_per_particle,
+            .pressure = st.minimum.pressure,
+            .shear_stress = st.minimum.shear_stress,
+            .contact_number = 2.0 * static_cast<double>(st.minimum.contacts) / n,
+            .nonaffine_velocity_sq = 0.0,
+            .pressure_dissipative = 0.0,
+            .shear_stress_dissipative = 0.0,
+            .input_power = 0.0,
+            .dissipated_power = 0.0,
+            .kinetic_energy_per_particle = 0.0,
+            .pressure_kinetic = 0.0,
+            .shear_stress_kinetic = 0.0,
+            .solver_iterations = static_cast<double>(st.minimum.iterations),
+            .packing_fraction = st.phi,
+            .contact_number_nonrattler = jammed ? st.network.z() : Sample::kNone,
+            .rattler_fraction = jammed ? st.network.rattler_fraction() : Sample::kNone,
+            .excess_contacts = jammed ? static_cast<double>(st.network.excess_contacts()) : Sample::kNone,
+            .jammed = jammed ? 1.0 : 0.0,
+            .max_force = st.minimum.max_force};
+}
+
+/// A protocol in progress: the shared run state plus the minimiser and its criteria.
+struct Protocol : ReplicaRun {
+    Protocol(const ReplicaParams& p, const SampleHook& hook)
+        : ReplicaRun(p), params(p), after_sample(hook), minimizer(make_minimizer(p.minimizer)),
+          criteria(criteria_of(p)) {}
+
+    StaticState minimise() {  // quench the configuration as it is, counting its cost
+        StaticState st = quench(system(), forces, *minimizer, criteria);
+        result.force_evaluations += st.minimum.force_evaluations;
+        return st;
+    }
+    void record(const StaticState& st, double strain) {
+        result.series.push(sample_of(st, system(), strain));
+        if (after_sample) after_sample();
+    }
+    void cool_down() {  // overdamped Langevin cooling (Paper I)
+        const ReplicaParams& p = params;
+        result.force_evaluations +=
+            cool(system(), forces, {p.temperature, p.cooling_time, p.dt, p.kd},
+                 RngStream(p.seed, p.replica, RngPurpose::ThermalNoise));
+    }
+    void record_jamming_point() {  // compression/decompression to φ_J (O'Hern et al.)
+        const JammingPoint jp =
+            find_jamming_point(system(), forces, *minimizer, criteria, 1e-3, params.phi_tol);
+        result.force_evaluations += jp.force_evaluations;
+        record(jp.state, 0.0);
+    }
+
+    const ReplicaParams& params;
+    const SampleHook& after_sample;
+    std::unique_ptr<Minimizer> minimizer;
+    MinimizeCriteria criteria;
+};
+
+ReplicaResult run_qs(const ReplicaParams& p, const SampleHook& hook) {
+    Protocol run(p, hook);
+    const auto [steps, every] = schedule_of(p);
+    double strain = 0.0;
+    for (std::int64_t step = 0;; ++step) {  // minimise, then γ → γ + Δγ (affine)
+        const StaticState st = run.minimise();
+        if (step % every == 0) run.record(st, strain);
+        if (step == steps) break;
+        strain = static_cast<double>(step + 1) * p.strain_step;
+        apply_strain(run.system(), run.forces, run.system().box.strain() + p.strain_step);
+    }
+    return run.finish();
+}
+
+ReplicaResult run_rand(const ReplicaParams& p, const SampleHook& hook) {
+    Protocol run(p, hook);
+    run.record(run.minimise(), 0.0);
+    return run.finish();
+}
+
+ReplicaResult run_compress(const ReplicaParams& p, const SampleHook& hook) {
+    Protocol run(p, hook);
+    run.record_jamming_point();
+    return run.finish();
+}
+
+ReplicaResult run_cool(const ReplicaParams& p, const SampleHook& hook) {
+    Protocol run(p, hook);
+    run.cool_down();
+    run.record(run.minimise(), 0.0);
+    return run.finish();
+}
+
+ReplicaResult run_cool_compress(const ReplicaParams& p, const SampleHook& hook) {
+    Protocol run(p, hook);
+    run.cool_down();
+    run.record_jamming_point();
+    return run.finish();
+}
+
+ReplicaResult run_sheared(const ReplicaParams& p, const SampleHook& hook) {
+    Protocol run(p, hook);
+    run.result.force_evaluations += shear_quasistatically(run.system(), run.forces, *run.minimizer,
+                                                          run.criteria, p.strain, p.strain_step);
+    run.record_jamming_point();
+    return run.finish();
+}
+
+Schedule one_state(const ReplicaParams&) { return {.steps = 0, .sample_every = 1}; }
+int one_evaluation(const ReplicaParams&) { return 1; }
+
+// Parameters: the minimiser and its stopping rule, plus what each protocol adds.
+constexpr std::string_view kQs[] = {"minimizer", "energy_floor", "force_tol", "force_tol_abs",
+                                    "strain", "strain_step", "transient", "sample_interval"};
+constexpr std::string_view kRand[] = {"minimizer", "energy_floor", "force_tol", "force_tol_abs"};
+constexpr std::string_view kCompress[] = {"minimizer", "energy_floor", "force_tol",
+                                          "force_tol_abs", "phi_tol"};
+constexpr std::string_view kCool[] = {"minimizer", "energy_floor", "force_tol", "force_tol_abs",
+                                      "temperature", "cooling_time", "dt", "kd"};
+constexpr std::string_view kCoolCompress[] = {"minimizer", "energy_floor", "force_tol",
+                                              "force_tol_abs", "phi_tol", "temperature",
+                                              "cooling_time", "dt", "kd"};
+constexpr std::string_view kSheared[] = {"minimizer", "energy_floor", "force_tol",
+                                         "force_tol_abs", "strain", "strain_step", "phi_tol"};
+
+// Cost estimates in force evaluations per disk: a RAND quench ~1e3, a φ_J search ~2e4, a
+// QS step ~1e2, a cooling step 1.
+double n_of(const ReplicaParams& p) { return static_cast<double>(p.n); }
+double qs_steps(const ReplicaParams& p) { return p.strain / p.strain_step; }
+
+} // namespace
+
+ModelInfo qs_protocol() {
+    return {.name = "QS", .kind = ModelKind::Minimisation,
+            .summary = "quasistatic shear: strain_step (affine), minimise; a sample per sample_interval",
+            .parameters = kQs, .evaluations_per_step = one_evaluation, .stable_dt = no_dt_limit,
+            .schedule = [](const ReplicaParams& p) {
+                return Schedule{.steps = static_cast<std::int64_t>(std::ceil(qs_steps(p) - 1e-9)),
+                                .sample_every = std::max<std::int64_t>(1, std::llround(p.sample_interval / p.strain_step))};
+            },
+            .cost = [](const ReplicaParams& p) { return n_of(p) * 1e2 * qs_steps(p); },
+            .run = run_qs};
+}
+
+ModelInfo rand_protocol() {
+    return {.name = "RAND", .kind = ModelKind::Minimisation,
+            .summary = "random positions at phi (an infinite-temperature quench), minimised: one state",
+            .parameters = kRand, .evaluations_per_step = one_evaluation, .stable_dt = no_dt_limit,
+            .schedule = one_state, .cost = [](const ReplicaParams& p) { return n_of(p) * 1e3; },
+            .run = run_rand};
+}
+
+ModelInfo compress_protocol() {
+    return {.name = "COMPRESS", .kind = ModelKind::Minimisation,
+            .summary = "RAND, then compression/decompression to its own phi_J: the jammed state at phi_J+",
+            .parameters = kCompress, .evaluations_per_step = one_evaluation, .stable_dt = no_dt_limit,
+            .schedule = one_state, .cost = [](const ReplicaParams& p) { return n_of(p) * 2e4; },
+            .run = run_compress};
+}
+
+ModelInfo cool_protocol() {
+    return {.name = "COOL", .kind = ModelKind::Minimisation,
+            .summary = "overdamped Langevin cooling T(t) = T_0 (1 - t/cooling_time), then a quench",
+            .parameters = kCool, .evaluations_per_step = one_evaluation, .stable_dt = no_dt_limit,
+            .schedule = one_state,
+            .cost = [](const ReplicaParams& p) { return n_of(p) * (1e3 + p.cooling_time / p.dt); },
+            .run = run_cool};
+}
+
+ModelInfo cool_compress_protocol() {
+    return {.name = "COOL_COMPRESS", .kind = ModelKind::Minimisation,
+            .summary = "COOL's cooling, then the phi_J search of COMPRESS (Paper I)",
+            .parameters = kCoolCompress, .evaluations_per_step = one_evaluation,
+            .stable_dt = no_dt_limit, .schedule = one_state,
+            .cost = [](const ReplicaParams& p) { return n_of(p) * (2e4 + p.cooling_time / p.dt); },
+            .run = run_cool_compress};
+}
+
+ModelInfo sheared_protocol() {
+    return {.name = "SHEARED", .kind = ModelKind::Minimisation,
+            .summary = "the sheared ensemble: QS shear at phi to strain, then the phi_J search",
+            .parameters = kSheared, .evaluations_per_step = one_evaluation,
+            .stable_dt = no_dt_limit, .schedule = one_state,
+            .cost = [](const ReplicaParams& p) { return n_of(p) * (2e4 + 1e2 * qs_steps(p)); },
+            .run = run_sheared};
+}
+
+} // namespace jamsim
