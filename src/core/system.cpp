@@ -30,7 +30,7 @@ double packing_fraction(const Particles& p, const Box& box) {
 }
 
 System random_system(std::int64_t n, double phi, SizeMix mix, std::uint64_t seed,
-                     std::uint32_t replica) {
+                     std::uint64_t identity) {
     if (n < 2) throw std::invalid_argument("random_system: N must be at least 2");
     if (mix.size_ratio != 1.0 && n % 2 != 0)
         throw std::invalid_argument("random_system: a 50:50 mixture needs an even N, got " +
@@ -45,7 +45,7 @@ System random_system(std::int64_t n, double phi, SizeMix mix, std::uint64_t seed
         p.tag[i] = static_cast<std::int32_t>(i);
     }
     const double side = box_side_for(p, phi);
-    const RngStream rng(seed, replica, RngPurpose::InitialPositions);
+    const RngStream rng(seed, identity, RngPurpose::InitialPositions);
     for (std::size_t i = 0; i < count; ++i) {
         const auto u = rng.uniform2(static_cast<std::uint32_t>(i));
         p.x[i] = u[0] * side;

@@ -40,7 +40,7 @@ template <Damping kDamping> DynamicsInfo sllod_model(std::string_view name, std:
             .parameters = kSllodParameters,
             .evaluations_per_step = [](const ReplicaParams&) { return kDamping == Damping::RD ? 1 : 2; },
             .stable_dt = [](const ReplicaParams& p) { return sllod_stable_dt(kDamping, p.mass, p.kd); },
-            .make = [](const ReplicaParams& p) -> std::unique_ptr<Model> {
+            .make = [](const ReplicaParams& p, const RandomKey&) -> std::unique_ptr<Model> {
                 return std::make_unique<Sllod>(p, kDamping);
             }};
 }

@@ -119,6 +119,13 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
     for (const auto& c : columns)
         h5::create_filled_dataset(f, "/replicas/" + c.name, H5T_NATIVE_DOUBLE, {replicas}, &nan, c.units,
                        c.description);
+    {
+        const std::uint64_t none = 0;
+        h5::create_filled_dataset(f, "/replicas/identity", H5T_NATIVE_UINT64, {replicas}, &none, "1",
+                                  "64-bit hash of the replica's model and physical parameters: with "
+                                  "the seed, the key of its random numbers (the same replica in "
+                                  "any campaign has the same identity)");
+    }
     h5::create_filled_dataset(f, "/replicas/status", H5T_NATIVE_INT8, {replicas}, &pending, "1",
            "0 pending, 1 running, 2 done, 3 failed; written after the replica's data");
     h5::create_filled_dataset(f, "/replicas/rank", H5T_NATIVE_INT32, {replicas}, &no_rank, "1",
@@ -154,12 +161,16 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
            "Lees-Edwards strain gamma in [-1/2, 1/2)");
 
     // Parameter columns: rank 0 writes them (independently), then everyone flushes.
-    if (mpi::rank(comm) == 0)
+    if (mpi::rank(comm) == 0) {
         for (const auto& c : columns) {
             std::vector<double> v;
             for (const auto& p : spec.replicas) v.push_back(c.value(p));
             write_block(f, "/replicas/" + c.name, H5T_NATIVE_DOUBLE, {0}, {replicas}, v.data());
         }
+        std::vector<std::uint64_t> ids;
+        for (const auto& p : spec.replicas) ids.push_back(replica_identity(p));
+        write_block(f, "/replicas/identity", H5T_NATIVE_UINT64, {0}, {replicas}, ids.data());
+    }
     check(H5Fflush(f, H5F_SCOPE_GLOBAL), "flush '" + path + "'");
     return Archive(std::move(file), comm);
 }
@@ -193,9 +204,10 @@ std::string Archive::check_existing(const std::string& path, const CampaignSpec&
             const std::size_t end = std::min(line.size(), line.find(' ', prefix.size()));
             return std::pair{line.substr(0, end), line.substr(end)};
         };
-        const auto [version_a, rest_a] = split_version(la);
-        const auto [version_b, rest_b] = split_version(lb);
-        if (version_a != version_b && rest_a == rest_b)
+        // Another fingerprint version means results that mean something else (v5: random
+        // numbers keyed by the replica's identity), whatever the campaign.
+        const auto version_a = split_version(la).first, version_b = split_version(lb).first;
+        if (version_a != version_b)
             return "'" + path + "' was written by another version of jamsim (" + version_a +
                    "; this one writes " + version_b + "): start a new archive";
         while (la == lb && std::getline(a, la) && std::getline(b, lb)) {

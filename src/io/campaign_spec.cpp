@@ -295,7 +295,6 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path) {
             p.phi = pt.phi;
             p.rate = pt.rate;
             p.seed = seed;
-            p.replica = static_cast<std::uint32_t>(spec.replicas.size());
             const auto errors = validate(p);
             if (!errors.empty()) {
                 const auto& e = errors.front();

@@ -34,6 +34,10 @@ void write_params(hid_t root, const ReplicaParams& p) {
         const std::string key(info->key);
         std::visit([&](const auto& v) { h5::write_attribute(root, key, v); }, get_value(p, *info));
     }
+    // The random identity as hex text (a uint64 that int64 attributes cannot hold).
+    char hex[24];
+    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(replica_identity(p)));
+    h5::write_attribute(root, "identity", std::string(hex));
 }
 
 void write_final(hid_t root, const System& sys) {

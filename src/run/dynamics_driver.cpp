@@ -25,7 +25,8 @@ FinalConfiguration final_configuration(const System& sys) {
 }
 
 System initial_system(const ReplicaParams& p) {
-    return random_system(p.n, p.phi, SizeMix{p.size_ratio}, p.seed, p.replica);
+    const RandomKey key = random_key(p);
+    return random_system(p.n, p.phi, SizeMix{p.size_ratio}, key.seed, key.identity);
 }
 
 ReplicaResult run_replica(const ReplicaParams& p, const SampleHook& after_sample) {
@@ -40,7 +41,7 @@ ReplicaResult run_dynamics(const ReplicaParams& p, const SampleHook& after_sampl
     ReplicaRun run(p);
     System& sys = run.system();
     ReplicaResult& result = run.result;
-    auto model = model_of(p).make(p);
+    auto model = model_of(p).make(p, random_key(p));
     const Schedule plan = schedule_of(p);
     const double inv_n = 1.0 / static_cast<double>(p.n);
     VelocityCorrelation correlation(sys.box.side());

@@ -11,6 +11,8 @@
 
 namespace jamsim {
 
+DynamicsInfo thermal_rd0_model();  // src/dynamics/thermal_rd0.cpp
+
 // Minimisation protocols (src/run/static_protocols.cpp).
 ModelInfo qs_protocol();
 ModelInfo rand_protocol();
@@ -52,6 +54,7 @@ const std::vector<ModelInfo>& registry() {
     static const std::vector<ModelInfo> all{
         dynamics(rd0_model()),  dynamics(cd0_model()), dynamics(rd_model()),
         dynamics(cd_model()),   dynamics(cdn_model()), dynamics(cdt_model()),
+        dynamics(thermal_rd0_model()),
         qs_protocol(),          rand_protocol(),       compress_protocol(),
         cool_protocol(),        cool_compress_protocol(), sheared_protocol(),
     };
@@ -155,5 +158,7 @@ std::uint64_t replica_identity(const ReplicaParams& p) {
             text.append(" ").append(info->key).append("=").append(show_value(get_value(p, *info)));
     return hash64(text);
 }
+
+RandomKey random_key(const ReplicaParams& p) { return {p.seed, replica_identity(p)}; }
 
 } // namespace jamsim

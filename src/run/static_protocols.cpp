@@ -71,7 +71,7 @@ struct Protocol : ReplicaRun {
         const ReplicaParams& p = params;
         result.force_evaluations +=
             cool(system(), forces, {p.temperature, p.cooling_time, p.dt, p.kd},
-                 RngStream(p.seed, p.replica, RngPurpose::ThermalNoise));
+                 RngStream(random_key(p), RngPurpose::ThermalNoise));
     }
     void record_jamming_point() {  // compression/decompression to φ_J (O'Hern et al.)
         const JammingPoint jp =

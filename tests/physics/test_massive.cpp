@@ -72,7 +72,7 @@ TEST(Massive, Momentum) {
         ReplicaParams p = massive(model, 2);
         System sys = initial_system(p);
         ForceField ff(potential::make_soft_sphere(2.0), p.skin);
-        auto m = model_of(p).make(p);
+        auto m = model_of(p).make(p, random_key(p));
         for (auto& u : sys.particles.ux) u = 0.1;
         const Vec2 start = momentum(sys, p.mass);
         for (int s = 0; s < 2000; ++s) {  // t = 100 ≫ m/k_d
@@ -102,7 +102,7 @@ TEST(Massive, DiluteGasStaysAffine) {
         ff.compute(sys);
         const auto x0 = sys.particles.x, y0 = sys.particles.y;
         ASSERT_EQ(ff.compute(sys).contacts, 0) << "dilute start must have no contacts";
-        auto m = model_of(p).make(p);
+        auto m = model_of(p).make(p, random_key(p));
         for (int s = 0; s < 500; ++s) {
             ff.compute(sys, Tally::ForcesOnly);
             m->prepare(sys, ff, p.rate);

@@ -1,7 +1,7 @@
 // Newtonian against Bagnoldian rheology below jamming (thesis §4.6.2, Papers IV–V): at
 // φ = 0.70, N = 256, the local slope d ln p / d ln γ̇ between γ̇ = 1e-3 and 1e-4 is near 1
 // for the overdamped RD0 and CD0; for CDn with unit mass it is near 2 between 1e-4 and 3e-5
-// (between 1e-3 and 1e-4 it is still crossing over: 1.64 ± 0.05 measured). Errors: per-seed means,
+// (between 1e-3 and 1e-4 it is still crossing over). Errors: per-seed means,
 // standard error over seeds, propagated to the slope. Labelled `slow` (a few minutes).
 #include <gtest/gtest.h>
 
@@ -17,9 +17,12 @@ using namespace jamsim;
 namespace {
 using Stat = jamsim::testing::Estimate;
 
+// CDn's pressure at φ = 0.70 is heavy-tailed over configurations (one seed in eight carries
+// three times the median), so it takes 8 seeds for a slope error near 0.1; RD0 and CD0 need 4.
 Stat pressure(const std::string& model, double rate) {
     std::vector<double> v;
-    for (std::uint64_t seed = 1; seed <= 4; ++seed) {
+    const std::uint64_t seeds = model == "CDn" ? 8 : 4;
+    for (std::uint64_t seed = 1; seed <= seeds; ++seed) {
         ReplicaParams p;
         p.model = model;
         p.solver = "eigen";

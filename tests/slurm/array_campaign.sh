@@ -32,9 +32,10 @@ if "$root/slurm/submit_campaign.sh" "$campaign" "$work/merged.h5" 3 2> "$work/bu
 fi
 grep -q "array job $array of this campaign is still queued or running" "$work/busy.txt"
 scancel "${array}_2"
-until scontrol -o show job "$merge" | grep -q "JobState=COMPLETED"; do
-  scontrol -o show job "$merge" | grep -qE "JobState=(PENDING|RUNNING|CONFIGURING|COMPLETING)" ||
-    { echo "merge job $merge did not complete:"; scontrol -o show job "$merge"; exit 1; }
+# One reading of the state per pass: two readings could straddle the job's completion.
+while state=$(scontrol -o show job "$merge") && ! grep -q "JobState=COMPLETED" <<<"$state"; do
+  grep -qE "JobState=(PENDING|RUNNING|CONFIGURING|COMPLETING)" <<<"$state" ||
+    { echo "merge job $merge did not complete:"; echo "$state"; exit 1; }
   sleep 1
 done
 "$jamsim" status "$work/merged.h5" | tee "$work/status1.txt"

@@ -19,12 +19,23 @@ enum class RngPurpose : std::uint32_t {
 std::array<std::uint32_t, 4> philox4x32(std::array<std::uint32_t, 4> counter,
                                         std::array<std::uint32_t, 2> key);
 
-/// A stream of uniform doubles keyed by (seed, replica, purpose); draw k of a given
-/// index is philox(key = seed, counter = {replica, purpose, index, k/2}).
+/// What a replica's random numbers are keyed by: its seed and its identity, a 64-bit hash of
+/// its model and physical parameters (run/model_registry.hpp: replica_identity). Never its
+/// position in a sweep, so the same replica has the same numbers in any campaign.
+struct RandomKey {
+    std::uint64_t seed = 1;
+    std::uint64_t identity = 0;
+};
+
+/// A stream of uniform doubles keyed by (seed, identity, purpose): draw k of `index` is
+/// philox(key = seed, counter = {stream, index, sub}) with the 64-bit stream a bijective mix
+/// of (identity, purpose), so streams of different purposes or identities never coincide
+/// except by a 2^-64 chance.
 class RngStream {
   public:
-    RngStream(std::uint64_t seed, std::uint32_t replica, RngPurpose purpose)
-        : seed_(seed), replica_(replica), purpose_(static_cast<std::uint32_t>(purpose)) {}
+    RngStream(std::uint64_t seed, std::uint64_t identity, RngPurpose purpose);
+    RngStream(const RandomKey& key, RngPurpose purpose)
+        : RngStream(key.seed, key.identity, purpose) {}
 
     /// Two independent uniform doubles in [0, 1) (53 random bits each) for `index`
     /// and sub-counter `sub`.
@@ -32,8 +43,7 @@ class RngStream {
 
   private:
     std::uint64_t seed_;
-    std::uint32_t replica_;
-    std::uint32_t purpose_;
+    std::uint64_t stream_;
 };
 
 } // namespace jamsim

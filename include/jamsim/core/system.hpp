@@ -28,9 +28,9 @@ struct System {
 };
 
 /// N disks (first half small d = 1, second half large d = size_ratio) at uniformly random
-/// positions, keyed by (seed, replica): the same inputs give the same configuration
-/// bitwise on any machine. N must be even unless size_ratio == 1.
+/// positions, keyed by (seed, identity) (core/rng.hpp: RandomKey): the same inputs give the
+/// same configuration bitwise on any machine. N must be even unless size_ratio == 1.
 System random_system(std::int64_t n, double phi, SizeMix mix, std::uint64_t seed,
-                     std::uint32_t replica);
+                     std::uint64_t identity);
 
 } // namespace jamsim

@@ -5,6 +5,7 @@
 #include <span>
 #include <string_view>
 
+#include "jamsim/core/rng.hpp"
 #include "jamsim/core/system.hpp"
 #include "jamsim/force/force_field.hpp"
 #include "jamsim/params/parameters.hpp"
@@ -77,7 +78,8 @@ struct DynamicsInfo {
     int (*evaluations_per_step)(const ReplicaParams& p);
     /// Largest stable Δt for these parameters (+∞ when the model sets no limit).
     double (*stable_dt)(const ReplicaParams& p);
-    std::unique_ptr<Model> (*make)(const ReplicaParams& p);
+    /// The model for a replica; `key` keys its random numbers (models with noise).
+    std::unique_ptr<Model> (*make)(const ReplicaParams& p, const RandomKey& key);
 };
 
 inline double no_dt_limit(const ReplicaParams&) { return std::numeric_limits<double>::infinity(); }

@@ -43,7 +43,6 @@ struct ReplicaParams {
     double alpha = 2.0;                 ///< potential exponent α (2 harmonic, 2.5 Hertzian)
     double size_ratio = 1.4;            ///< large/small diameter (1 = monodisperse)
     double skin = 0.3;                  ///< neighbour-list skin, d_s
-    std::uint32_t replica = 0;          ///< TRANSITIONAL: position in the sweep
 };
 
 /// A parameter value as read from a file or a command line, or stored.

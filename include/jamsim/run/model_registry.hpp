@@ -46,7 +46,7 @@ struct ModelInfo {
     double (*cost)(const ReplicaParams& p);
     ReplicaResult (*run)(const ReplicaParams& p, const SampleHook& after_sample);
     /// Dynamics: the model (nullptr for minimisation protocols).
-    std::unique_ptr<Model> (*make)(const ReplicaParams& p) = nullptr;
+    std::unique_ptr<Model> (*make)(const ReplicaParams& p, const RandomKey& key) = nullptr;
 };
 
 /// Every registered model, in registration order.
@@ -82,5 +82,7 @@ std::string describe(const ReplicaParams& p);
 /// so a replica is the same in any campaign that contains it and whatever its position in
 /// the sweep, run length, time step or numerical settings.
 std::uint64_t replica_identity(const ReplicaParams& p);
+/// (seed, replica_identity): the key of every random number of the replica.
+RandomKey random_key(const ReplicaParams& p);
 
 } // namespace jamsim

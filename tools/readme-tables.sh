@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# The README's parameter table is printed by `jamsim parameters --markdown` (from the
+# parameter table in the code). This script rewrites the block between the markers:
+#   tools/readme-tables.sh [JAMSIM]            update README.md
+#   tools/readme-tables.sh --check [JAMSIM]    exit 1 (with a diff) if README.md is stale
+set -euo pipefail
+cd "$(dirname "$0")/.."
+check=0
+if [[ "${1:-}" == "--check" ]]; then check=1; shift; fi
+jamsim=${1:-build/release/jamsim}
+table=$("$jamsim" parameters --markdown)
+updated=$(/usr/bin/python3 - "$table" <<'PY'
+import sys
+table = sys.argv[1]
+text = open("README.md").read()
+begin, end = "<!-- parameters:begin -->\n", "<!-- parameters:end -->"
+i, j = text.index(begin) + len(begin), text.index(end)
+sys.stdout.write(text[:i] + table + "\n" + text[j:])
+PY
+)
+if [[ $check -eq 1 ]]; then
+  if ! diff <(cat README.md) <(printf '%s\n' "$updated"); then
+    echo "README.md's parameter table is stale: run tools/readme-tables.sh" >&2
+    exit 1
+  fi
+  echo "README parameter table current"
+else
+  printf '%s\n' "$updated" > README.md
+fi
