@@ -3,13 +3,16 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <memory>
 #include <sstream>
 
+#include "jamsim/campaign/stop_request.hpp"
 #include "jamsim/io/archive.hpp"
+#include "jamsim/io/checkpoint_file.hpp"
 #include "jamsim/io/campaign_spec.hpp"
 #include "jamsim/linalg/contact_solver.hpp"
 #include "jamsim/campaign/farm.hpp"
@@ -28,7 +31,22 @@ struct RunOptions {
     std::string progress = "auto";  // auto | lines | redraw
     std::string shard;              // "K/N" or empty
     bool retry_failed = false;      // run failed replicas again
+    double checkpoint_seconds = 300;  // save a running replica's state at most this often
 };
+
+/// Exit status of a run that was interrupted (a signal) with every running replica's state
+/// saved: run the same command again to continue (the Slurm scripts requeue on it).
+constexpr int kExitInterrupted = 75;
+
+/// "90", "90s", "15min", "2h" in seconds; negative when it does not parse.
+double parse_duration(const std::string& text) {
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    const std::string unit(end);
+    const double scale = unit.empty() || unit == "s" ? 1.0 : unit == "min" ? 60.0 : unit == "h" ? 3600.0 : -1.0;
+    if (end == text.c_str() || scale < 0 || !std::isfinite(v) || v < 0) return -1.0;
+    return v * scale;
+}
 
 /// "K/N" with 0 <= K < N, or an exception naming the value.
 Shard parse_shard(const std::string& text) {
@@ -76,6 +94,32 @@ std::string check_output(const std::string& path, const CampaignSpec& spec) {
     return "";
 }
 
+/// Every checkpoint beside the archive must belong to one of this campaign's replicas, so a
+/// stale or foreign one stops the run before any work (it is left as it is).
+std::string check_checkpoints(const std::string& output, const CampaignSpec& spec) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path folder = checkpoint_folder(output);
+    if (!fs::is_directory(folder, ec)) return "";
+    for (const auto& entry : fs::directory_iterator(folder, ec)) {
+        const std::string name = entry.path().filename().string();
+        long long id = -1;
+        char tail[8] = {};
+        if (std::sscanf(name.c_str(), "replica_%lld.h%7s", &id, tail) != 2 || std::string(tail) != "5")
+            continue;  // not a checkpoint (e.g. a .tmp left by a kill)
+        if (id < 0 || id >= static_cast<long long>(spec.replicas.size()))
+            return spec.path + ": checkpoint '" + entry.path().string() + "' names replica " +
+                   std::to_string(id) + ", this campaign has " +
+                   std::to_string(spec.replicas.size()) + ": remove it or choose another output";
+        try {
+            read_checkpoint(entry.path().string(), spec.replicas[static_cast<std::size_t>(id)]);
+        } catch (const CheckpointError& e) {
+            return spec.path + ": " + e.what();
+        }
+    }
+    return "";
+}
+
 void print_dry_run(const CampaignSpec& spec, const std::string& output) {
     std::printf("campaign %s: %zu replicas -> %s (dry run: nothing written)\n", spec.name.c_str(),
                 spec.replicas.size(), output.c_str());
@@ -98,6 +142,7 @@ void print_dry_run(const CampaignSpec& spec, const std::string& output) {
 int run(const RunOptions& opt, int& argc, char**& argv) {
     mpi::Session session(argc, argv);
     const linalg::PetscScope petsc;  // finalised before MPI (declared after the session)
+    StopRequest::install();          // PETSc is started with -no_signal_handler
     const MPI_Comm comm = MPI_COMM_WORLD;
     const int rank = mpi::rank(comm);
     // Rank 0 reads and checks everything before any rank starts work.
@@ -109,6 +154,7 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
             if (output.empty()) output = spec.output;
             // A dry run writes nothing, but an existing archive it names must fit the campaign.
             if (!opt.dry_run || std::filesystem::exists(output)) error = check_output(output, spec);
+            if (error.empty()) error = check_checkpoints(output, spec);
         } catch (const SpecError& e) {
             error = e.what();
         }
@@ -130,18 +176,39 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
         mpi::broadcast(exists, 0, comm);
         Archive archive = exists ? Archive::open(comm, output) : Archive::create(comm, output, spec);
         archive.stamp("run_started");
-        ProgressOptions progress{redraw_progress(opt.progress), opt.progress_interval};
+        const FarmOptions farm{.progress = {redraw_progress(opt.progress), opt.progress_interval},
+                               .shard = parse_shard(opt.shard),
+                               .retry_failed = opt.retry_failed,
+                               .archive_path = output,
+                               .checkpoint_seconds = opt.checkpoint_seconds};
         if (rank == 0)
             std::printf("campaign %s: %zu replicas on %d ranks -> %s%s\n", spec.name.c_str(),
                         spec.replicas.size(), mpi::size(comm), output.c_str(),
                         !exists            ? ""
                         : opt.retry_failed ? " (resuming: done replicas are skipped, failed ones run again)"
                                            : " (resuming: finished replicas are skipped)");
-        const FarmSummary s = run_farm(comm, spec, archive, progress, parse_shard(opt.shard),
-                                         opt.retry_failed);
+        const FarmSummary s = run_farm(comm, spec, archive, farm);
+        double io = 0, wall = 0, local_io = s.io_seconds, local_wall = s.wall_seconds;
+        // Interrupted (a signal, or a replica stopped at a checkpoint step) on any rank?
+        int stopped = 0, local_stopped = StopRequest::requested() || s.interrupted > 0;
+        mpi::check(MPI_Allreduce(&local_stopped, &stopped, 1, MPI_INT, MPI_MAX, comm), "MPI_Allreduce");
+        long long interrupted = 0, local_interrupted = s.interrupted;
+        mpi::check(MPI_Reduce(&local_interrupted, &interrupted, 1, MPI_LONG_LONG, MPI_SUM, 0, comm),
+                   "MPI_Reduce");
+        if (stopped) {
+            archive.close();
+            if (rank == 0)
+                std::printf("campaign %s interrupted after %.3f s: %lld running replicas saved their "
+                            "state at a checkpoint step; run the same command again to continue\n",
+                            spec.name.c_str(), s.wall_seconds, interrupted);
+            return kExitInterrupted;
+        }
         archive.stamp("run_finished");
         archive.close();
-        double io = 0, wall = 0, local_io = s.io_seconds, local_wall = s.wall_seconds;
+        if (rank == 0) {  // the checkpoint folder, once every replica has removed its own
+            std::error_code ignored;
+            std::filesystem::remove(checkpoint_folder(output), ignored);  // only if empty
+        }
         long long failed = 0, local_failed = s.failed;
         mpi::check(MPI_Reduce(&local_io, &io, 1, MPI_DOUBLE, MPI_SUM, 0, comm), "MPI_Reduce");
         mpi::check(MPI_Reduce(&local_wall, &wall, 1, MPI_DOUBLE, MPI_SUM, 0, comm), "MPI_Reduce");
@@ -179,6 +246,9 @@ int status(const std::string& path) {
                     per_cost * s.cost_left / ranks, static_cast<long long>(ranks),
                     per_cost * s.cost_left);
     }
+    for (const auto& r : s.in_progress)
+        std::printf("running or interrupted replica %lld: %.1f%% of its steps at its last checkpoint\n",
+                    static_cast<long long>(r.replica), 100.0 * r.fraction);
     for (const auto& f : s.failures) std::printf("failed %s\n", f.c_str());
     return 0;
 }
@@ -273,6 +343,17 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
     cmd->add_flag("--retry-failed", opt->retry_failed,
                   "Run the failed replicas of an existing archive again (after a fix to the code "
                   "or the machine; the campaign itself cannot change)");
+    cmd->add_option_function<std::string>(
+        "--checkpoint-every",
+        [opt](const std::string& v) {
+            opt->checkpoint_seconds = parse_duration(v);
+            if (opt->checkpoint_seconds < 0)
+                throw CLI::ValidationError("jamsim run: --checkpoint-every = " + v +
+                                           " is not allowed: a duration >= 0 such as 300, 90s, 15min or 2h");
+        },
+        "Save each running replica's state at its first checkpoint step after this long "
+        "(0: at every checkpoint step; [run] checkpoint_steps sets the steps)")
+        ->default_str("300s");
     cmd->add_option("--shard", opt->shard,
                     "K/N: run only replicas with id % N == K (merge shards with jamsim merge)");
     cmd->add_option("--progress", opt->progress,

@@ -107,7 +107,7 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
     h5::write_attribute(f, "code_version", std::string(kVersion));
     h5::write_attribute(f, "build_flags", std::string(kBuildFlags));
     h5::write_attribute(f, "created", created);
-    h5::write_attribute(f, "layout_version", std::int64_t{2});
+    h5::write_attribute(f, "layout_version", std::int64_t{3});
     h5::write_attribute(f, "n_replicas", static_cast<std::int64_t>(replicas));
     for (const char* g : {"replicas", "timeseries", "final"}) h5::create_group(f, g).close(g);
 
@@ -132,6 +132,13 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
            "MPI rank that ran the replica (-1: not run)");
     h5::create_filled_dataset(f, "/replicas/wall_seconds", H5T_NATIVE_DOUBLE, {replicas}, &nan, "s",
            "wall time of the replica");
+    h5::create_filled_dataset(f, "/replicas/rows_written", H5T_NATIVE_INT64, {replicas}, &zero, "1",
+                              "rows of /timeseries written so far (partial while status is 1)");
+    {
+        const double none = 0.0;
+        h5::create_filled_dataset(f, "/replicas/progress", H5T_NATIVE_DOUBLE, {replicas}, &none, "1",
+                                  "fraction of the replica's steps done at its last checkpoint (1 when done)");
+    }
     h5::create_filled_dataset(f, "/replicas/force_evaluations", H5T_NATIVE_INT64, {replicas}, &zero, "1",
            "force evaluations of the replica");
     {
@@ -257,6 +264,10 @@ void Archive::write_done(std::int64_t replica, const ReplicaResult& result, int 
     }
     write_block(f, "/final/box_strain", H5T_NATIVE_DOUBLE, {r}, {1}, &fin.box_strain);
     write_block(f, "/replicas/wall_seconds", H5T_NATIVE_DOUBLE, {r}, {1}, &result.wall_seconds);
+    const auto rows_written = static_cast<std::int64_t>(rows);
+    const double complete = 1.0;
+    write_block(f, "/replicas/rows_written", H5T_NATIVE_INT64, {r}, {1}, &rows_written);
+    write_block(f, "/replicas/progress", H5T_NATIVE_DOUBLE, {r}, {1}, &complete);
     write_block(f, "/replicas/force_evaluations", H5T_NATIVE_INT64, {r}, {1},
                 &result.force_evaluations);
     const std::int32_t who = rank;
@@ -264,6 +275,19 @@ void Archive::write_done(std::int64_t replica, const ReplicaResult& result, int 
     // Last: the flag that makes the rows above valid.
     const auto s = static_cast<std::int8_t>(ReplicaStatus::Done);
     write_block(f, "/replicas/status", H5T_NATIVE_INT8, {r}, {1}, &s);
+}
+
+void Archive::write_progress(std::int64_t replica, const TimeSeries& series, double progress) {
+    const hid_t f = file_.get();
+    const auto r = static_cast<hsize_t>(replica);
+    const auto rows = static_cast<hsize_t>(series.size());
+    if (rows > 0)
+        for (const auto& c : kSampleColumns)
+            write_block(f, std::string("/timeseries/") + c.name, H5T_NATIVE_DOUBLE, {r, 0}, {1, rows},
+                        series.column(c.member).data());
+    const auto rows_written = static_cast<std::int64_t>(rows);
+    write_block(f, "/replicas/rows_written", H5T_NATIVE_INT64, {r}, {1}, &rows_written);
+    write_block(f, "/replicas/progress", H5T_NATIVE_DOUBLE, {r}, {1}, &progress);
 }
 
 void Archive::write_failed(std::int64_t replica, const std::string& reason, double wall_seconds,
@@ -290,6 +314,7 @@ void Archive::import_replica(const std::string& source_path, std::int64_t replic
     for (const char* p : {"/correlation/x", "/correlation/g_y", "/final/x", "/final/y",
                           "/final/diameter", "/final/box_side", "/final/box_strain",
                           "/replicas/rank", "/replicas/wall_seconds", "/replicas/force_evaluations",
+                          "/replicas/rows_written", "/replicas/progress",
                           "/replicas/failure_reason", "/replicas/status"})  // status last: it validates the rest
         paths.emplace_back(p);
     for (const auto& path : paths) {
@@ -350,6 +375,7 @@ ArchiveSummary summarize_archive(const std::string& path) {
     const auto status = h5::read_all<std::int8_t>(file.get(), "/replicas/status", H5T_NATIVE_INT8);
     const auto wall = h5::read_all<double>(file.get(), "/replicas/wall_seconds", H5T_NATIVE_DOUBLE);
     const auto cost = h5::read_all<double>(file.get(), "/replicas/estimated_cost", H5T_NATIVE_DOUBLE);
+    const auto progress = h5::read_all<double>(file.get(), "/replicas/progress", H5T_NATIVE_DOUBLE);
     if (H5Aexists(file.get(), "n_ranks") > 0) s.ranks = h5::read_int64_attribute(file.get(), "n_ranks");
     const Handle rt = h5::fixed_string_type(kReasonLength);
     std::vector<char> reasons(status.size() * kReasonLength);
@@ -368,7 +394,8 @@ ArchiveSummary summarize_archive(const std::string& path) {
             break;
         case ReplicaStatus::Running:
             ++s.running;
-            s.cost_left += cost[r];
+            s.cost_left += cost[r] * (1.0 - progress[r]);
+            s.in_progress.push_back({static_cast<std::int64_t>(r), progress[r]});
             break;
         case ReplicaStatus::Done:
             ++s.done;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <string>
 
 namespace jamsim {
 
@@ -14,6 +15,16 @@ std::size_t VelocityCorrelation::bins_for(double side, double bin_width) {
 VelocityCorrelation::VelocityCorrelation(double side, double bin_width, double strip)
     : side_(side), bin_width_(bin_width), strip_(strip), sum_(bins_for(side, bin_width), 0.0),
       count_(sum_.size(), 0.0) {}
+
+void VelocityCorrelation::restore(const Sums& s) {
+    if (s.sum.size() != sum_.size() || s.count.size() != count_.size())
+        throw std::invalid_argument("g_y sums of " + std::to_string(s.sum.size()) +
+                                    " bins do not fit " + std::to_string(sum_.size()) + " bins");
+    sum_ = s.sum;
+    count_ = s.count;
+    uy2_sum_ = s.uy2_sum;
+    uy2_count_ = s.uy2_count;
+}
 
 void VelocityCorrelation::accumulate(const System& sys) {
     const Particles& p = sys.particles;

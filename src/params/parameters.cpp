@@ -70,6 +70,11 @@ const ParamInfo kParameters[] = {
      "strain (time at rate 0) between samples, rounded to whole steps", &R::sample_interval,
      kNum, JAMSIM_CHECK(positive(p.sample_interval), "sample_interval > 0"),
      "sample_interval > 0"},
+    {"checkpoint_steps", "run", "checkpoint_steps", "--checkpoint-steps", "steps",
+     "steps (QS: strain steps) between checkpoint steps, where the run drops its kernel caches "
+     "and may save its state",
+     &R::checkpoint_steps, kNum, JAMSIM_CHECK(p.checkpoint_steps >= 1, "checkpoint_steps >= 1"),
+     "an integer >= 1"},
     {"dt", "model", "dt", "--dt", "tau", "time step", &R::dt, kNum,
      JAMSIM_CHECK(positive(p.dt), "dt > 0"), "dt > 0 (and below the model's stable limit)"},
     {"integrator", "model", "integrator", "--integrator", "",

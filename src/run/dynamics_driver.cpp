@@ -29,25 +29,29 @@ System initial_system(const ReplicaParams& p) {
     return random_system(p.n, p.phi, SizeMix{p.size_ratio}, key.seed, key.identity);
 }
 
-ReplicaResult run_replica(const ReplicaParams& p, const SampleHook& after_sample) {
+ReplicaResult run_replica(const ReplicaParams& p, const RunContext& context) {
     const auto errors = validate(p);
     if (!errors.empty())
         throw std::invalid_argument("replica parameter " + errors.front().key + " = " +
                                     errors.front().value + ": allowed " + errors.front().allowed);
-    return model_of(p).run(p, after_sample);
+    return model_of(p).run(p, context);
 }
 
-ReplicaResult run_dynamics(const ReplicaParams& p, const SampleHook& after_sample) {
-    ReplicaRun run(p);
+ReplicaResult run_dynamics(const ReplicaParams& p, const RunContext& context) {
+    ReplicaRun run(p, context);
     System& sys = run.system();
     ReplicaResult& result = run.result;
-    auto model = model_of(p).make(p, random_key(p));
+    const ModelInfo& info = model_of(p);
+    auto model = info.make(p, random_key(p));
     const Schedule plan = schedule_of(p);
     const double inv_n = 1.0 / static_cast<double>(p.n);
     VelocityCorrelation correlation(sys.box.side());
+    if (run.resumed()) correlation.restore(run.resumed()->correlation);
     const std::int64_t evals_per_step = evaluations_per_step(p);
+    const SampleHook& after_sample = context.after_sample;
 
-    for (std::int64_t step = 0;; ++step) {
+    for (std::int64_t step = run.first_step();; ++step) {
+        if (run.checkpoint_step(step, plan.steps, &correlation)) model = info.make(p, random_key(p));
         const bool sample_now = step % plan.sample_every == 0;
         // Models that evaluate the new state's forces themselves (RD's splitting) need the
         // driver's evaluation only for the first state and for the tallies of a sample.

@@ -103,7 +103,9 @@ bool uses_parameter(const ReplicaParams& p, std::string_view key) {
     const ModelInfo* m = find_model(p.model);
     if (!m) return false;
     if (m->kind == ModelKind::Dynamics) {
-        if (key == "rate" || key == "transient" || key == "sample_interval") return true;
+        if (key == "rate" || key == "transient" || key == "sample_interval" ||
+            key == "checkpoint_steps")
+            return true;
         if (key == "strain") return p.rate > 0.0;
         if (key == "time") return p.rate == 0.0;
     }

@@ -1,5 +1,6 @@
 #pragma once
-// Set-up and wrap-up shared by every run function (dynamics and minimisation protocols).
+// Set-up, checkpoint steps and wrap-up shared by every run function (dynamics and
+// minimisation protocols).
 #include <chrono>
 #include <utility>
 
@@ -8,26 +9,68 @@
 
 namespace jamsim {
 
-/// One replica in progress: its initial configuration, its force field, its clock and the
-/// rows so far; finish() hands the result back with the run statistics.
+/// One replica in progress: its configuration (initial, or resumed from a checkpoint), its
+/// force field, its clock and the rows so far; finish() hands the result back with the run
+/// statistics.
 class ReplicaRun {
   public:
-    explicit ReplicaRun(const ReplicaParams& p)
-        : start_(std::chrono::steady_clock::now()),
-          result{.series = {}, .final_state = initial_system(p)},
-          forces(potential::make_soft_sphere(p.alpha), p.skin) {}
+    ReplicaRun(const ReplicaParams& p, const RunContext& context)
+        : params_(p), context_(context), start_(std::chrono::steady_clock::now()),
+          result{.series = {}, .final_state = context.resume ? context.resume->system : initial_system(p)},
+          forces(potential::make_soft_sphere(p.alpha), p.skin) {
+        if (const ReplicaState* r = context.resume) {
+            result.series = r->series;
+            result.force_evaluations = r->force_evaluations;
+            result.list_builds = r->list_builds;
+            earlier_seconds_ = r->wall_seconds;
+        }
+    }
 
     System& system() { return result.final_state; }
+    /// The step to start with: 0, or the checkpoint step of the resumed state.
+    std::int64_t first_step() const { return context_.resume ? context_.resume->step : 0; }
+    const ReplicaState* resumed() const { return context_.resume; }
+
+    /// At a checkpoint step (step > 0, a multiple of checkpoint_steps, not the step a resumed
+    /// run starts with): drop the kernel caches (a fresh force field; the caller makes a fresh
+    /// model or minimiser), then save the state if the policy says so and stop if asked to.
+    /// Returns true when the caches were dropped.
+    bool checkpoint_step(std::int64_t step, std::int64_t steps,
+                         const VelocityCorrelation* correlation = nullptr) {
+        if (step == 0 || step % params_.checkpoint_steps != 0 || (step == first_step() && resumed()))
+            return false;
+        result.list_builds += static_cast<std::int64_t>(forces.builds());
+        forces = ForceField(potential::make_soft_sphere(params_.alpha), params_.skin);
+        const CheckpointPolicy* policy = context_.checkpoints;
+        if (!policy) return true;
+        const bool stop = policy->stop && policy->stop();
+        if (policy->save && (stop || (policy->due && policy->due()))) {
+            ReplicaState s{.step = step, .steps = steps, .system = system(), .series = result.series,
+                           .correlation = correlation ? correlation->sums() : VelocityCorrelation::Sums{},
+                           .force_evaluations = result.force_evaluations,
+                           .list_builds = result.list_builds, .wall_seconds = elapsed()};
+            policy->save(s);
+        }
+        if (stop) throw ReplicaInterrupted("stopped at step " + std::to_string(step) + " of " +
+                                           std::to_string(steps) + " (state saved)");
+        return true;
+    }
 
     ReplicaResult finish() {
-        result.list_builds = static_cast<std::int64_t>(forces.list().builds());
-        result.wall_seconds =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+        result.list_builds += static_cast<std::int64_t>(forces.builds());
+        result.wall_seconds = elapsed();
         return std::move(result);
     }
 
   private:
+    double elapsed() const {
+        return earlier_seconds_ +
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    }
+    const ReplicaParams& params_;
+    const RunContext& context_;
     std::chrono::steady_clock::time_point start_;
+    double earlier_seconds_ = 0.0;
 
   public:
     ReplicaResult result;

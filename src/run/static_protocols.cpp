@@ -54,9 +54,9 @@ Sample sample_of(const StaticState& st, const System& sys, double strain) {
 
 /// A protocol in progress: the shared run state plus the minimiser and its criteria.
 struct Protocol : ReplicaRun {
-    Protocol(const ReplicaParams& p, const SampleHook& hook)
-        : ReplicaRun(p), params(p), after_sample(hook), minimizer(make_minimizer(p.minimizer)),
-          criteria(criteria_of(p)) {}
+    Protocol(const ReplicaParams& p, const RunContext& context)
+        : ReplicaRun(p, context), params(p), after_sample(context.after_sample),
+          minimizer(make_minimizer(p.minimizer)), criteria(criteria_of(p)) {}
 
     StaticState minimise() {  // quench the configuration as it is, counting its cost
         StaticState st = quench(system(), forces, *minimizer, criteria);
@@ -86,48 +86,48 @@ struct Protocol : ReplicaRun {
     MinimizeCriteria criteria;
 };
 
-ReplicaResult run_qs(const ReplicaParams& p, const SampleHook& hook) {
-    Protocol run(p, hook);
+ReplicaResult run_qs(const ReplicaParams& p, const RunContext& context) {
+    Protocol run(p, context);
     const auto [steps, every] = schedule_of(p);
-    double strain = 0.0;
-    for (std::int64_t step = 0;; ++step) {  // minimise, then γ → γ + Δγ (affine)
+    for (std::int64_t step = run.first_step();; ++step) {  // minimise, then γ → γ + Δγ (affine)
+        if (run.checkpoint_step(step, steps)) run.minimizer = make_minimizer(p.minimizer);
+        const double strain = static_cast<double>(step) * p.strain_step;
         const StaticState st = run.minimise();
         if (step % every == 0) run.record(st, strain);
         if (step == steps) break;
-        strain = static_cast<double>(step + 1) * p.strain_step;
         apply_strain(run.system(), run.forces, run.system().box.strain() + p.strain_step);
     }
     return run.finish();
 }
 
-ReplicaResult run_rand(const ReplicaParams& p, const SampleHook& hook) {
-    Protocol run(p, hook);
+ReplicaResult run_rand(const ReplicaParams& p, const RunContext& context) {
+    Protocol run(p, context);
     run.record(run.minimise(), 0.0);
     return run.finish();
 }
 
-ReplicaResult run_compress(const ReplicaParams& p, const SampleHook& hook) {
-    Protocol run(p, hook);
+ReplicaResult run_compress(const ReplicaParams& p, const RunContext& context) {
+    Protocol run(p, context);
     run.record_jamming_point();
     return run.finish();
 }
 
-ReplicaResult run_cool(const ReplicaParams& p, const SampleHook& hook) {
-    Protocol run(p, hook);
+ReplicaResult run_cool(const ReplicaParams& p, const RunContext& context) {
+    Protocol run(p, context);
     run.cool_down();
     run.record(run.minimise(), 0.0);
     return run.finish();
 }
 
-ReplicaResult run_cool_compress(const ReplicaParams& p, const SampleHook& hook) {
-    Protocol run(p, hook);
+ReplicaResult run_cool_compress(const ReplicaParams& p, const RunContext& context) {
+    Protocol run(p, context);
     run.cool_down();
     run.record_jamming_point();
     return run.finish();
 }
 
-ReplicaResult run_sheared(const ReplicaParams& p, const SampleHook& hook) {
-    Protocol run(p, hook);
+ReplicaResult run_sheared(const ReplicaParams& p, const RunContext& context) {
+    Protocol run(p, context);
     run.result.force_evaluations += shear_quasistatically(run.system(), run.forces, *run.minimizer,
                                                           run.criteria, p.strain, p.strain_step);
     run.record_jamming_point();
@@ -139,7 +139,8 @@ int one_evaluation(const ReplicaParams&) { return 1; }
 
 // Parameters: the minimiser and its stopping rule, plus what each protocol adds.
 constexpr std::string_view kQs[] = {"minimizer", "energy_floor", "force_tol", "force_tol_abs",
-                                    "strain", "strain_step", "transient", "sample_interval"};
+                                    "strain", "strain_step", "transient", "sample_interval",
+                                    "checkpoint_steps"};
 constexpr std::string_view kRand[] = {"minimizer", "energy_floor", "force_tol", "force_tol_abs"};
 constexpr std::string_view kCompress[] = {"minimizer", "energy_floor", "force_tol",
                                           "force_tol_abs", "phi_tol"};

@@ -23,21 +23,36 @@ struct Shard {
     bool contains(std::int64_t replica) const { return replica % count == index; }
 };
 
+/// How the farm runs a campaign.
+struct FarmOptions {
+    ProgressOptions progress;
+    Shard shard;
+    bool retry_failed = false;  ///< run failed replicas again
+    /// The archive's path: checkpoints live beside it (io/checkpoint_file.hpp).
+    std::string archive_path;
+    /// Save a running replica's state at its first checkpoint step after this many seconds
+    /// since its last save (0: at every checkpoint step).
+    double checkpoint_seconds = 300.0;
+};
+
 /// What the farm did (on rank 0; other ranks get their own counts).
 struct FarmSummary {
     std::int64_t ran = 0, failed = 0, skipped = 0;
+    std::int64_t interrupted = 0;  ///< stopped at a checkpoint step (StopRequest)
     double wall_seconds = 0.0;
     double io_seconds = 0.0;  ///< this rank's time inside archive writes
 };
 
-/// Run every replica of `spec` (in `shard`) whose status in `archive` is pending or running, over all
-/// ranks of `comm`. Rank 0 hands out replicas longest-estimated-cost first, one at a time,
-/// and computes too: it answers requests between the samples of its own replica, so no
-/// rank idles while work remains. Each rank writes its own replicas to the archive; a
-/// replica that throws is recorded as failed and the campaign goes on. Collective.
-/// Runs the pending and interrupted replicas of the archive (and, with retry_failed, the
-/// failed ones again), within `shard`.
+/// Run every replica of `spec` (in `options.shard`) whose status in `archive` is pending or
+/// running (and, with retry_failed, failed), over all ranks of `comm`. Rank 0 hands out
+/// replicas longest-estimated-cost first, one at a time, and computes too: it answers
+/// requests between the samples of its own replica, so no rank idles while work remains.
+/// Each rank writes its own replicas to the archive; a replica that throws is recorded as
+/// failed and the campaign goes on. A replica with a checkpoint continues from it; running
+/// replicas save their state at checkpoint steps (beside the archive, rows into it). When a
+/// StopRequest arrives on any rank, every running replica saves its state at its next
+/// checkpoint step and stops, and no new replica starts. Collective.
 FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
-                     const ProgressOptions& progress, Shard shard = {}, bool retry_failed = false);
+                     const FarmOptions& options);
 
 } // namespace jamsim

@@ -38,6 +38,9 @@ class Archive {
     /// Independent writes, by the rank that runs the replica.
     void mark_running(std::int64_t replica, int rank);
     void write_done(std::int64_t replica, const ReplicaResult& result, int rank);
+    /// A running replica's rows so far and its progress (fraction of steps) at a checkpoint:
+    /// readers see them while its status is still 1 (running), i.e. partial.
+    void write_progress(std::int64_t replica, const TimeSeries& series, double progress);
     void write_failed(std::int64_t replica, const std::string& reason, double wall_seconds,
                       int rank);
 
@@ -69,6 +72,11 @@ struct ArchiveSummary {
     double cost_done = 0.0, cost_left = 0.0;  ///< estimated costs of done / unfinished replicas
     std::int64_t ranks = 0;                   ///< ranks of the latest run (0 if never run)
     std::vector<std::string> failures;  ///< "replica 3: reason"
+    struct Progress {
+        std::int64_t replica;
+        double fraction;  ///< of its steps, at its last checkpoint
+    };
+    std::vector<Progress> in_progress;  ///< running (or interrupted) replicas
 };
 ArchiveSummary summarize_archive(const std::string& path);
 

@@ -1,4 +1,5 @@
 #pragma once
+#include <stdexcept>
 #include <vector>
 
 #include "jamsim/core/system.hpp"
@@ -22,6 +23,15 @@ class VelocityCorrelation {
     std::vector<double> bin_centres() const;
     /// g_y at the bin centres (NaN for a bin without pairs, or before any sample).
     std::vector<double> g() const;
+
+    /// The accumulated sums (a checkpoint saves them; restore() continues from them).
+    struct Sums {
+        std::vector<double> sum, count;  ///< per bin, shape [bins]
+        double uy2_sum = 0.0, uy2_count = 0.0;
+    };
+    Sums sums() const { return {sum_, count_, uy2_sum_, uy2_count_}; }
+    /// Continue from saved sums; throws std::invalid_argument if their bins do not fit.
+    void restore(const Sums& s);
 
     /// Number of bins for a box of this side (used to size archive datasets).
     static std::size_t bins_for(double side, double bin_width = 0.25);

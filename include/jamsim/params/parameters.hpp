@@ -25,6 +25,7 @@ struct ReplicaParams {
     double time = 0.0;                  ///< total time at rate 0, τ
     double transient = 0.0;             ///< strain (time at rate 0) excluded from averages
     double sample_interval = 0.01;      ///< strain (time at rate 0) between samples
+    std::int64_t checkpoint_steps = 10000;  ///< steps between checkpoint steps (run/replica.hpp)
     double dt = 0.2;                    ///< time step Δt, τ
     std::string integrator = "euler";   ///< overdamped models: "euler" or "heun"
     double kd = 1.0;                    ///< dissipation coefficient k_d

@@ -16,6 +16,7 @@
 namespace jamsim {
 
 struct ReplicaResult;
+struct RunContext;
 
 /// Called after every sample (the campaign farm answers work requests from it); it must not
 /// touch the replica.
@@ -44,7 +45,7 @@ struct ModelInfo {
     Schedule (*schedule)(const ReplicaParams& p);
     /// Estimated particle force evaluations of the whole replica (for ordering and --dry-run).
     double (*cost)(const ReplicaParams& p);
-    ReplicaResult (*run)(const ReplicaParams& p, const SampleHook& after_sample);
+    ReplicaResult (*run)(const ReplicaParams& p, const RunContext& context);
     /// Dynamics: the model (nullptr for minimisation protocols).
     std::unique_ptr<Model> (*make)(const ReplicaParams& p, const RandomKey& key) = nullptr;
 };

@@ -2,10 +2,13 @@
 // The run layer: one replica from its parameters to its rows. Above dynamics, minimisation
 // and protocols; below io (files, archives) and the campaign farm.
 #include <cstdint>
+#include <functional>
+#include <stdexcept>
 #include <vector>
 
 #include "jamsim/core/system.hpp"
 #include "jamsim/observe/time_series.hpp"
+#include "jamsim/observe/velocity_correlation.hpp"
 #include "jamsim/params/parameters.hpp"
 #include "jamsim/run/model_registry.hpp"
 
@@ -22,6 +25,41 @@ struct ReplicaResult {
     double wall_seconds = 0.0;
 };
 
+/// Everything needed to continue a replica bitwise from a checkpoint step. Kernel caches (the
+/// neighbour list, CD0's factor or preconditioner, a minimiser's search direction) are not
+/// part of it: at every checkpoint step (every `checkpoint_steps` steps) the run drops them,
+/// interrupted or not, so a resumed run and an uninterrupted one continue from the same state.
+struct ReplicaState {
+    std::int64_t step = 0;  ///< the step the run continues with (a checkpoint step)
+    std::int64_t steps = 0; ///< steps of the whole replica (progress = step / steps)
+    System system;          ///< every particle array in memory order, and the box
+    TimeSeries series = {};  ///< the rows so far
+    VelocityCorrelation::Sums correlation = {};  ///< g_y sums so far (dynamics)
+    std::int64_t force_evaluations = 0;
+    std::int64_t list_builds = 0;
+    double wall_seconds = 0.0;  ///< compute time of the replica before this state
+};
+
+/// What the caller does at a replica's checkpoint steps (all callbacks optional).
+struct CheckpointPolicy {
+    std::function<bool()> due;                         ///< save the state now?
+    std::function<void(const ReplicaState&)> save;     ///< save it (a file, rows in an archive)
+    std::function<bool()> stop;                        ///< stop after this checkpoint step?
+};
+
+/// Thrown by a run that stopped at a checkpoint step because CheckpointPolicy::stop asked it
+/// to (a signal): its state was saved there; run it again with that state to continue.
+struct ReplicaInterrupted : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+/// How a replica runs besides its parameters.
+struct RunContext {
+    SampleHook after_sample = {};            ///< called after every sample
+    const CheckpointPolicy* checkpoints = nullptr;
+    const ReplicaState* resume = nullptr;    ///< continue from this state instead of the start
+};
+
 /// The final configuration in output form: sheared coordinates folded into [0, L), ordered
 /// by particle tag (creation order), with the box.
 struct FinalConfiguration {
@@ -34,12 +72,12 @@ FinalConfiguration final_configuration(const System& sys);
 /// The initial configuration of a replica: random positions keyed by (seed, replica_identity).
 System initial_system(const ReplicaParams& params);
 
-/// Run one replica from its initial configuration through its registration's run function;
-/// throws std::invalid_argument for unusable parameters and std::runtime_error when the
-/// state becomes non-finite. `after_sample`, if given, is called after every sample.
-ReplicaResult run_replica(const ReplicaParams& params, const SampleHook& after_sample = {});
+/// Run one replica from its initial configuration (or context.resume) through its
+/// registration's run function; throws std::invalid_argument for unusable parameters,
+/// std::runtime_error when the state becomes non-finite, ReplicaInterrupted when stopped.
+ReplicaResult run_replica(const ReplicaParams& params, const RunContext& context = {});
 
 /// The run function of every dynamical model (ModelInfo::run for ModelKind::Dynamics).
-ReplicaResult run_dynamics(const ReplicaParams& params, const SampleHook& after_sample);
+ReplicaResult run_dynamics(const ReplicaParams& params, const RunContext& context);
 
 } // namespace jamsim

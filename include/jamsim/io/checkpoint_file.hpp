@@ -1,0 +1,30 @@
+#pragma once
+// A replica's checkpoint on disk: one serial HDF5 file per running replica, beside the
+// campaign archive (ARCHIVE.checkpoints/replica_<id>.h5), written by the replica's rank as
+// PATH.tmp, fsynced and renamed over the previous one, so a kill at any moment leaves either
+// the old or the new checkpoint whole. Removed when the replica finishes.
+#include <stdexcept>
+#include <string>
+
+#include "jamsim/run/replica.hpp"
+
+namespace jamsim {
+
+/// A checkpoint that cannot be used (another replica, campaign or jamsim version, or a
+/// damaged file); the message names the file and why.
+struct CheckpointError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+/// Folder of an archive's checkpoints, and the file of replica `id`.
+std::string checkpoint_folder(const std::string& archive_path);
+std::string checkpoint_path(const std::string& archive_path, std::int64_t id);
+
+/// Write `state` of the replica with parameters `p` (atomically: tmp, fsync, rename).
+void write_checkpoint(const std::string& path, const ReplicaParams& p, const ReplicaState& state);
+
+/// Read a checkpoint and check that it belongs to a replica with parameters `p` written by
+/// this version's checkpoint format; throws CheckpointError otherwise.
+ReplicaState read_checkpoint(const std::string& path, const ReplicaParams& p);
+
+} // namespace jamsim
