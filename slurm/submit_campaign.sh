@@ -20,7 +20,11 @@
 # existing archive (merged or shard 0) of another campaign or jamsim version, another SHARDS
 # than the shards were made with, and an array of this campaign still in the queue.
 # JAMSIM (default: build/release/jamsim of this checkout, else `jamsim` on PATH) is the
-# executable every job runs.
+# executable every job runs. Time limits: the tasks ask for a warning JAMSIM_SIGNAL_LEAD
+# seconds (default 300) before their limit (--signal=B:USR1@lead), save their replicas'
+# state and requeue themselves (--requeue), at most JAMSIM_MAX_REQUEUES times (default 20).
+# Choose the lead longer than one checkpoint interval of the slowest replica plus 60 s
+# (Slurm may signal up to a minute early), and the time limit well above the lead.
 set -euo pipefail
 usage() { sed -n '4,15p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 here=$(cd "$(dirname "$0")" && pwd)
@@ -83,7 +87,13 @@ if [[ -n $replicas && $shards -gt $replicas ]]; then
 fi
 mkdir -p "$shard_dir"
 range=0-$((shards - 1))${throttle:+%$throttle}
-array=$(sbatch --parsable --array="$range" --export=ALL,JAMSIM="$jamsim",JAMSIM_RUN_ARGS="$run_args" "$@" \
+lead=${JAMSIM_SIGNAL_LEAD:-300}
+if [[ ! $lead =~ ^[1-9][0-9]*$ ]]; then
+  echo "submit_campaign.sh: JAMSIM_SIGNAL_LEAD = '$lead' is not allowed: seconds, a positive integer" >&2
+  exit 2
+fi
+array=$(sbatch --parsable --array="$range" --signal=B:USR1@"$lead" --requeue --open-mode=append \
+          --export=ALL,JAMSIM="$jamsim",JAMSIM_RUN_ARGS="$run_args" "$@" \
           "$here/campaign_array.sbatch" "$campaign" "$shard_dir" "$shards")
 array=${array%%;*}
 echo "shards $shards array_job $array" > "$record"
