@@ -4,6 +4,9 @@
 #   none     no checkpoint steps (checkpoint_steps = 10^12)
 #   default  checkpoint steps every 10000 steps (the default), saves at most every 300 s
 #   every    checkpoint steps every 10000 steps, a save at each (--checkpoint-every 0)
+# "vs none" is the wall-time difference (run-to-run noise on a shared VM is a few per cent);
+# "writes (io)" is the time the rank spent in archive and checkpoint writes, measured inside
+# jamsim, the overhead of saving itself.
 #   tools/bench_checkpoint.sh [N STEPS ...]     default: 1024 1000000 65536 30000
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -11,7 +14,7 @@ jamsim=${JAMSIM:-build/release/jamsim}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 [[ $# -gt 0 ]] || set -- 1024 1000000 65536 30000
-printf "%7s %9s %-8s %10s %14s %9s\n" N steps variant seconds particle-steps/s overhead
+printf "%7s %9s %-8s %10s %14s %9s %12s\n" N steps variant seconds particle-steps/s "vs none" "writes (io)"
 while [[ $# -ge 2 ]]; do
   n=$1 steps=$2
   shift 2
@@ -35,11 +38,12 @@ phi = [0.84]
 rate = [1e-4]
 TOML
     rm -rf "$work/c.h5" "$work/c.h5.checkpoints"
-    t=$("$jamsim" run "$work/c.toml" --checkpoint-every "$save" --progress lines |
-        sed -n 's/.* finished in \([0-9.]*\) s.*/\1/p')
+    out=$("$jamsim" run "$work/c.toml" --checkpoint-every "$save" --progress lines)
+    t=$(sed -n 's/.* finished in \([0-9.]*\) s.*/\1/p' <<<"$out")
+    io=$(sed -n 's/.*archive writes took \([0-9.]*\)%.*/\1/p' <<<"$out")
     rate=$(awk -v n="$n" -v s="$steps" -v t="$t" 'BEGIN { printf "%.3g", n * s / t }')
     [[ -z $base ]] && base=$t
-    printf "%7s %9s %-8s %10s %14s %8.2f%%\n" "$n" "$steps" "$variant" "$t" "$rate" \
-      "$(awk -v t="$t" -v b="$base" 'BEGIN { print 100 * (t / b - 1) }')"
+    printf "%7s %9s %-8s %10s %14s %8.2f%% %11s%%\n" "$n" "$steps" "$variant" "$t" "$rate" \
+      "$(awk -v t="$t" -v b="$base" 'BEGIN { print 100 * (t / b - 1) }')" "$io"
   done
 done

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <sstream>
 
@@ -23,6 +24,14 @@ namespace jamsim::app {
 
 namespace {
 
+/// What --dry-run estimates for.
+struct DryRunPlan {
+    bool calibrate = true;
+    int ranks = 1;           ///< ranks of the planned run
+    int shards = 1;          ///< Slurm array tasks
+    double time_limit = 0;   ///< seconds per task (0: none)
+};
+
 struct RunOptions {
     std::string spec_path;
     std::string output;  // overrides [campaign] output
@@ -32,6 +41,7 @@ struct RunOptions {
     std::string shard;              // "K/N" or empty
     bool retry_failed = false;      // run failed replicas again
     double checkpoint_seconds = 300;  // save a running replica's state at most this often
+    DryRunPlan plan;                  // what --dry-run estimates for
 };
 
 /// Exit status of a run that was interrupted (a signal) with every running replica's state
@@ -120,23 +130,93 @@ std::string check_checkpoints(const std::string& output, const CampaignSpec& spe
     return "";
 }
 
-void print_dry_run(const CampaignSpec& spec, const std::string& output) {
+/// Seconds per estimated cost unit for each (model, N) of a campaign, measured on this
+/// machine: a dynamics replica runs a probe of about 2e7 particle force evaluations (at least
+/// 20 steps); a minimisation protocol runs its first replica whole when its nominal time is
+/// under 10 s (its cost estimate counts evaluations only roughly). Groups that cannot be
+/// probed keep the nominal rate.
+std::map<std::pair<std::string, std::int64_t>, double> calibrate(const CampaignSpec& spec) {
+    std::map<std::pair<std::string, std::int64_t>, double> seconds_per_cost;
+    for (const ReplicaParams& p : spec.replicas) {
+        const auto key = std::pair{p.model, p.n};
+        if (seconds_per_cost.count(key)) continue;
+        seconds_per_cost[key] = 1.0 / kNominalRate;
+        ReplicaParams probe = p;
+        const bool dynamics = model_of(p).kind == ModelKind::Dynamics;
+        if (dynamics) {
+            const double steps = std::max(20.0, 2e7 / (static_cast<double>(p.n) * evaluations_per_step(p)));
+            if (steps >= static_cast<double>(schedule_of(p).steps)) continue;  // as long as the replica
+            (p.rate > 0 ? probe.strain : probe.time) = steps * p.dt * (p.rate > 0 ? p.rate : 1.0);
+            probe.sample_interval = probe.rate > 0 ? probe.strain : probe.time;
+            probe.checkpoint_steps = 1'000'000'000;
+        } else if (estimated_cost(p) / kNominalRate > 10.0) {
+            continue;
+        }
+        try {
+            const ReplicaResult r = run_replica(probe);
+            const double cost = dynamics ? static_cast<double>(r.force_evaluations) * static_cast<double>(p.n)
+                                         : estimated_cost(p);
+            if (cost > 0 && r.wall_seconds > 0) seconds_per_cost[key] = r.wall_seconds / cost;
+        } catch (const std::exception&) {
+            // a probe that fails (a replica that would fail) keeps the nominal rate
+        }
+    }
+    return seconds_per_cost;
+}
+
+/// "42 s", "12.5 min", "3.20 h".
+std::string duration(double seconds) {
+    char buf[32];
+    if (seconds < 120) std::snprintf(buf, sizeof buf, "%.1f s", seconds);
+    else if (seconds < 7200) std::snprintf(buf, sizeof buf, "%.1f min", seconds / 60);
+    else std::snprintf(buf, sizeof buf, "%.2f h", seconds / 3600);
+    return buf;
+}
+
+void print_dry_run(const CampaignSpec& spec, const std::string& output, const DryRunPlan& plan) {
     std::printf("campaign %s: %zu replicas -> %s (dry run: nothing written)\n", spec.name.c_str(),
                 spec.replicas.size(), output.c_str());
+    const auto rates = plan.calibrate ? calibrate(spec) : decltype(calibrate(spec)){};
+    const auto seconds_of = [&](const ReplicaParams& p) {
+        const auto it = rates.find({p.model, p.n});
+        return estimated_cost(p) * (it == rates.end() ? 1.0 / kNominalRate : it->second);
+    };
     std::printf("%6s %7s %8s %10s %6s %9s %14s %10s\n", "id", "N", "phi", "rate", "seed",
                 "samples", "cost(p-evals)", "est. s");
-    double total = 0;
+    double total = 0, largest = 0;
+    std::vector<double> shard_seconds(static_cast<std::size_t>(plan.shards), 0.0);
     for (std::size_t id = 0; id < spec.replicas.size(); ++id) {
         const ReplicaParams& p = spec.replicas[id];
-        const double c = estimated_cost(p);
-        total += c;
+        const double seconds = seconds_of(p);
+        total += seconds;
+        largest = std::max(largest, seconds);
+        shard_seconds[id % shard_seconds.size()] += seconds;
         std::printf("%6zu %7lld %8.4g %10.3g %6llu %9lld %14.4g %10.1f\n", id,
                     static_cast<long long>(p.n), p.phi, p.rate,
                     static_cast<unsigned long long>(p.seed),
-                    static_cast<long long>(sample_count(p)), c, c / kNominalRate);
+                    static_cast<long long>(sample_count(p)), estimated_cost(p), seconds);
     }
-    std::printf("total: %.4g particle force evaluations, about %.0f core-seconds at %.0e/s\n",
-                total, total / kNominalRate, kNominalRate);
+    std::printf("total: %.3g core-hours (%s); on %d ranks about %s of wall time (the longest "
+                "replica: %s)\n",
+                total / 3600.0, plan.calibrate ? "throughput measured on this machine by a short probe per model and N"
+                                                : "nominal 7e7 particle force evaluations/s",
+                plan.ranks, duration(std::max(total / plan.ranks, largest)).c_str(), duration(largest).c_str());
+    if (plan.time_limit > 0) {
+        const char* lead_env = std::getenv("JAMSIM_SIGNAL_LEAD");
+        const double lead = lead_env ? std::atof(lead_env) : 300.0;
+        const double usable = plan.time_limit - lead - 60.0;  // Slurm may warn a minute early
+        if (usable <= 0) {
+            std::printf("time limit %.0f s: not above the warning lead %.0f s + 60 s; no task can work\n",
+                        plan.time_limit, lead);
+            return;
+        }
+        double worst = 0;
+        for (double s : shard_seconds) worst = std::max(worst, s / plan.ranks);
+        std::printf("%d shards on %d ranks each, time limit %s (warning %.0f s before): the "
+                    "busiest task needs about %s, %d requeues\n",
+                    plan.shards, plan.ranks, duration(plan.time_limit).c_str(), lead, duration(worst).c_str(),
+                    static_cast<int>(std::max(0.0, std::ceil(worst / usable) - 1.0)));
+    }
 }
 
 int run(const RunOptions& opt, int& argc, char**& argv) {
@@ -168,7 +248,7 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
     mpi::broadcast(output, 0, comm);
     const CampaignSpec spec = parse_campaign(text, opt.spec_path);
     if (opt.dry_run) {
-        if (rank == 0) print_dry_run(spec, output);
+        if (rank == 0) print_dry_run(spec, output, opt.plan);
         return 0;
     }
     try {
@@ -354,6 +434,21 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
         "Save each running replica's state at its first checkpoint step after this long "
         "(0: at every checkpoint step; [run] checkpoint_steps sets the steps)")
         ->default_str("300s");
+    cmd->add_option("--ranks", opt->plan.ranks, "--dry-run: ranks of the planned run")
+        ->check(CLI::PositiveNumber)->default_str("1");
+    cmd->add_option("--shards", opt->plan.shards, "--dry-run: Slurm array tasks of the planned run")
+        ->check(CLI::PositiveNumber)->default_str("1");
+    cmd->add_option_function<std::string>(
+        "--time-limit",
+        [opt](const std::string& v) {
+            opt->plan.time_limit = parse_duration(v);
+            if (!(opt->plan.time_limit > 0))
+                throw CLI::ValidationError("jamsim run: --time-limit = " + v +
+                                           " is not allowed: a duration > 0 such as 3600, 90min or 24h");
+        },
+        "--dry-run: a task's time limit, to count the requeues it needs");
+    cmd->add_flag("!--no-calibrate", opt->plan.calibrate,
+                  "--dry-run: nominal throughput instead of a short probe per model and N");
     cmd->add_option("--shard", opt->shard,
                     "K/N: run only replicas with id % N == K (merge shards with jamsim merge)");
     cmd->add_option("--progress", opt->progress,

@@ -315,10 +315,10 @@ CampaignSpec load_campaign(const std::string& path) {
 }
 
 std::string fingerprint(const CampaignSpec& spec) {
-    // The version names what the results mean: v5 keys every random number by the replica's
+    // The version names what the results mean: v5 keyed every random number by the replica's
     // identity (its physical parameters and seed) instead of its position in the sweep, and
-    // records only the parameters a model uses.
-    std::string out = "jamsim campaign v5 " + spec.name + " replicas " +
+    // records only the parameters a model uses; v6 drops the kernel caches at checkpoint steps.
+    std::string out = "jamsim campaign v6 " + spec.name + " replicas " +
                       std::to_string(spec.replicas.size()) + '\n';
     for (std::size_t k = 0; k < spec.replicas.size(); ++k)
         out += std::to_string(k) + ' ' + describe(spec.replicas[k]) + '\n';

@@ -12,9 +12,9 @@ namespace jamsim {
 
 namespace {
 
-/// The format of the file and of what it means: v1 with fingerprint v5 (identity-keyed
+/// The format of the file and of what it means: v1 with fingerprint v6 (identity-keyed
 /// random numbers, caches dropped at checkpoint steps).
-constexpr const char* kFormat = "jamsim checkpoint 1 (campaign v5)";
+constexpr const char* kFormat = "jamsim checkpoint 1 (campaign v6)";
 
 void sync_file(const std::string& path) {
     const int fd = ::open(path.c_str(), O_RDONLY);
