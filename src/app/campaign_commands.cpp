@@ -8,12 +8,14 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <memory>
 #include <sstream>
 
 #include "jamsim/campaign/stop_request.hpp"
 #include "jamsim/io/archive.hpp"
 #include "jamsim/io/checkpoint_file.hpp"
+#include "jamsim/io/initial_states.hpp"
 #include "jamsim/io/campaign_spec.hpp"
 #include "jamsim/linalg/contact_solver.hpp"
 #include "jamsim/campaign/farm.hpp"
@@ -235,6 +237,15 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
             // A dry run writes nothing, but an existing archive it names must fit the campaign.
             if (!opt.dry_run || std::filesystem::exists(output)) error = check_output(output, spec);
             if (error.empty()) error = check_checkpoints(output, spec);
+            if (error.empty() && !spec.replicas.front().initial.empty()) {
+                try {  // every replica must find its starting state before any work
+                    const InitialStates source(spec.replicas.front().initial);
+                    for (std::size_t id = 0; id < spec.replicas.size(); ++id)
+                        source.match(spec.replicas[id], static_cast<std::int64_t>(id));
+                } catch (const InitialStateError& e) {
+                    error = spec.path + ": " + e.what();
+                }
+            }
         } catch (const SpecError& e) {
             error = e.what();
         }
@@ -256,11 +267,14 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
         mpi::broadcast(exists, 0, comm);
         Archive archive = exists ? Archive::open(comm, output) : Archive::create(comm, output, spec);
         archive.stamp("run_started");
+        std::optional<InitialStates> initial;
+        if (!spec.replicas.front().initial.empty()) initial.emplace(spec.replicas.front().initial);
         const FarmOptions farm{.progress = {redraw_progress(opt.progress), opt.progress_interval},
                                .shard = parse_shard(opt.shard),
                                .retry_failed = opt.retry_failed,
                                .archive_path = output,
-                               .checkpoint_seconds = opt.checkpoint_seconds};
+                               .checkpoint_seconds = opt.checkpoint_seconds,
+                               .initial_states = initial ? &*initial : nullptr};
         if (rank == 0)
             std::printf("campaign %s: %zu replicas on %d ranks -> %s%s\n", spec.name.c_str(),
                         spec.replicas.size(), mpi::size(comm), output.c_str(),

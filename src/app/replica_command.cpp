@@ -7,10 +7,12 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "jamsim/run/model_registry.hpp"
 #include "jamsim/run/replica.hpp"
+#include "jamsim/io/initial_states.hpp"
 #include "jamsim/io/replica_file.hpp"
 #include "jamsim/linalg/contact_solver.hpp"
 #include "jamsim/observe/time_series.hpp"
@@ -73,7 +75,15 @@ void run(const ReplicaOptions& opt) {
     check_output_path(opt.output);
     const linalg::PetscScope petsc;  // CD0 initialises PETSc on first use; finalise it here
 
-    const ReplicaResult result = run_replica(params);
+    std::optional<System> initial;
+    if (!params.initial.empty()) {
+        try {
+            initial = InitialStates(params.initial).load(params, 0);
+        } catch (const InitialStateError& e) {
+            usage_error("initial", params.initial, e.what());
+        }
+    }
+    const ReplicaResult result = run_replica(params, {.initial = initial ? &*initial : nullptr});
     write_replica_file(opt.output, params, result);
     const double p = mean_after(result.series, &Sample::pressure, params.transient);
     const double s = mean_after(result.series, &Sample::shear_stress, params.transient);

@@ -179,6 +179,8 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, Archive& archive, int
     const std::string checkpoint = checkpoint_path(options.archive_path, id);
     std::optional<ReplicaState> resume;
     if (fs::exists(checkpoint)) timed([&] { resume = read_checkpoint(checkpoint, params); });
+    std::optional<System> initial;
+    if (options.initial_states && !resume) timed([&] { initial = options.initial_states->load(params, id); });
     timed([&] { archive.mark_running(id, rank); });
     auto last_save = Clock::now();
     const CheckpointPolicy policy{
@@ -196,7 +198,9 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, Archive& archive, int
     Outcome outcome = Outcome::Done;
     try {
         const ReplicaResult result = run_replica(
-            params, RunContext{.after_sample = between, .checkpoints = &policy, .resume = resume ? &*resume : nullptr});
+            params, RunContext{.after_sample = between, .checkpoints = &policy,
+                               .resume = resume ? &*resume : nullptr,
+                               .initial = initial ? &*initial : nullptr});
         timed([&] { archive.write_done(id, result, rank); });
     } catch (const h5::Error&) {
         throw;  // the archive itself is broken: stop

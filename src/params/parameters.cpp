@@ -75,6 +75,16 @@ const ParamInfo kParameters[] = {
      "and may save its state",
      &R::checkpoint_steps, kNum, JAMSIM_CHECK(p.checkpoint_steps >= 1, "checkpoint_steps >= 1"),
      "an integer >= 1"},
+    {"initial", "run", "initial", "--initial", "",
+     "campaign archive whose finished replicas' final states are the initial configurations "
+     "(relative to the working directory; \"\": random positions)",
+     &R::initial, kPhys, nullptr, "a campaign archive"},
+    {"initial_match", "run", "initial_match", "--initial-match", "",
+     "which replica of the initial archive starts each replica: parameters (the same N, phi "
+     "and seed) or id (the same replica id; positions scaled affinely to phi)",
+     &R::initial_match, kPhys,
+     JAMSIM_CHECK(p.initial_match == "parameters" || p.initial_match == "id", "parameters or id"),
+     "parameters, id"},
     {"dt", "model", "dt", "--dt", "tau", "time step", &R::dt, kNum,
      JAMSIM_CHECK(positive(p.dt), "dt > 0"), "dt > 0 (and below the model's stable limit)"},
     {"integrator", "model", "integrator", "--integrator", "",

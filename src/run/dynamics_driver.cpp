@@ -34,6 +34,9 @@ ReplicaResult run_replica(const ReplicaParams& p, const RunContext& context) {
     if (!errors.empty())
         throw std::invalid_argument("replica parameter " + errors.front().key + " = " +
                                     errors.front().value + ": allowed " + errors.front().allowed);
+    if (!p.initial.empty() && !context.initial && !context.resume)
+        throw std::invalid_argument("replica parameter initial = " + p.initial +
+                                    ": its configuration was not read (RunContext::initial)");
     return model_of(p).run(p, context);
 }
 

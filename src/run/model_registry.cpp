@@ -100,6 +100,8 @@ const ModelInfo& model_of(const ReplicaParams& p) {
 
 bool uses_parameter(const ReplicaParams& p, std::string_view key) {
     if (contains(kCommonParameters, key)) return true;
+    if (key == "initial") return !p.initial.empty();  // recorded only when set
+    if (key == "initial_match") return !p.initial.empty();
     const ModelInfo* m = find_model(p.model);
     if (!m) return false;
     if (m->kind == ModelKind::Dynamics) {

@@ -16,7 +16,10 @@ class ReplicaRun {
   public:
     ReplicaRun(const ReplicaParams& p, const RunContext& context)
         : params_(p), context_(context), start_(std::chrono::steady_clock::now()),
-          result{.series = {}, .final_state = context.resume ? context.resume->system : initial_system(p)},
+          result{.series = {},
+                 .final_state = context.resume    ? context.resume->system
+                                : context.initial ? *context.initial
+                                                  : initial_system(p)},
           forces(potential::make_soft_sphere(p.alpha), p.skin) {
         if (const ReplicaState* r = context.resume) {
             result.series = r->series;

@@ -7,6 +7,7 @@
 
 #include "jamsim/io/archive.hpp"
 #include "jamsim/io/campaign_spec.hpp"
+#include "jamsim/io/initial_states.hpp"
 
 namespace jamsim {
 
@@ -33,6 +34,8 @@ struct FarmOptions {
     /// Save a running replica's state at its first checkpoint step after this many seconds
     /// since its last save (0: at every checkpoint step).
     double checkpoint_seconds = 300.0;
+    /// [run] initial: the archive the replicas start from (nullptr: random positions).
+    const InitialStates* initial_states = nullptr;
 };
 
 /// What the farm did (on rank 0; other ranks get their own counts).

@@ -26,6 +26,8 @@ struct ReplicaParams {
     double transient = 0.0;             ///< strain (time at rate 0) excluded from averages
     double sample_interval = 0.01;      ///< strain (time at rate 0) between samples
     std::int64_t checkpoint_steps = 10000;  ///< steps between checkpoint steps (run/replica.hpp)
+    std::string initial = "";           ///< archive whose final states start the replicas ("": random)
+    std::string initial_match = "parameters";  ///< "parameters" (N, phi, seed) or "id"
     double dt = 0.2;                    ///< time step Δt, τ
     std::string integrator = "euler";   ///< overdamped models: "euler" or "heun"
     double kd = 1.0;                    ///< dissipation coefficient k_d

@@ -58,6 +58,9 @@ struct RunContext {
     SampleHook after_sample = {};            ///< called after every sample
     const CheckpointPolicy* checkpoints = nullptr;
     const ReplicaState* resume = nullptr;    ///< continue from this state instead of the start
+    /// Start from this configuration instead of random positions (ReplicaParams::initial;
+    /// the caller reads it, see io/initial_states.hpp).
+    const System* initial = nullptr;
 };
 
 /// The final configuration in output form: sheared coordinates folded into [0, L), ordered

@@ -1,0 +1,95 @@
+#include "jamsim/io/initial_states.hpp"
+
+#include <cmath>
+
+#include "jamsim/io/hdf5.hpp"
+
+namespace jamsim {
+
+namespace {
+std::string show(double v) { return show_value(v); }
+} // namespace
+
+InitialStates::InitialStates(const std::string& source) : source_(source) {
+    h5::quiet_errors();
+    try {
+        const h5::Handle f = h5::open_unlocked_readonly(source);
+        status_ = h5::read_all<std::int8_t>(f.get(), "/replicas/status", H5T_NATIVE_INT8);
+        n_ = h5::read_dataset(f.get(), "/replicas/N");
+        phi_ = h5::read_dataset(f.get(), "/replicas/phi");
+        seed_ = h5::read_dataset(f.get(), "/replicas/seed");
+    } catch (const h5::Error& e) {
+        throw InitialStateError("[run] initial = \"" + source + "\" is not allowed: a jamsim campaign archive (" +
+                                e.what() + ")");
+    }
+}
+
+std::int64_t InitialStates::match(const ReplicaParams& p, std::int64_t id) const {
+    const std::string where = "[run] initial = \"" + source_ + "\": ";
+    if (p.initial_match == "id") {
+        if (id < 0 || id >= static_cast<std::int64_t>(status_.size()))
+            throw InitialStateError(where + "no replica " + std::to_string(id) + " (it has " +
+                                    std::to_string(status_.size()) + ")");
+        const auto k = static_cast<std::size_t>(id);
+        if (status_[k] != 2)
+            throw InitialStateError(where + "replica " + std::to_string(id) + " is not finished");
+        if (n_[k] != static_cast<double>(p.n))
+            throw InitialStateError(where + "replica " + std::to_string(id) + " has N = " + show(n_[k]) +
+                                    ", replica " + std::to_string(id) + " here N = " + std::to_string(p.n));
+        return id;
+    }
+    std::int64_t found = -1;
+    for (std::size_t k = 0; k < status_.size(); ++k) {
+        if (n_[k] != static_cast<double>(p.n) || phi_[k] != p.phi || seed_[k] != static_cast<double>(p.seed)) continue;
+        if (found >= 0)
+            throw InitialStateError(where + "replicas " + std::to_string(found) + " and " + std::to_string(k) +
+                                    " both have N = " + std::to_string(p.n) + ", phi = " + show(p.phi) +
+                                    ", seed = " + std::to_string(p.seed) + ": use initial_match = \"id\"");
+        found = static_cast<std::int64_t>(k);
+    }
+    if (found < 0 || status_[static_cast<std::size_t>(found)] != 2)
+        throw InitialStateError(where + "no finished replica with N = " + std::to_string(p.n) + ", phi = " +
+                                show(p.phi) + ", seed = " + std::to_string(p.seed));
+    return found;
+}
+
+System InitialStates::load(const ReplicaParams& p, std::int64_t id) const {
+    const auto k = static_cast<hsize_t>(match(p, id));
+    const auto n = static_cast<hsize_t>(p.n);
+    h5::quiet_errors();
+    try {
+        const h5::Handle f = h5::open_unlocked_readonly(source_);
+        Particles q;
+        q.resize(n);
+        h5::read_block(f.get(), "/final/x", H5T_NATIVE_DOUBLE, {k, 0}, {1, n}, q.x.data());
+        h5::read_block(f.get(), "/final/y", H5T_NATIVE_DOUBLE, {k, 0}, {1, n}, q.y.data());
+        h5::read_block(f.get(), "/final/diameter", H5T_NATIVE_DOUBLE, {k, 0}, {1, n}, q.diameter.data());
+        double side = 0, strain = 0;
+        h5::read_block(f.get(), "/final/box_side", H5T_NATIVE_DOUBLE, {k}, {1}, &side);
+        h5::read_block(f.get(), "/final/box_strain", H5T_NATIVE_DOUBLE, {k}, {1}, &strain);
+        for (std::size_t i = 0; i < q.size(); ++i) {
+            q.tag[i] = static_cast<std::int32_t>(i);
+            const double expected = (i < q.size() / 2 || p.size_ratio == 1.0) ? 1.0 : p.size_ratio;
+            if (q.diameter[i] != expected)
+                throw InitialStateError("[run] initial = \"" + source_ + "\": replica " + std::to_string(k) +
+                                        " has disk " + std::to_string(i) + " of diameter " + show(q.diameter[i]) +
+                                        ", this campaign's size_ratio = " + show(p.size_ratio) + " gives " +
+                                        show(expected));
+        }
+        const double target = box_side_for(q, p.phi);
+        if (std::abs(target / side - 1.0) > 1e-12) {  // another phi: scale the cell affinely
+            const double s = target / side;
+            for (std::size_t i = 0; i < q.size(); ++i) {
+                q.x[i] *= s;
+                q.y[i] *= s;
+            }
+            side = target;
+        }
+        return System{std::move(q), Box(side, strain)};
+    } catch (const h5::Error& e) {
+        throw InitialStateError("[run] initial = \"" + source_ + "\": replica " + std::to_string(k) +
+                                " cannot be read: " + e.what());
+    }
+}
+
+} // namespace jamsim
