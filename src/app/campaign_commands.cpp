@@ -86,7 +86,7 @@ bool redraw_progress(const std::string& mode) {
 /// core; measured RD0 figure, see README "Benchmarks").
 constexpr double kNominalRate = 7e7;
 
-std::string check_output(const std::string& path, const CampaignSpec& spec) {
+std::string check_output(const std::string& path, const CampaignSpec& spec, int& extend) {
     namespace fs = std::filesystem;
     std::error_code ec;
     if (fs::exists(path, ec)) {
@@ -94,8 +94,13 @@ std::string check_output(const std::string& path, const CampaignSpec& spec) {
             return spec.path + ": [campaign] output = \"" + path +
                    "\" is not allowed: a file path, not a directory";
         const std::string why = Archive::check_existing(path, spec);
-        return why.empty() ? "" : spec.path + ": refusing to use the archive: " + why +
-                                      " (choose another [campaign] output or -o)";
+        if (why.empty()) return "";
+        if (Archive::check_extension(path, spec).empty()) {  // the same campaign, run longer
+            extend = 1;
+            return "";
+        }
+        return spec.path + ": refusing to use the archive: " + why +
+               " (choose another [campaign] output or -o)";
     }
     const fs::path p(path);
     const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
@@ -229,13 +234,14 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
     const int rank = mpi::rank(comm);
     // Rank 0 reads and checks everything before any rank starts work.
     std::string text, error, output = opt.output;
+    int extend = 0;  // the archive holds this campaign with shorter runs: extend it
     if (rank == 0) {
         try {
             const CampaignSpec spec = load_campaign(opt.spec_path);
             text = spec.text;
             if (output.empty()) output = spec.output;
             // A dry run writes nothing, but an existing archive it names must fit the campaign.
-            if (!opt.dry_run || std::filesystem::exists(output)) error = check_output(output, spec);
+            if (!opt.dry_run || std::filesystem::exists(output)) error = check_output(output, spec, extend);
             if (error.empty()) error = check_checkpoints(output, spec);
             if (error.empty() && !spec.replicas.front().initial.empty()) {
                 try {  // every replica must find its starting state before any work
@@ -257,12 +263,24 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
     }
     mpi::broadcast(text, 0, comm);
     mpi::broadcast(output, 0, comm);
+    mpi::broadcast(extend, 0, comm);
     const CampaignSpec spec = parse_campaign(text, opt.spec_path);
     if (opt.dry_run) {
-        if (rank == 0) print_dry_run(spec, output, opt.plan);
+        if (rank == 0) {
+            if (extend)
+                std::printf("(%s holds this campaign with shorter runs: the run would extend it, each "
+                            "replica continuing from its final checkpoint)\n", output.c_str());
+            print_dry_run(spec, output, opt.plan);
+        }
         return 0;
     }
     try {
+        if (extend) {
+            if (rank == 0)
+                std::printf("extending %s to the longer runs of %s: finished replicas continue from "
+                            "their final checkpoints\n", output.c_str(), opt.spec_path.c_str());
+            Archive::extend(comm, output, spec);
+        }
         int exists = rank == 0 ? std::filesystem::exists(output) : 0;
         mpi::broadcast(exists, 0, comm);
         Archive archive = exists ? Archive::open(comm, output) : Archive::create(comm, output, spec);
@@ -303,15 +321,17 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
             std::error_code ignored;
             std::filesystem::remove(checkpoint_folder(output), ignored);  // only if empty
         }
+        long long resumed = 0, local_resumed = s.resumed;
+        mpi::check(MPI_Reduce(&local_resumed, &resumed, 1, MPI_LONG_LONG, MPI_SUM, 0, comm), "MPI_Reduce");
         long long failed = 0, local_failed = s.failed;
         mpi::check(MPI_Reduce(&local_io, &io, 1, MPI_DOUBLE, MPI_SUM, 0, comm), "MPI_Reduce");
         mpi::check(MPI_Reduce(&local_wall, &wall, 1, MPI_DOUBLE, MPI_SUM, 0, comm), "MPI_Reduce");
         mpi::check(MPI_Reduce(&local_failed, &failed, 1, MPI_LONG_LONG, MPI_SUM, 0, comm),
                    "MPI_Reduce");
         if (rank == 0) {
-            std::printf("campaign %s finished in %.3f s: archive %s (%lld failed replicas; "
-                        "archive writes took %.2f%% of rank time)\n",
-                        spec.name.c_str(), s.wall_seconds, output.c_str(), failed,
+            std::printf("campaign %s finished in %.3f s: archive %s (%lld failed replicas; %lld "
+                        "continued from checkpoints; archive writes took %.2f%% of rank time)\n",
+                        spec.name.c_str(), s.wall_seconds, output.c_str(), failed, resumed,
                         wall > 0 ? 100.0 * io / wall : 0.0);
             std::printf("inspect with: jamsim status %s\n", output.c_str());
         }

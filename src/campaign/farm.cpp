@@ -196,12 +196,14 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, Archive& archive, int
             },
         .stop = stop};
     Outcome outcome = Outcome::Done;
+    std::shared_ptr<const ReplicaState> last_checkpoint;
     try {
         const ReplicaResult result = run_replica(
             params, RunContext{.after_sample = between, .checkpoints = &policy,
                                .resume = resume ? &*resume : nullptr,
                                .initial = initial ? &*initial : nullptr});
         timed([&] { archive.write_done(id, result, rank); });
+        last_checkpoint = result.last_checkpoint;
     } catch (const h5::Error&) {
         throw;  // the archive itself is broken: stop
     } catch (const ReplicaInterrupted&) {
@@ -215,6 +217,9 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, Archive& archive, int
         fs::remove(checkpoint, ignored);
         fs::remove(checkpoint + ".tmp", ignored);
     }
+    if (outcome == Outcome::Done && last_checkpoint)  // kept: a longer run continues from it
+        timed([&] { write_checkpoint(checkpoint, params, *last_checkpoint, true); });
+    summary.resumed += resume ? 1 : 0;
     summary.io_seconds += io;
     ++summary.ran;
     summary.failed += outcome == Outcome::Failed;

@@ -48,7 +48,8 @@ std::string checkpoint_path(const std::string& archive_path, std::int64_t id) {
     return checkpoint_folder(archive_path) + "/replica_" + std::to_string(id) + ".h5";
 }
 
-void write_checkpoint(const std::string& path, const ReplicaParams& p, const ReplicaState& state) {
+void write_checkpoint(const std::string& path, const ReplicaParams& p, const ReplicaState& state,
+                      bool final) {
     h5::quiet_errors();
     namespace fs = std::filesystem;
     const fs::path folder = fs::path(path).parent_path();
@@ -59,7 +60,8 @@ void write_checkpoint(const std::string& path, const ReplicaParams& p, const Rep
         const hid_t f = file.get();
         h5::write_attribute(f, "format", std::string(kFormat));
         h5::write_attribute(f, "code_version", std::string(kVersion));
-        h5::write_attribute(f, "replica", describe(p));
+        h5::write_attribute(f, "replica", describe_without_run_length(p));
+        h5::write_attribute(f, "final", std::int64_t{final ? 1 : 0});
         h5::write_attribute(f, "step", state.step);
         h5::write_attribute(f, "steps", state.steps);
         h5::write_attribute(f, "force_evaluations", state.force_evaluations);
@@ -91,9 +93,9 @@ void write_checkpoint(const std::string& path, const ReplicaParams& p, const Rep
         }
         h5::check(H5Fflush(f, H5F_SCOPE_GLOBAL), "flush '" + tmp + "'");
         file.close("checkpoint '" + tmp + "'");
-        sync_file(tmp);
+        if (!final) sync_file(tmp);
         fs::rename(tmp, path);
-        sync_folder(folder.string());
+        if (!final) sync_folder(folder.string());
     } catch (...) {
         std::error_code ignored;
         fs::remove(tmp, ignored);
@@ -111,13 +113,17 @@ ReplicaState read_checkpoint(const std::string& path, const ReplicaParams& p) {
             throw CheckpointError("checkpoint '" + path + "' has format \"" + format +
                                   "\", this jamsim reads \"" + kFormat + "\": remove it to start the replica again");
         const std::string replica = h5::read_string_attribute(f, "replica");
-        if (replica != describe(p))
+        if (replica != describe_without_run_length(p))
             throw CheckpointError("checkpoint '" + path + "' belongs to another replica (\"" + replica +
-                                  "\", this campaign's is \"" + describe(p) + "\")");
+                                  "\", this campaign's is \"" + describe_without_run_length(p) + "\")");
         ReplicaState s{.system = System{Particles{}, Box(h5::read_double_attribute(f, "box_side"),
                                                          h5::read_double_attribute(f, "box_strain"))}};
         s.step = h5::read_int64_attribute(f, "step");
         s.steps = h5::read_int64_attribute(f, "steps");
+        if (s.step > schedule_of(p).steps)
+            throw CheckpointError("checkpoint '" + path + "' is at step " + std::to_string(s.step) +
+                                  ", beyond this replica's " + std::to_string(schedule_of(p).steps) +
+                                  " steps (a shorter run than the one it was saved in)");
         s.force_evaluations = h5::read_int64_attribute(f, "force_evaluations");
         s.list_builds = h5::read_int64_attribute(f, "list_builds");
         s.wall_seconds = h5::read_double_attribute(f, "wall_seconds");

@@ -146,14 +146,20 @@ std::int64_t sample_count(const ReplicaParams& p) {
     return s.steps / s.sample_every + 1;
 }
 
-std::string describe(const ReplicaParams& p) {
+namespace {
+std::string describe_parameters(const ReplicaParams& p, bool run_length) {
     std::string out;
     for (const ParamInfo* info : used_parameters(p)) {
+        if (!run_length && (info->key == "strain" || info->key == "time")) continue;
         if (!out.empty()) out.push_back(' ');
         out.append(info->key).append("=").append(show_value(get_value(p, *info)));
     }
     return out;
 }
+} // namespace
+
+std::string describe(const ReplicaParams& p) { return describe_parameters(p, true); }
+std::string describe_without_run_length(const ReplicaParams& p) { return describe_parameters(p, false); }
 
 std::uint64_t replica_identity(const ReplicaParams& p) {
     std::string text = "jamsim replica";

@@ -2,6 +2,7 @@
 // Set-up, checkpoint steps and wrap-up shared by every run function (dynamics and
 // minimisation protocols).
 #include <chrono>
+#include <memory>
 #include <utility>
 
 #include "jamsim/force/force_field.hpp"
@@ -44,16 +45,18 @@ class ReplicaRun {
             return false;
         result.list_builds += static_cast<std::int64_t>(forces.builds());
         forces = ForceField(potential::make_soft_sphere(params_.alpha), params_.skin);
+        // The state at this step, kept (the last one is handed back with the result, so a
+        // finished replica can be extended from it) and saved when the policy says so.
+        auto state = std::make_shared<ReplicaState>(ReplicaState{
+            .step = step, .steps = steps, .system = system(), .series = result.series,
+            .correlation = correlation ? correlation->sums() : VelocityCorrelation::Sums{},
+            .force_evaluations = result.force_evaluations, .list_builds = result.list_builds,
+            .wall_seconds = elapsed()});
+        result.last_checkpoint = state;
         const CheckpointPolicy* policy = context_.checkpoints;
         if (!policy) return true;
         const bool stop = policy->stop && policy->stop();
-        if (policy->save && (stop || (policy->due && policy->due()))) {
-            ReplicaState s{.step = step, .steps = steps, .system = system(), .series = result.series,
-                           .correlation = correlation ? correlation->sums() : VelocityCorrelation::Sums{},
-                           .force_evaluations = result.force_evaluations,
-                           .list_builds = result.list_builds, .wall_seconds = elapsed()};
-            policy->save(s);
-        }
+        if (policy->save && (stop || (policy->due && policy->due()))) policy->save(*state);
         if (stop) throw ReplicaInterrupted("stopped at step " + std::to_string(step) + " of " +
                                            std::to_string(steps) + " (state saved)");
         return true;

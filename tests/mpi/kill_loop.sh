@@ -3,8 +3,8 @@
 # Runs the campaign undisturbed on 2 ranks; then runs it again and SIGKILLs every rank at a
 # random moment, KILLS times in a row (default 12), resuming each time; checkpoints are saved
 # at every checkpoint step (--checkpoint-every 0), so some kills land in the middle of a
-# checkpoint write. The finished archive must equal the undisturbed one bitwise, and no
-# checkpoint may be left behind. Prints the kills, the kills during a checkpoint write (a
+# checkpoint write. The finished archive must equal the undisturbed one bitwise, and only
+# the final checkpoints of finished replicas may be left behind. Prints the kills, the kills during a checkpoint write (a
 # .tmp file present after the kill) and the resumes that continued from a checkpoint.
 set -euo pipefail
 jamsim=$1 spec=$2 work=$3 py=$4 kills=${5:-12}
@@ -37,9 +37,7 @@ for k in $(seq "$kills"); do
 done
 timeout 300 "$mpirun" -n 2 "$jamsim" run "$spec" -o "$work/loop.h5" > "$work/final.log"
 /usr/bin/python3 "$py/compare_archives.py" "$work/ref.h5" "$work/loop.h5"
-if ls "$work/loop.h5.checkpoints"/replica_* >/dev/null 2>&1; then
-  echo "FAIL: checkpoints left after the campaign finished"; ls "$work/loop.h5.checkpoints"; exit 1
-fi
+/usr/bin/python3 "$py/check_checkpoints_final.py" "$work/loop.h5"
 echo "kills: $done_kills, during a checkpoint write: $during_write, resumes from a checkpoint: $from_checkpoint"
 [[ $done_kills -ge 10 ]] || { echo "FAIL: only $done_kills kills before the campaign finished"; exit 1; }
 [[ $from_checkpoint -ge 1 ]] || { echo "FAIL: no resume continued from a checkpoint"; exit 1; }

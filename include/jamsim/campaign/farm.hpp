@@ -42,6 +42,7 @@ struct FarmOptions {
 struct FarmSummary {
     std::int64_t ran = 0, failed = 0, skipped = 0;
     std::int64_t interrupted = 0;  ///< stopped at a checkpoint step (StopRequest)
+    std::int64_t resumed = 0;      ///< continued from a checkpoint
     double wall_seconds = 0.0;
     double io_seconds = 0.0;  ///< this rank's time inside archive writes
 };

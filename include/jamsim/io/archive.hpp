@@ -35,6 +35,16 @@ class Archive {
     /// the archive belongs to this campaign, otherwise why it does not.
     static std::string check_existing(const std::string& path, const CampaignSpec& spec);
 
+    /// Serial, read-only: "" when `spec` continues the archive's campaign to a longer run (the
+    /// same replicas, each with a strain, or time at rate 0, at least as large and one larger),
+    /// otherwise why not.
+    static std::string check_extension(const std::string& path, const CampaignSpec& spec);
+    /// Collective: rewrite the archive at `path` for the longer campaign `spec`: a new archive
+    /// with room for the longer runs (written beside it, then renamed over it, so a kill leaves
+    /// the old one whole) holding the failed replicas as they were and the finished ones as
+    /// partial rows of running replicas, which continue from their final checkpoints.
+    static void extend(MPI_Comm comm, const std::string& path, const CampaignSpec& spec);
+
     /// Independent writes, by the rank that runs the replica.
     void mark_running(std::int64_t replica, int rank);
     void write_done(std::int64_t replica, const ReplicaResult& result, int rank);

@@ -20,11 +20,16 @@ struct CheckpointError : std::runtime_error {
 std::string checkpoint_folder(const std::string& archive_path);
 std::string checkpoint_path(const std::string& archive_path, std::int64_t id);
 
-/// Write `state` of the replica with parameters `p` (atomically: tmp, fsync, rename).
-void write_checkpoint(const std::string& path, const ReplicaParams& p, const ReplicaState& state);
+/// Write `state` of the replica with parameters `p` (atomically: tmp, fsync, rename). A
+/// `final` checkpoint is the last checkpoint step of a finished replica, kept so that a
+/// longer run of it (an extended campaign) continues from there; it is not fsynced (losing
+/// it costs only the recomputation).
+void write_checkpoint(const std::string& path, const ReplicaParams& p, const ReplicaState& state,
+                      bool final = false);
 
-/// Read a checkpoint and check that it belongs to a replica with parameters `p` written by
-/// this version's checkpoint format; throws CheckpointError otherwise.
+/// Read a checkpoint and check that it belongs to a replica with parameters `p` (up to the
+/// run length, which may have grown) written by this version's checkpoint format, at a step
+/// within the replica's run; throws CheckpointError otherwise.
 ReplicaState read_checkpoint(const std::string& path, const ReplicaParams& p);
 
 } // namespace jamsim

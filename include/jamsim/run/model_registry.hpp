@@ -78,6 +78,9 @@ std::int64_t sample_count(const ReplicaParams& p);
 /// "key=value key=value ..." of the parameters p's model uses (17 significant digits where
 /// needed): the canonical description of a replica (fingerprints, messages).
 std::string describe(const ReplicaParams& p);
+/// The same without the run length (strain, or time at rate 0): what a checkpoint must match
+/// to continue a replica that has been extended.
+std::string describe_without_run_length(const ReplicaParams& p);
 /// The replica's random identity: a 64-bit hash of its model and of the physical parameters
 /// it uses (Identity::Physics), seed excluded. With the seed it keys every random number,
 /// so a replica is the same in any campaign that contains it and whatever its position in

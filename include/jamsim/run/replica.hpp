@@ -3,6 +3,7 @@
 // and protocols; below io (files, archives) and the campaign farm.
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <stdexcept>
 #include <vector>
 
@@ -14,10 +15,15 @@
 
 namespace jamsim {
 
+struct ReplicaState;
+
 /// What a finished replica hands back.
 struct ReplicaResult {
     TimeSeries series;
     System final_state;
+    /// The state at its last checkpoint step (none if it had none): a longer run of the same
+    /// replica continues from it bitwise (the campaign keeps it as a final checkpoint).
+    std::shared_ptr<const ReplicaState> last_checkpoint = {};
     std::vector<double> correlation_x = {};  ///< bin centres of g_y(x), d_s
     std::vector<double> correlation_g = {};  ///< g_y(x) over the steady state (strain ≥ transient)
     std::int64_t force_evaluations = 0;
