@@ -95,10 +95,15 @@ std::string check_output(const std::string& path, const CampaignSpec& spec, int&
                    "\" is not allowed: a file path, not a directory";
         const std::string why = Archive::check_existing(path, spec);
         if (why.empty()) return "";
-        if (Archive::check_extension(path, spec).empty()) {  // the same campaign, run longer
+        const std::string not_longer = Archive::check_extension(path, spec);
+        if (not_longer.empty()) {  // the same campaign, run longer
             extend = 1;
             return "";
         }
+        if (not_longer.find("would run shorter") != std::string::npos)  // the one near miss
+            return spec.path + ": refusing to use the archive '" + path + "': " + not_longer +
+                   " than in it: a campaign can be extended to a larger strain (or time), not "
+                   "shortened (choose another [campaign] output or -o)";
         return spec.path + ": refusing to use the archive: " + why +
                " (choose another [campaign] output or -o)";
     }

@@ -8,14 +8,7 @@
 #   requeue.sh JAMSIM REPO_ROOT        (root; exit 77 = skipped when not root)
 set -euo pipefail
 jamsim=$1 root=$2
-[[ $(id -u) -eq 0 ]] || { echo "skipped: a local Slurm needs root"; exit 77; }
-work=$PWD/slurm-requeue
-rm -rf "$work"
-mkdir -p "$work"
-export SLURM_LOCAL_DIR=$work/slurm
-"$root/tools/slurm-local.sh" start
-trap '"$root/tools/slurm-local.sh" stop' EXIT
-export SLURM_CONF=$SLURM_LOCAL_DIR/slurm.conf JAMSIM=$jamsim
+source "$(dirname "$0")/local_slurm.sh" slurm-requeue
 campaign=$root/tests/slurm/requeue_campaign.toml
 start=$(date +%s)
 "$MPIEXEC" -n 2 "$jamsim" run "$campaign" -o "$work/whole.h5" >/dev/null &
