@@ -38,12 +38,14 @@ void print_parameters(bool markdown) {
         std::printf("|---|---|---|---|---|---|---|---|\n");
     }
     for (const auto& info : parameters()) {
-        const std::string where = "[" + std::string(info.table) + "] " + std::string(info.toml_key);
+        const std::string where = info.table.empty() ? std::string("(derived)")
+                                                     : "[" + std::string(info.table) + "] " + std::string(info.toml_key);
         const std::string def = default_text(info);
         const std::string used = users_of(info.key);
         if (markdown)
-            std::printf("| `%s` | `%s` | `%s` | %s | %s | %s | %s | %s |\n", std::string(info.key).c_str(),
-                        where.c_str(), std::string(info.flag).c_str(),
+            std::printf("| `%s` | %s | %s | %s | %s | %s | %s | %s |\n", std::string(info.key).c_str(),
+                        info.table.empty() ? where.c_str() : ("`" + where + "`").c_str(),
+                        info.flag.empty() ? "" : ("`" + std::string(info.flag) + "`").c_str(),
                         info.units.empty() ? "" : std::string(info.units).c_str(),
                         def.empty() ? "\"\"" : def.c_str(), std::string(info.allowed).c_str(),
                         used.c_str(), std::string(info.description).c_str());

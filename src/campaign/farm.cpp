@@ -42,25 +42,34 @@ std::string hms(double s) {
     return buf;
 }
 
-/// Rank 0's bookkeeping: the queue, who is running what, the progress line.
+/// Rank 0's bookkeeping: the queue, who is running what, the progress line. A replica of a
+/// rate ladder is ready once its predecessor is done; a worker asking while nothing is ready
+/// but something may become ready waits (its request is answered later); a replica whose
+/// predecessor failed fails too.
 class Dispatcher {
   public:
     Dispatcher(MPI_Comm comm, const CampaignSpec& spec, std::vector<std::int64_t> queue,
-               std::int64_t already_done, const ProgressOptions& progress)
-        : comm_(comm), spec_(spec), queue_(std::move(queue)),
-          total_(static_cast<std::int64_t>(queue_.size()) + already_done), done_(already_done),
-          progress_(progress), start_(Clock::now()), last_print_(start_) {
+               std::int64_t already_done, std::vector<ReplicaStatus> status,
+               std::function<void(std::int64_t, const std::string&)> fail,
+               const ProgressOptions& progress)
+        : comm_(comm), spec_(spec), queue_(std::move(queue)), status_(std::move(status)),
+          fail_(std::move(fail)), total_(static_cast<std::int64_t>(queue_.size()) + already_done),
+          done_(already_done), progress_(progress), start_(Clock::now()), last_print_(start_) {
         for (auto id : queue_) cost_total_run_ += estimated_cost(spec_.replicas[id]);
         workers_active_ = mpi::size(comm) - 1;
         active_.assign(static_cast<std::size_t>(mpi::size(comm)), true);
     }
 
-    /// Next replica for rank 0 itself, or −1.
+    /// Next replica for rank 0 itself, or −1 (waiting, serving requests, while a ladder's
+    /// predecessor still runs elsewhere).
     std::int64_t take() {
-        check_stop();
-        if (stopping_ || next_ >= queue_.size()) return -1;
-        ++running_;
-        return queue_[next_++];
+        for (;;) {
+            check_stop();
+            if (stopping_) return -1;
+            if (const std::int64_t id = take_ready(); id >= 0) return id;
+            if (!may_become_ready()) return -1;
+            serve_blocking();
+        }
     }
 
     void finished(std::int64_t replica, Outcome outcome) {
@@ -70,8 +79,11 @@ class Dispatcher {
             StopRequest::request();  // one replica stopped: the whole run stops
         } else {
             ++(outcome == Outcome::Failed ? failed_ : done_);
+            status_[static_cast<std::size_t>(replica)] =
+                outcome == Outcome::Failed ? ReplicaStatus::Failed : ReplicaStatus::Done;
             cost_done_ += estimated_cost(spec_.replicas[replica]);
         }
+        wake_waiting();
         print(false);
     }
 
@@ -83,6 +95,7 @@ class Dispatcher {
         for (int w = 1; w < mpi::size(comm_); ++w)  // workers that have not been let go
             if (active_[static_cast<std::size_t>(w)])
                 mpi::check(MPI_Send(&stop, 1, MPI_INT64_T, w, kTagStop, comm_), "MPI_Send (stop)");
+        wake_waiting();
     }
     bool stopping() const { return stopping_; }
 
@@ -102,9 +115,9 @@ class Dispatcher {
     /// Serve until every worker has been told to stop (rank 0 has no work left).
     void serve_until_workers_stop() {
         while (workers_active_ > 0) {
-            MPI_Status st;
-            mpi::check(MPI_Probe(MPI_ANY_SOURCE, kTagRequest, comm_, &st), "MPI_Probe");
-            serve_one(st.MPI_SOURCE);
+            wake_waiting();
+            if (workers_active_ == 0) break;
+            serve_blocking();
         }
         print(true);
     }
@@ -113,20 +126,77 @@ class Dispatcher {
     std::int64_t interrupted() const { return interrupted_; }
 
   private:
-    void serve_one(int source) {
-        Report r{};
-        mpi::check(MPI_Recv(&r, sizeof r, MPI_BYTE, source, kTagRequest, comm_,
-                            MPI_STATUS_IGNORE),
-                   "MPI_Recv (work request)");
-        if (r.replica >= 0) finished(r.replica, r.outcome);
-        std::int64_t next = take();
+    bool ready(std::int64_t id) const {
+        if (spec_.predecessor.empty()) return true;
+        const std::int64_t before = spec_.predecessor[static_cast<std::size_t>(id)];
+        return before < 0 || status_[static_cast<std::size_t>(before)] == ReplicaStatus::Done;
+    }
+
+    /// The first queued replica that can start now (−1 if none); replicas whose predecessor
+    /// failed are failed on the way.
+    std::int64_t take_ready() {
+        for (bool changed = true; changed;) {
+            changed = false;
+            for (std::size_t k = 0; k < queue_.size(); ++k) {
+                const std::int64_t id = queue_[k];
+                const std::int64_t before = spec_.predecessor.empty() ? -1 : spec_.predecessor[static_cast<std::size_t>(id)];
+                if (before >= 0 && status_[static_cast<std::size_t>(before)] == ReplicaStatus::Failed) {
+                    queue_.erase(queue_.begin() + static_cast<std::ptrdiff_t>(k));
+                    status_[static_cast<std::size_t>(id)] = ReplicaStatus::Failed;
+                    ++failed_;
+                    fail_(id, "its predecessor in the rate ladder, replica " + std::to_string(before) + ", failed");
+                    changed = true;
+                    break;
+                }
+                if (!ready(id)) continue;
+                queue_.erase(queue_.begin() + static_cast<std::ptrdiff_t>(k));
+                ++running_;
+                return id;
+            }
+        }
+        return -1;
+    }
+
+    /// Something queued may still become ready: a replica runs that could be a predecessor.
+    bool may_become_ready() const { return !queue_.empty() && running_ > 0; }
+
+    void serve_blocking() {
+        MPI_Status st;
+        mpi::check(MPI_Probe(MPI_ANY_SOURCE, kTagRequest, comm_, &st), "MPI_Probe");
+        serve_one(st.MPI_SOURCE);
+    }
+
+    void reply(int worker, std::int64_t next) {
         if (next < 0) {
             --workers_active_;
-            active_[static_cast<std::size_t>(source)] = false;
+            active_[static_cast<std::size_t>(worker)] = false;
             if (stopping_) next = kStop;
         }
-        mpi::check(MPI_Send(&next, 1, MPI_INT64_T, source, kTagAssign, comm_),
-                   "MPI_Send (assignment)");
+        mpi::check(MPI_Send(&next, 1, MPI_INT64_T, worker, kTagAssign, comm_), "MPI_Send (assignment)");
+    }
+
+    void serve_one(int source) {
+        Report r{};
+        mpi::check(MPI_Recv(&r, sizeof r, MPI_BYTE, source, kTagRequest, comm_, MPI_STATUS_IGNORE),
+                   "MPI_Recv (work request)");
+        if (r.replica >= 0) finished(r.replica, r.outcome);
+        check_stop();
+        const std::int64_t next = stopping_ ? -1 : take_ready();
+        if (next < 0 && !stopping_ && may_become_ready()) {
+            waiting_.push_back(source);  // answered when a predecessor finishes
+            return;
+        }
+        reply(source, next);
+    }
+
+    /// Answer the waiting workers that can be answered now.
+    void wake_waiting() {
+        for (std::size_t k = 0; k < waiting_.size();) {
+            const std::int64_t next = stopping_ ? -1 : take_ready();
+            if (next < 0 && !stopping_ && may_become_ready()) return;
+            reply(waiting_[k], next);
+            waiting_.erase(waiting_.begin() + static_cast<std::ptrdiff_t>(k));
+        }
     }
 
     void print(bool final_line) {
@@ -151,8 +221,10 @@ class Dispatcher {
 
     MPI_Comm comm_;
     const CampaignSpec& spec_;
-    std::vector<std::int64_t> queue_;
-    std::size_t next_ = 0;
+    std::vector<std::int64_t> queue_;  ///< not yet started, longest estimated cost first
+    std::vector<ReplicaStatus> status_;  ///< of every replica, as this run knows it
+    std::function<void(std::int64_t, const std::string&)> fail_;  ///< record a failure
+    std::vector<int> waiting_;  ///< workers whose request waits for a ready replica
     std::int64_t total_;  ///< replicas of this run's shard
     std::int64_t done_ = 0, failed_ = 0, running_ = 0, interrupted_ = 0;
     int workers_active_ = 0;
@@ -181,6 +253,8 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, Archive& archive, int
     if (fs::exists(checkpoint)) timed([&] { resume = read_checkpoint(checkpoint, params); });
     std::optional<System> initial;
     if (options.initial_states && !resume) timed([&] { initial = options.initial_states->load(params, id); });
+    const std::int64_t before = spec.predecessor.empty() ? -1 : spec.predecessor[static_cast<std::size_t>(id)];
+    const bool has_successor = std::find(spec.predecessor.begin(), spec.predecessor.end(), id) != spec.predecessor.end();
     timed([&] { archive.mark_running(id, rank); });
     auto last_save = Clock::now();
     const CheckpointPolicy policy{
@@ -198,12 +272,24 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, Archive& archive, int
     Outcome outcome = Outcome::Done;
     std::shared_ptr<const ReplicaState> last_checkpoint;
     try {
+        if (before >= 0 && !resume)  // a rate ladder: start where the predecessor ended
+            timed([&] { initial = read_state_system(end_state_path(options.archive_path, before)); });
         const ReplicaResult result = run_replica(
             params, RunContext{.after_sample = between, .checkpoints = &policy,
                                .resume = resume ? &*resume : nullptr,
                                .initial = initial ? &*initial : nullptr});
+        if (has_successor)  // durable before the status that lets the successor start
+            timed([&] {
+                write_checkpoint(end_state_path(options.archive_path, id), params,
+                                 ReplicaState{.step = schedule_of(params).steps, .steps = schedule_of(params).steps,
+                                              .system = result.final_state});
+            });
         timed([&] { archive.write_done(id, result, rank); });
         last_checkpoint = result.last_checkpoint;
+        if (before >= 0) {  // the predecessor's end state has served
+            std::error_code ignored;
+            fs::remove(end_state_path(options.archive_path, before), ignored);
+        }
     } catch (const h5::Error&) {
         throw;  // the archive itself is broken: stop
     } catch (const ReplicaInterrupted&) {
@@ -238,8 +324,14 @@ FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
         const auto status = archive.read_status();
         std::vector<std::int64_t> queue;
         std::int64_t done = 0;
+        // A rate ladder stays in the shard of its first replica.
+        const auto root = [&](std::int64_t r) {
+            while (!spec.predecessor.empty() && spec.predecessor[static_cast<std::size_t>(r)] >= 0)
+                r = spec.predecessor[static_cast<std::size_t>(r)];
+            return r;
+        };
         for (std::size_t r = 0; r < status.size(); ++r) {
-            if (!options.shard.contains(static_cast<std::int64_t>(r))) continue;
+            if (!options.shard.contains(root(static_cast<std::int64_t>(r)))) continue;
             if (status[r] == ReplicaStatus::Pending || status[r] == ReplicaStatus::Running ||
                 (options.retry_failed && status[r] == ReplicaStatus::Failed))
                 queue.push_back(static_cast<std::int64_t>(r));
@@ -251,7 +343,12 @@ FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
         std::stable_sort(queue.begin(), queue.end(), [&](auto a, auto b) {
             return estimated_cost(spec.replicas[a]) > estimated_cost(spec.replicas[b]);
         });
-        Dispatcher d(comm, spec, std::move(queue), done, options.progress);
+        Dispatcher d(comm, spec, std::move(queue), done, status,
+                     [&](std::int64_t id, const std::string& reason) {
+                         archive.write_failed(id, reason, 0.0, rank);
+                         ++summary.failed;
+                     },
+                     options.progress);
         const std::function<void()> serve = [&d] { d.serve_pending(); };
         const std::function<bool()> stop = [&d] {
             d.check_stop();

@@ -120,6 +120,11 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
     for (const auto& c : columns)
         h5::create_filled_dataset(f, "/replicas/" + c.name, H5T_NATIVE_DOUBLE, {replicas}, &nan, c.units,
                        c.description);
+    if (!spec.predecessor.empty()) {
+        const std::int64_t none = -1;
+        h5::create_filled_dataset(f, "/replicas/predecessor", H5T_NATIVE_INT64, {replicas}, &none, "1",
+                                  "rate ladder: the replica whose end state starts this one (-1: none)");
+    }
     {
         const std::uint64_t none = 0;
         h5::create_filled_dataset(f, "/replicas/identity", H5T_NATIVE_UINT64, {replicas}, &none, "1",
@@ -175,6 +180,8 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
             for (const auto& p : spec.replicas) v.push_back(c.value(p));
             write_block(f, "/replicas/" + c.name, H5T_NATIVE_DOUBLE, {0}, {replicas}, v.data());
         }
+        if (!spec.predecessor.empty())
+            write_block(f, "/replicas/predecessor", H5T_NATIVE_INT64, {0}, {replicas}, spec.predecessor.data());
         std::vector<std::uint64_t> ids;
         for (const auto& p : spec.replicas) ids.push_back(replica_identity(p));
         write_block(f, "/replicas/identity", H5T_NATIVE_UINT64, {0}, {replicas}, ids.data());

@@ -7,7 +7,9 @@
 #include <toml++/toml.h>
 
 #include <fstream>
+#include <map>
 #include <optional>
+#include <tuple>
 #include <set>
 #include <sstream>
 
@@ -142,6 +144,37 @@ void read_into(const Reader& r, ReplicaParams& p, const ParamInfo& info, const t
     if (!value || !set_value(p, info, *value)) r.fail(where, show(node), kind_of(info));
 }
 
+/// Rate ladders: for each (N, phi, seed) the replicas in order of decreasing rate, each
+/// starting from the end state of the one before (its predecessor; ladder_from = its rate).
+void link_rate_ladders(const Reader& r, CampaignSpec& spec) {
+    std::map<std::tuple<std::int64_t, double, std::uint64_t>, std::vector<std::size_t>> chains;
+    for (std::size_t k = 0; k < spec.replicas.size(); ++k) {
+        const ReplicaParams& p = spec.replicas[k];
+        chains[{p.n, p.phi, p.seed}].push_back(k);
+    }
+    spec.predecessor.assign(spec.replicas.size(), -1);
+    for (auto& [key, chain] : chains) {
+        std::stable_sort(chain.begin(), chain.end(), [&](std::size_t a, std::size_t b) {
+            return spec.replicas[a].rate > spec.replicas[b].rate;
+        });
+        const auto& [n, phi, seed] = key;
+        const std::string which = "N = " + std::to_string(n) + ", phi = " + show_value(phi) +
+                                  ", seed = " + std::to_string(seed);
+        if (chain.size() < 2)
+            r.fail("[sweep] rate_ladder", "\"down\"", "at least two rates for each N, phi and seed (" + which + " has one)");
+        for (std::size_t k = 0; k < chain.size(); ++k) {
+            ReplicaParams& p = spec.replicas[chain[k]];
+            if (!(p.rate > 0.0)) r.fail("[sweep] rate", show_value(p.rate), "rates > 0 in a rate ladder");
+            if (k == 0) continue;
+            const ReplicaParams& before = spec.replicas[chain[k - 1]];
+            if (before.rate == p.rate)
+                r.fail("[sweep] rate", show_value(p.rate), "distinct rates in a rate ladder (" + which + " has it twice)");
+            p.ladder_from = before.rate;
+            spec.predecessor[chain[k]] = static_cast<std::int64_t>(chain[k - 1]);
+        }
+    }
+}
+
 } // namespace
 
 CampaignSpec parse_campaign(const std::string& text, const std::string& path) {
@@ -184,9 +217,11 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path) {
         if (table == "potential") keys.insert("name");
         if (table == "sweep") keys.insert("points");
         r.only_keys(t ? *t : empty, "[" + table + "]", keys);
-        if (!t || table == "sweep") continue;
+        if (!t) continue;
         for (const auto& info : parameters()) {
             if (info.table != table) continue;
+            if (table == "sweep" && (info.key == "N" || info.key == "phi" || info.key == "rate" || info.key == "seed"))
+                continue;  // the sweep's axes, expanded below
             if (const toml::node* node = t->get(info.toml_key)) {
                 read_into(r, base, info, *node, location(info));
                 given.emplace_back(&info, show(*node));
@@ -303,6 +338,7 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path) {
             }
             spec.replicas.push_back(p);
         }
+    if (!base.rate_ladder.empty()) link_rate_ladders(r, spec);
     return spec;
 }
 

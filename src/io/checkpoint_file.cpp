@@ -48,6 +48,10 @@ std::string checkpoint_path(const std::string& archive_path, std::int64_t id) {
     return checkpoint_folder(archive_path) + "/replica_" + std::to_string(id) + ".h5";
 }
 
+std::string end_state_path(const std::string& archive_path, std::int64_t id) {
+    return checkpoint_folder(archive_path) + "/end_" + std::to_string(id) + ".h5";
+}
+
 void write_checkpoint(const std::string& path, const ReplicaParams& p, const ReplicaState& state,
                       bool final) {
     h5::quiet_errors();
@@ -103,7 +107,9 @@ void write_checkpoint(const std::string& path, const ReplicaParams& p, const Rep
     }
 }
 
-ReplicaState read_checkpoint(const std::string& path, const ReplicaParams& p) {
+namespace {
+/// Everything in the file; checks its format and the lengths of its arrays.
+ReplicaState read_state(const std::string& path) {
     h5::quiet_errors();
     try {
         const h5::Handle file = h5::open_file_readonly(path);
@@ -112,18 +118,10 @@ ReplicaState read_checkpoint(const std::string& path, const ReplicaParams& p) {
         if (format != kFormat)
             throw CheckpointError("checkpoint '" + path + "' has format \"" + format +
                                   "\", this jamsim reads \"" + kFormat + "\": remove it to start the replica again");
-        const std::string replica = h5::read_string_attribute(f, "replica");
-        if (replica != describe_without_run_length(p))
-            throw CheckpointError("checkpoint '" + path + "' belongs to another replica (\"" + replica +
-                                  "\", this campaign's is \"" + describe_without_run_length(p) + "\")");
         ReplicaState s{.system = System{Particles{}, Box(h5::read_double_attribute(f, "box_side"),
                                                          h5::read_double_attribute(f, "box_strain"))}};
         s.step = h5::read_int64_attribute(f, "step");
         s.steps = h5::read_int64_attribute(f, "steps");
-        if (s.step > schedule_of(p).steps)
-            throw CheckpointError("checkpoint '" + path + "' is at step " + std::to_string(s.step) +
-                                  ", beyond this replica's " + std::to_string(schedule_of(p).steps) +
-                                  " steps (a shorter run than the one it was saved in)");
         s.force_evaluations = h5::read_int64_attribute(f, "force_evaluations");
         s.list_builds = h5::read_int64_attribute(f, "list_builds");
         s.wall_seconds = h5::read_double_attribute(f, "wall_seconds");
@@ -135,8 +133,6 @@ ReplicaState read_checkpoint(const std::string& path, const ReplicaParams& p) {
         for (const auto* v : {&q.y, &q.diameter, &q.fx, &q.fy, &q.ux, &q.uy})
             if (v->size() != q.x.size() || q.tag.size() != q.x.size())
                 throw CheckpointError("checkpoint '" + path + "' is damaged: particle arrays differ in length");
-        if (static_cast<std::int64_t>(q.x.size()) != p.n)
-            throw CheckpointError("checkpoint '" + path + "' has " + std::to_string(q.x.size()) + " disks, the replica " + std::to_string(p.n));
         std::vector<std::vector<double>> columns;
         for (const auto& c : kSampleColumns) columns.push_back(h5::read_dataset(f, std::string("timeseries/") + c.name));
         for (std::size_t row = 0; row < columns.front().size(); ++row) {
@@ -154,5 +150,28 @@ ReplicaState read_checkpoint(const std::string& path, const ReplicaParams& p) {
         throw CheckpointError("checkpoint '" + path + "' cannot be read: " + e.what());
     }
 }
+
+} // namespace
+
+ReplicaState read_checkpoint(const std::string& path, const ReplicaParams& p) {
+    h5::quiet_errors();
+    std::string replica;
+    try {
+        replica = h5::read_string_attribute(h5::open_file_readonly(path).get(), "replica");
+    } catch (const h5::Error& e) {
+        throw CheckpointError("checkpoint '" + path + "' cannot be read: " + e.what());
+    }
+    ReplicaState s = read_state(path);
+    if (replica != describe_without_run_length(p))
+        throw CheckpointError("checkpoint '" + path + "' belongs to another replica (\"" + replica +
+                              "\", this campaign's is \"" + describe_without_run_length(p) + "\")");
+    if (s.step > schedule_of(p).steps)
+        throw CheckpointError("checkpoint '" + path + "' is at step " + std::to_string(s.step) +
+                              ", beyond this replica's " + std::to_string(schedule_of(p).steps) +
+                              " steps (a shorter run than the one it was saved in)");
+    return s;
+}
+
+System read_state_system(const std::string& path) { return read_state(path).system; }
 
 } // namespace jamsim

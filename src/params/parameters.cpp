@@ -75,6 +75,14 @@ const ParamInfo kParameters[] = {
      "and may save its state",
      &R::checkpoint_steps, kNum, JAMSIM_CHECK(p.checkpoint_steps >= 1, "checkpoint_steps >= 1"),
      "an integer >= 1"},
+    {"rate_ladder", "sweep", "rate_ladder", "--rate-ladder", "",
+     "\"down\": for each N, phi and seed the rates run from high to low, each replica starting "
+     "from the end state of the next higher rate (transients cut as by Olsson and Teitel)",
+     &R::rate_ladder, kPhys,
+     JAMSIM_CHECK(p.rate_ladder.empty() || p.rate_ladder == "down", "\"down\" or \"\""), "\"\", down"},
+    {"ladder_from", "", "", "", "1/tau",
+     "rate ladders: the rate of the replica whose end state starts this one (0: random start)",
+     &R::ladder_from, kPhys, nullptr, "derived from the sweep"},
     {"initial", "run", "initial", "--initial", "",
      "campaign archive whose finished replicas' final states are the initial configurations "
      "(relative to the working directory; \"\": random positions)",

@@ -109,6 +109,7 @@ bool uses_parameter(const ReplicaParams& p, std::string_view key) {
             key == "checkpoint_steps")
             return true;
         if (key == "strain") return p.rate > 0.0;
+        if (key == "rate_ladder" || key == "ladder_from") return !p.rate_ladder.empty();
         if (key == "time") return p.rate == 0.0;
     }
     return contains(m->parameters, key);

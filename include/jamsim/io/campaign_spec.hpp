@@ -30,6 +30,9 @@ struct CampaignSpec {
     std::string name;
     std::string output;
     std::vector<ReplicaParams> replicas;
+    /// Rate ladders: the replica whose end state starts each replica (−1: none); empty
+    /// without a ladder.
+    std::vector<std::int64_t> predecessor;
 };
 
 /// Parse and validate a campaign; throws SpecError.

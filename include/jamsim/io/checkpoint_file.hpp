@@ -20,6 +20,12 @@ struct CheckpointError : std::runtime_error {
 std::string checkpoint_folder(const std::string& archive_path);
 std::string checkpoint_path(const std::string& archive_path, std::int64_t id);
 
+/// The end state of a replica of a rate ladder, which its successor starts from.
+std::string end_state_path(const std::string& archive_path, std::int64_t id);
+
+/// The configuration saved in a checkpoint or end-state file (format checked only).
+System read_state_system(const std::string& path);
+
 /// Write `state` of the replica with parameters `p` (atomically: tmp, fsync, rename). A
 /// `final` checkpoint is the last checkpoint step of a finished replica, kept so that a
 /// longer run of it (an extended campaign) continues from there; it is not fsynced (losing

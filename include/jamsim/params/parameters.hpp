@@ -26,6 +26,8 @@ struct ReplicaParams {
     double transient = 0.0;             ///< strain (time at rate 0) excluded from averages
     double sample_interval = 0.01;      ///< strain (time at rate 0) between samples
     std::int64_t checkpoint_steps = 10000;  ///< steps between checkpoint steps (run/replica.hpp)
+    std::string rate_ladder = "";       ///< "down": each (N, phi, seed) runs its rates high to low
+    double ladder_from = 0.0;           ///< rate of the replica whose end state starts this one (derived)
     std::string initial = "";           ///< archive whose final states start the replicas ("": random)
     std::string initial_match = "parameters";  ///< "parameters" (N, phi, seed) or "id"
     double dt = 0.2;                    ///< time step Δt, τ
@@ -65,7 +67,8 @@ enum class Identity : std::uint8_t {
 /// One row of the parameter table.
 struct ParamInfo {
     std::string_view key;          ///< snake_case: campaign key, archive column, file attribute
-    std::string_view table;        ///< TOML table ("model", "potential", "system", "run", "sweep")
+    std::string_view table;        ///< TOML table ("model", "potential", "system", "run", "sweep");
+                                   ///< "" for a parameter derived from the others, not an input
     std::string_view toml_key;     ///< key inside that table (usually == key; "name", "seeds")
     std::string_view flag;         ///< `jamsim replica` option ("--sample-interval")
     std::string_view units;        ///< "1" when dimensionless
