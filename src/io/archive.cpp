@@ -1,5 +1,7 @@
 #include "jamsim/io/archive.hpp"
 
+#include "archive_detail.hpp"
+
 #include <algorithm>
 #include <functional>
 #include <chrono>
@@ -18,19 +20,13 @@
 
 namespace jamsim {
 
-namespace {
-
+using archive_detail::kReasonLength;
+using archive_detail::write_block;
 using h5::check;
 using h5::Handle;
 
-/// Independent write of a block of an archive dataset (the rank that runs a replica).
-void write_block(hid_t file, const std::string& path, hid_t memtype, std::vector<hsize_t> start,
-                 std::vector<hsize_t> count, const void* data) {
-    const Handle dxpl = h5::independent_transfer();
-    h5::write_block(file, path, memtype, std::move(start), std::move(count), data, dxpl.get());
-}
+namespace {
 
-constexpr std::size_t kReasonLength = 200;  // bytes of /replicas/failure_reason
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 /// A numeric per-replica column: a used parameter, or a derived figure.
@@ -234,88 +230,6 @@ std::string Archive::check_existing(const std::string& path, const CampaignSpec&
     }
 }
 
-namespace {
-/// "0 model=RD0 N=64 ... strain=0.4 ..." without its strain= and time= fields, and those values.
-std::pair<std::string, std::vector<double>> split_run_length(const std::string& line) {
-    std::istringstream in(line);
-    std::string token, rest;
-    std::vector<double> lengths;
-    while (in >> token) {
-        if (token.rfind("strain=", 0) == 0 || token.rfind("time=", 0) == 0) {
-            lengths.push_back(std::strtod(token.c_str() + token.find('=') + 1, nullptr));
-            continue;
-        }
-        rest += token + ' ';
-    }
-    return {rest, lengths};
-}
-} // namespace
-
-std::string Archive::check_extension(const std::string& path, const CampaignSpec& spec) {
-    h5::quiet_errors();
-    std::string stored;
-    try {
-        stored = h5::read_string_attribute(h5::open_unlocked_readonly(path).get(), "spec_fingerprint");
-    } catch (const h5::Error& e) {
-        return e.what();
-    }
-    std::istringstream a(stored), b(fingerprint(spec));
-    std::string la, lb;
-    bool longer = false;
-    for (std::size_t k = 0;; ++k) {
-        const bool got_a = static_cast<bool>(std::getline(a, la));
-        const bool got_b = static_cast<bool>(std::getline(b, lb));
-        if (!got_a && !got_b) break;
-        if (got_a != got_b) return "the number of replicas differs";
-        if (k == 0) {
-            if (la != lb) return "another campaign name, replica count or version";
-            continue;
-        }
-        const auto [ra, va] = split_run_length(la);
-        const auto [rb, vb] = split_run_length(lb);
-        if (ra != rb || va.size() != vb.size()) return "replica " + std::to_string(k - 1) + " differs in more than its run length";
-        for (std::size_t j = 0; j < va.size(); ++j) {
-            if (vb[j] < va[j]) return "replica " + std::to_string(k - 1) + " would run shorter";
-            longer = longer || vb[j] > va[j];
-        }
-    }
-    return longer ? "" : "no replica runs longer";
-}
-
-void Archive::extend(MPI_Comm comm, const std::string& path, const CampaignSpec& spec) {
-    const std::string next = path + ".extending";
-    std::vector<ReplicaStatus> before;
-    if (mpi::rank(comm) == 0) before = read_stored_campaign(path).status;
-    Archive out = create(comm, next, spec);
-    if (mpi::rank(comm) == 0)
-        for (std::size_t r = 0; r < before.size(); ++r) {
-            if (before[r] != ReplicaStatus::Done && before[r] != ReplicaStatus::Failed) continue;
-            out.import_replica(path, static_cast<std::int64_t>(r));
-            if (before[r] != ReplicaStatus::Done) continue;
-            // Its rows so far stay visible, as partial rows of a replica still running.
-            const auto id = static_cast<hsize_t>(r);
-            const ReplicaParams& p = spec.replicas[r];
-            const auto s = static_cast<std::int8_t>(ReplicaStatus::Running);
-            double progress = 0;
-            {
-                const Handle src = h5::open_unlocked_readonly(path);
-                std::int64_t rows = 0;
-                h5::read_block(src.get(), "/replicas/rows_written", H5T_NATIVE_INT64, {id}, {1}, &rows);
-                progress = static_cast<double>(rows - 1) / static_cast<double>(std::max<std::int64_t>(sample_count(p) - 1, 1));
-            }
-            write_block(out.file_.get(), "/replicas/progress", H5T_NATIVE_DOUBLE, {id}, {1}, &progress);
-            write_block(out.file_.get(), "/replicas/status", H5T_NATIVE_INT8, {id}, {1}, &s);
-        }
-    out.stamp("extended");
-    out.close();
-    if (mpi::rank(comm) == 0) {
-        std::error_code ec;
-        std::filesystem::rename(next, path, ec);
-        if (ec) throw h5::Error("cannot rename '" + next + "' to '" + path + "': " + ec.message());
-    }
-    mpi::check(MPI_Barrier(comm), "MPI_Barrier");
-}
-
 void Archive::mark_running(std::int64_t replica, int rank) {
     const auto r = static_cast<hsize_t>(replica);
     const std::int32_t who = rank;
@@ -442,64 +356,5 @@ void Archive::stamp(const std::string& attribute) {
 }
 
 void Archive::close() { file_.close("archive"); }
-
-StoredCampaign read_stored_campaign(const std::string& path) {
-    h5::quiet_errors();
-    const Handle file = h5::open_unlocked_readonly(path);
-    const std::string text = h5::read_string_attribute(file.get(), "spec_text");
-    if (text.empty()) throw h5::Error("'" + path + "' is not a jamsim campaign archive");
-    StoredCampaign out{parse_campaign(text, h5::read_string_attribute(file.get(), "spec_path")), {}};
-    for (auto v : h5::read_all<std::int8_t>(file.get(), "/replicas/status", H5T_NATIVE_INT8))
-        out.status.push_back(static_cast<ReplicaStatus>(v));
-    return out;
-}
-
-ArchiveSummary summarize_archive(const std::string& path) {
-    h5::quiet_errors();
-    const Handle file = h5::open_unlocked_readonly(path);
-    ArchiveSummary s;
-    s.campaign = h5::read_string_attribute(file.get(), "campaign");
-    if (s.campaign.empty()) throw h5::Error("'" + path + "' is not a jamsim campaign archive");
-    s.started = h5::read_string_attribute(file.get(), "run_started");
-    s.finished = h5::read_string_attribute(file.get(), "run_finished");
-    const auto status = h5::read_all<std::int8_t>(file.get(), "/replicas/status", H5T_NATIVE_INT8);
-    const auto wall = h5::read_all<double>(file.get(), "/replicas/wall_seconds", H5T_NATIVE_DOUBLE);
-    const auto cost = h5::read_all<double>(file.get(), "/replicas/estimated_cost", H5T_NATIVE_DOUBLE);
-    const auto progress = h5::read_all<double>(file.get(), "/replicas/progress", H5T_NATIVE_DOUBLE);
-    if (H5Aexists(file.get(), "n_ranks") > 0) s.ranks = h5::read_int64_attribute(file.get(), "n_ranks");
-    const Handle rt = h5::fixed_string_type(kReasonLength);
-    std::vector<char> reasons(status.size() * kReasonLength);
-    {
-        Handle set(H5Dopen2(file.get(), "/replicas/failure_reason", H5P_DEFAULT), H5Dclose,
-                   "open failure_reason");
-        if (!status.empty())
-            check(H5Dread(set.get(), rt.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, reasons.data()),
-                  "read failure_reason");
-    }
-    for (std::size_t r = 0; r < status.size(); ++r) {
-        switch (static_cast<ReplicaStatus>(status[r])) {
-        case ReplicaStatus::Pending:
-            ++s.pending;
-            s.cost_left += cost[r];
-            break;
-        case ReplicaStatus::Running:
-            ++s.running;
-            s.cost_left += cost[r] * (1.0 - progress[r]);
-            s.in_progress.push_back({static_cast<std::int64_t>(r), progress[r]});
-            break;
-        case ReplicaStatus::Done:
-            ++s.done;
-            s.wall_seconds_done += wall[r];
-            s.cost_done += cost[r];
-            break;
-        case ReplicaStatus::Failed:
-            ++s.failed;
-            s.failures.push_back("replica " + std::to_string(r) + ": " +
-                                 std::string(&reasons[r * kReasonLength]));
-            break;
-        }
-    }
-    return s;
-}
 
 } // namespace jamsim
