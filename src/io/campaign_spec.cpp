@@ -339,6 +339,16 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path) {
             spec.replicas.push_back(p);
         }
     if (!base.rate_ladder.empty()) link_rate_ladders(r, spec);
+    // A checkpoint interval asked for that no replica reaches would never checkpoint.
+    if (const toml::table* run_table = r.table(root, "run"); run_table && run_table->get("checkpoint_steps")) {
+        std::int64_t longest = 0;
+        for (const auto& p : spec.replicas)
+            if (uses_parameter(p, "checkpoint_steps")) longest = std::max(longest, schedule_of(p).steps);
+        if (longest > 0 && base.checkpoint_steps > longest)
+            r.fail("[run] checkpoint_steps", std::to_string(base.checkpoint_steps),
+                   "at most the longest replica's " + std::to_string(longest) +
+                       " steps (a longer interval never checkpoints)");
+    }
     return spec;
 }
 
