@@ -12,6 +12,15 @@ if [[ $(id -u) -eq 0 ]]; then  # Open MPI refuses root unless told
 fi
 export OMPI_MCA_rmaps_base_oversubscribe=1  # RANKS may exceed the cores
 mkdir -p out
+# An archive of an older jamsim (or an edited quickstart.toml) cannot be resumed: keep it aside.
+if [[ -e out/quickstart.h5 ]] &&
+   ! build/${JAMSIM_PRESET:-release}/jamsim run --dry-run --no-calibrate campaigns/quickstart.toml \
+       -o out/quickstart.h5 > /dev/null 2>&1; then
+  old=out/quickstart.h5.$(date +%Y%m%dT%H%M%S)
+  echo "quickstart: out/quickstart.h5 holds another campaign or jamsim version; moved to $old"
+  mv out/quickstart.h5 "$old"
+  if [[ -d out/quickstart.h5.checkpoints ]]; then mv out/quickstart.h5.checkpoints "$old.checkpoints"; fi
+fi
 mpirun -n "${RANKS:-2}" build/${JAMSIM_PRESET:-release}/jamsim run campaigns/quickstart.toml \
     -o out/quickstart.h5
 build/${JAMSIM_PRESET:-release}/jamsim status out/quickstart.h5

@@ -20,6 +20,8 @@ std::string users_of(std::string_view key) {
     for (const auto& m : models()) {
         ReplicaParams p;
         p.model = std::string(m.name);
+        p.initial = "other.h5";  // the parameters recorded only when these are set
+        p.rate_ladder = "down";
         bool used = false;
         for (double rate : {1.0, 0.0}) {
             p.rate = rate;

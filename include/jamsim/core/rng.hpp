@@ -15,7 +15,7 @@ enum class RngPurpose : std::uint32_t {
 
 /// Philox4x32-10 (Salmon et al., SC'11): a counter-based generator. The output is a pure
 /// function of (key, counter), so a replica's random numbers depend only on
-/// (seed, replica, purpose, index) and never on rank count or scheduling.
+/// (seed, identity, purpose, index) and never on rank count or scheduling.
 std::array<std::uint32_t, 4> philox4x32(std::array<std::uint32_t, 4> counter,
                                         std::array<std::uint32_t, 2> key);
 
