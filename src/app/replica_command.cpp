@@ -106,7 +106,7 @@ CLI::App* add_replica_command(CLI::App& app) {
     auto* cmd = app.add_subcommand("replica", "Run one sheared replica and write an HDF5 file");
     // One option per row of the parameter table (jamsim/params/parameters.hpp).
     for (const auto& info : parameters()) {
-        if (info.flag.empty() || info.key == "rate_ladder") continue;  // derived; campaigns only
+        if (info.flag.empty()) continue;  // derived, or for campaigns only
         std::string help(info.description);
         if (!info.units.empty() && info.units != "1") help += " [" + std::string(info.units) + "]";
         help += "; allowed: " + std::string(info.allowed);

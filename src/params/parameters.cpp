@@ -75,7 +75,7 @@ const ParamInfo kParameters[] = {
      "and may save its state",
      &R::checkpoint_steps, kNum, JAMSIM_CHECK(p.checkpoint_steps >= 1, "checkpoint_steps >= 1"),
      "an integer >= 1"},
-    {"rate_ladder", "sweep", "rate_ladder", "--rate-ladder", "",
+    {"rate_ladder", "sweep", "rate_ladder", "", "",  // campaigns only: it links replicas
      "\"down\": for each N, phi and seed the rates run from high to low, each replica starting "
      "from the end state of the next higher rate (transients cut as by Olsson and Teitel)",
      &R::rate_ladder, kPhys,
