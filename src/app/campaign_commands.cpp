@@ -134,7 +134,7 @@ std::string check_checkpoints(const std::string& output, const CampaignSpec& spe
                    std::to_string(id) + ", this campaign has " +
                    std::to_string(spec.replicas.size()) + ": remove it or choose another output";
         try {
-            read_checkpoint(entry.path().string(), spec.replicas[static_cast<std::size_t>(id)]);
+            check_checkpoint_header(entry.path().string(), spec.replicas[static_cast<std::size_t>(id)]);
         } catch (const CheckpointError& e) {
             return spec.path + ": " + e.what();
         }

@@ -174,4 +174,22 @@ ReplicaState read_checkpoint(const std::string& path, const ReplicaParams& p) {
 
 System read_state_system(const std::string& path) { return read_state(path).system; }
 
+void check_checkpoint_header(const std::string& path, const ReplicaParams& p) {
+    h5::quiet_errors();
+    std::string format, replica;
+    try {
+        const h5::Handle f = h5::open_file_readonly(path);
+        format = h5::read_string_attribute(f.get(), "format");
+        replica = h5::read_string_attribute(f.get(), "replica");
+    } catch (const h5::Error& e) {
+        throw CheckpointError("checkpoint '" + path + "' cannot be read: " + e.what());
+    }
+    if (format != kFormat)
+        throw CheckpointError("checkpoint '" + path + "' has format \"" + format + "\", this jamsim reads \"" +
+                              kFormat + "\": remove it to start the replica again");
+    if (replica != describe_without_run_length(p))
+        throw CheckpointError("checkpoint '" + path + "' belongs to another replica (\"" + replica +
+                              "\", this campaign's is \"" + describe_without_run_length(p) + "\")");
+}
+
 } // namespace jamsim

@@ -20,6 +20,10 @@ struct CheckpointError : std::runtime_error {
 std::string checkpoint_folder(const std::string& archive_path);
 std::string checkpoint_path(const std::string& archive_path, std::int64_t id);
 
+/// The cheap part of read_checkpoint's checks (format and replica, from two attributes), for
+/// scanning many checkpoints before a run; throws CheckpointError.
+void check_checkpoint_header(const std::string& path, const ReplicaParams& p);
+
 /// The end state of a replica of a rate ladder, which its successor starts from.
 std::string end_state_path(const std::string& archive_path, std::int64_t id);
 
