@@ -27,6 +27,10 @@
 # (Slurm may signal up to a minute early), and the time limit well above the lead.
 set -euo pipefail
 usage() { sed -n '4,15p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+if [[ "${1:-}" == "--help" || "${1:-}" == "-h" ]]; then  # the header above, on stdout
+  sed -n '2,/^set -euo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'
+  exit 0
+fi
 here=$(cd "$(dirname "$0")" && pwd)
 wait_flag=() throttle="" run_args=""
 while [[ $# -gt 0 && $1 == --* ]]; do

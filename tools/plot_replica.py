@@ -24,10 +24,15 @@ def main(argv):
     except OSError as e:
         sys.exit(f"plot_replica: cannot open '{path}' as HDF5: {e}")
     with f:
+        if "replicas" in f:  # a campaign archive, not a replica file
+            sys.exit(f"plot_replica: '{path}' is a campaign archive; plot it with "
+                     f"tools/plot_campaign.py {path} OUTDIR")
+        if "timeseries" not in f:
+            sys.exit(f"plot_replica: '{path}' is not a jamsim replica file (no /timeseries)")
         ts = f["timeseries"]
         a = f.attrs
         strain = ts["strain"][...]
-        transient = a["transient"]
+        transient = a.get("transient", 0.0)  # minimisation files without a transient
         panels = [("pressure", "$p$"), ("shear_stress", r"$\sigma$"),
                   ("energy_per_particle", "$E/N$"), ("contact_number", "$z$")]
         fig, axes = plt.subplots(len(panels), 1, sharex=True, figsize=(6, 8))
