@@ -60,6 +60,45 @@ void print_parameters(bool markdown) {
     }
 }
 
+/// A campaign file listing every key with its default, units, allowed values and readers:
+/// the required keys set, every other one commented out at its default.
+void print_template() {
+    std::printf("# jamsim campaign template: every key with its default, units, allowed values and the\n"
+                "# models that read it. Printed by `jamsim parameters --template` from the parameter\n"
+                "# table; copy it, set what you need, delete the rest. A key the model does not read is\n"
+                "# refused. Paths (output, initial) are relative to the working directory of jamsim run.\n"
+                "# Run: mpirun -n 4 jamsim run FILE.toml   (check first: jamsim run --dry-run FILE.toml)\n\n"
+                "[campaign]\nname = \"my-campaign\"           # required\n"
+                "output = \"out/my-campaign.h5\"  # required: the archive\n");
+    const auto value = [](const ParamInfo& info) {
+        const std::string v = default_text(info);
+        return is_numeric(info) ? v : "\"" + v + "\"";
+    };
+    for (const char* table : {"model", "potential", "system", "run", "sweep"}) {
+        std::printf("\n[%s]\n", table);
+        if (std::string(table) == "potential")
+            std::printf("# name = \"harmonic\"  # or \"hertzian\": presets of alpha (give name or alpha)\n");
+        for (const auto& info : parameters()) {
+            if (info.table != table) continue;
+            const std::string key(info.toml_key);
+            const std::string units = info.units.empty() || info.units == "1" ? "" : " [" + std::string(info.units) + "]";
+            const std::string comment = std::string(info.description) + units + "; allowed: " +
+                                        std::string(info.allowed) + "; read by: " + users_of(info.key);
+            if (info.key == "model") {
+                std::printf("name = \"RD0\"  # %s (jamsim models lists them)\n", comment.c_str());
+            } else if (info.key == "N" || info.key == "phi" || info.key == "rate") {
+                std::printf("%s = [%s]  # %s; a list, expanded as a grid with the others\n", key.c_str(),
+                            value(info).c_str(), comment.c_str());
+            } else if (info.key == "seed") {
+                std::printf("seeds = 1  # a count (seeds 1..n) or a list [3, 7]; %s\n", comment.c_str());
+            } else {
+                std::printf("# %s = %s  # %s\n", key.c_str(), value(info).c_str(), comment.c_str());
+            }
+        }
+    }
+    std::printf("# points = [{N = 4096, phi = 0.843, rate = 1e-5}]  # extra non-grid points, each with every seed\n");
+}
+
 void print_models() {
     for (const auto& m : models()) {
         std::string reads;
@@ -78,10 +117,16 @@ void print_models() {
 
 CLI::App* add_parameters_command(CLI::App& app) {
     auto markdown = std::make_shared<bool>(false);
+    auto campaign_template = std::make_shared<bool>(false);
     auto* cmd = app.add_subcommand("parameters", "List every replica parameter (key, campaign "
                                                  "file location, option, units, default, allowed)");
     cmd->add_flag("--markdown", *markdown, "As the README's Markdown table");
-    cmd->callback([markdown] { print_parameters(*markdown); });
+    cmd->add_flag("--template", *campaign_template,
+                  "As a commented campaign file (campaigns/TEMPLATE.toml)");
+    cmd->callback([markdown, campaign_template] {
+        if (*campaign_template) print_template();
+        else print_parameters(*markdown);
+    });
     return cmd;
 }
 
