@@ -8,8 +8,9 @@ replicas only.
                       each (phi, N) (pressure.png).
   COMPRESS, COOL_COMPRESS, SHEARED:
                       the distribution of phi_J per N: mean, standard deviation, histogram
-                      (phi_j.png, phi_j.tsv), the fraction of isostatic states, and P_J(phi)
-                      as its cumulative distribution (pj_from_phi_j.png, .tsv).
+                      (phi_j.png, phi_j.tsv), the fraction of isostatic states (states whose
+                      non-rattlers have exactly 2(N' - 1) + 1 contacts, excess_contacts = 0),
+                      and P_J(phi) as its cumulative distribution (pj_from_phi_j.png, .tsv).
 Prints the tables as well."""
 import os
 import sys
@@ -28,8 +29,11 @@ def fail(msg):
 
 
 def main():
+    if len(sys.argv) == 2 and sys.argv[1] in ("-h", "--help"):
+        print(__doc__)
+        return
     if len(sys.argv) != 3:
-        fail("usage: analyze_jamming.py ARCHIVE.h5 OUTDIR")
+        fail("usage: analyze_jamming.py ARCHIVE.h5 OUTDIR (--help: what it computes)")
     path, out = sys.argv[1], sys.argv[2]
     try:
         f = h5py.File(path, "r")
@@ -100,7 +104,7 @@ def main():
     else:
         ok = jammed == 1
         fig, ax = plt.subplots(figsize=(5, 4))
-        print("N     configs  <phi_J>    std(phi_J)  isostatic")
+        print("N     configs  <phi_J>    std(phi_J)  isostatic (fraction with excess_contacts = 0)")
         with open(os.path.join(out, "phi_j.tsv"), "w") as t:
             t.write("N\tconfigurations\tmean_phi_J\tstd_phi_J\tisostatic_fraction\n")
             for n in sorted(set(N)):
