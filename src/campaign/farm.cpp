@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <list>
 #include <numeric>
 #include <optional>
 
@@ -48,11 +49,11 @@ std::string hms(double s) {
 /// predecessor failed fails too.
 class Dispatcher {
   public:
-    Dispatcher(MPI_Comm comm, const CampaignSpec& spec, std::vector<std::int64_t> queue,
+    Dispatcher(MPI_Comm comm, const CampaignSpec& spec, const std::vector<std::int64_t>& queue,
                std::int64_t already_done, std::vector<ReplicaStatus> status,
                std::function<void(std::int64_t, const std::string&)> fail,
                const ProgressOptions& progress)
-        : comm_(comm), spec_(spec), queue_(std::move(queue)), status_(std::move(status)),
+        : comm_(comm), spec_(spec), queue_(queue.begin(), queue.end()), status_(std::move(status)),
           fail_(std::move(fail)), total_(static_cast<std::int64_t>(queue_.size()) + already_done),
           done_(already_done), progress_(progress), start_(Clock::now()), last_print_(start_) {
         for (auto id : queue_) cost_total_run_ += estimated_cost(spec_.replicas[id]);
@@ -137,11 +138,11 @@ class Dispatcher {
     std::int64_t take_ready() {
         for (bool changed = true; changed;) {
             changed = false;
-            for (std::size_t k = 0; k < queue_.size(); ++k) {
-                const std::int64_t id = queue_[k];
+            for (auto it = queue_.begin(); it != queue_.end(); ++it) {
+                const std::int64_t id = *it;
                 const std::int64_t before = spec_.predecessor.empty() ? -1 : spec_.predecessor[static_cast<std::size_t>(id)];
                 if (before >= 0 && status_[static_cast<std::size_t>(before)] == ReplicaStatus::Failed) {
-                    queue_.erase(queue_.begin() + static_cast<std::ptrdiff_t>(k));
+                    queue_.erase(it);
                     status_[static_cast<std::size_t>(id)] = ReplicaStatus::Failed;
                     ++failed_;
                     fail_(id, "its predecessor in the rate ladder, replica " + std::to_string(before) + ", failed");
@@ -149,7 +150,7 @@ class Dispatcher {
                     break;
                 }
                 if (!ready(id)) continue;
-                queue_.erase(queue_.begin() + static_cast<std::ptrdiff_t>(k));
+                queue_.erase(it);
                 ++running_;
                 return id;
             }
@@ -221,7 +222,9 @@ class Dispatcher {
 
     MPI_Comm comm_;
     const CampaignSpec& spec_;
-    std::vector<std::int64_t> queue_;  ///< not yet started, longest estimated cost first
+    /// Not yet started, longest estimated cost first; a list, so that taking one (the first,
+    /// without ladders) costs O(1) however many replicas a campaign has.
+    std::list<std::int64_t> queue_;
     std::vector<ReplicaStatus> status_;  ///< of every replica, as this run knows it
     std::function<void(std::int64_t, const std::string&)> fail_;  ///< record a failure
     std::vector<int> waiting_;  ///< workers whose request waits for a ready replica
@@ -236,7 +239,8 @@ class Dispatcher {
 };
 
 /// Run one replica (from its checkpoint, if it has one) and record it.
-Outcome run_one(const CampaignSpec& spec, std::int64_t id, Archive& archive, int rank,
+/// `has_successor`: a rate ladder continues from this replica's end state.
+Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, Archive& archive, int rank,
                 const FarmOptions& options, const std::function<void()>& between,
                 const std::function<bool()>& stop, FarmSummary& summary) {
     namespace fs = std::filesystem;
@@ -254,18 +258,19 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, Archive& archive, int
     std::optional<System> initial;
     if (options.initial_states && !resume) timed([&] { initial = options.initial_states->load(params, id); });
     const std::int64_t before = spec.predecessor.empty() ? -1 : spec.predecessor[static_cast<std::size_t>(id)];
-    const bool has_successor = std::find(spec.predecessor.begin(), spec.predecessor.end(), id) != spec.predecessor.end();
     timed([&] { archive.mark_running(id, rank); });
     auto last_save = Clock::now();
+    std::size_t rows_saved = resume ? resume->series.size() : 0;  // already in the archive
     const CheckpointPolicy policy{
         .due = [&] { return seconds_since(last_save) >= options.checkpoint_seconds; },
         .save =
             [&](const ReplicaState& state) {
                 timed([&] {
                     write_checkpoint(checkpoint, params, state);
-                    archive.write_progress(id, state.series,
+                    archive.write_progress(id, state.series, rows_saved,
                                            static_cast<double>(state.step) / static_cast<double>(std::max<std::int64_t>(state.steps, 1)));
                 });
+                rows_saved = state.series.size();
                 last_save = Clock::now();
             },
         .stop = stop};
@@ -320,6 +325,9 @@ FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
     const int rank = mpi::rank(comm);
     const auto t0 = Clock::now();
     FarmSummary summary;
+    std::vector<char> feeds(spec.replicas.size(), 0);  // replicas a rate ladder continues from
+    for (const std::int64_t before : spec.predecessor)
+        if (before >= 0) feeds[static_cast<std::size_t>(before)] = 1;
     if (rank == 0) {
         const auto status = archive.read_status();
         std::vector<std::int64_t> queue;
@@ -343,7 +351,7 @@ FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
         std::stable_sort(queue.begin(), queue.end(), [&](auto a, auto b) {
             return estimated_cost(spec.replicas[a]) > estimated_cost(spec.replicas[b]);
         });
-        Dispatcher d(comm, spec, std::move(queue), done, status,
+        Dispatcher d(comm, spec, queue, done, status,
                      [&](std::int64_t id, const std::string& reason) {
                          archive.write_failed(id, reason, 0.0, rank);
                          ++summary.failed;
@@ -355,7 +363,7 @@ FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
             return d.stopping();
         };
         for (std::int64_t id = d.take(); id >= 0; id = d.take()) {
-            const Outcome outcome = run_one(spec, id, archive, rank, options, serve, stop, summary);
+            const Outcome outcome = run_one(spec, id, feeds[static_cast<std::size_t>(id)] != 0, archive, rank, options, serve, stop, summary);
             d.finished(id, outcome);
             d.serve_pending();
         }
@@ -390,7 +398,7 @@ FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
                 stop_seen = true;
             }
             if (id < 0) break;
-            const Outcome outcome = run_one(spec, id, archive, rank, options, poll, stop, summary);
+            const Outcome outcome = run_one(spec, id, feeds[static_cast<std::size_t>(id)] != 0, archive, rank, options, poll, stop, summary);
             report = {id, outcome};
         }
     }

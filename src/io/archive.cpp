@@ -281,14 +281,18 @@ void Archive::write_done(std::int64_t replica, const ReplicaResult& result, int 
     write_block(f, "/replicas/status", H5T_NATIVE_INT8, {r}, {1}, &s);
 }
 
-void Archive::write_progress(std::int64_t replica, const TimeSeries& series, double progress) {
+void Archive::write_progress(std::int64_t replica, const TimeSeries& series, std::size_t from_row,
+                             double progress) {
     const hid_t f = file_.get();
     const auto r = static_cast<hsize_t>(replica);
     const auto rows = static_cast<hsize_t>(series.size());
-    if (rows > 0)
-        for (const auto& c : kSampleColumns)
-            write_block(f, std::string("/timeseries/") + c.name, H5T_NATIVE_DOUBLE, {r, 0}, {1, rows},
-                        series.column(c.member).data());
+    const auto first = static_cast<hsize_t>(std::min(from_row, series.size()));
+    if (rows > first)
+        for (const auto& c : kSampleColumns) {
+            const std::vector<double> column = series.column(c.member);
+            write_block(f, std::string("/timeseries/") + c.name, H5T_NATIVE_DOUBLE, {r, first},
+                        {1, rows - first}, column.data() + first);
+        }
     const auto rows_written = static_cast<std::int64_t>(rows);
     write_block(f, "/replicas/rows_written", H5T_NATIVE_INT64, {r}, {1}, &rows_written);
     write_block(f, "/replicas/progress", H5T_NATIVE_DOUBLE, {r}, {1}, &progress);

@@ -49,8 +49,10 @@ class Archive {
     void mark_running(std::int64_t replica, int rank);
     void write_done(std::int64_t replica, const ReplicaResult& result, int rank);
     /// A running replica's rows so far and its progress (fraction of steps) at a checkpoint:
-    /// readers see them while its status is still 1 (running), i.e. partial.
-    void write_progress(std::int64_t replica, const TimeSeries& series, double progress);
+    /// readers see them while its status is still 1 (running), i.e. partial. Rows before
+    /// `from_row` are in the archive already and are not written again.
+    void write_progress(std::int64_t replica, const TimeSeries& series, std::size_t from_row,
+                        double progress);
     void write_failed(std::int64_t replica, const std::string& reason, double wall_seconds,
                       int rank);
 
