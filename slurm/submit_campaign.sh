@@ -131,7 +131,15 @@ while :; do
   info=$(scontrol -o show job "$merge" 2>/dev/null || true)
   state=$(sed -n 's/.*JobState=\([A-Z_]*\).*/\1/p' <<<"$info")
   case $state in
-    PENDING | RUNNING | CONFIGURING | COMPLETING | SUSPENDED | REQUEUED | RESIZING) unknown=0 ;;
+    PENDING | RUNNING | CONFIGURING | COMPLETING | SUSPENDED | REQUEUED | RESIZING)
+      unknown=0
+      # A task Slurm could not launch is requeued held and would keep the merge pending
+      # forever: report it instead of waiting.
+      held=$(scontrol -o show job "$array" 2>/dev/null | grep -o "JobId=[0-9]* .*Reason=launch_failed_requeued_held" | head -1 || true)
+      if [[ -n $held ]]; then
+        echo "submit_campaign.sh: a task of array job $array failed to launch and is held (${held%% *}); see scontrol show job $array and the slurmd log" >&2
+        exit 1
+      fi ;;
     "") unknown=$((unknown + 1)); [[ $unknown -lt 30 ]] || break ;;
     *) break ;;
   esac

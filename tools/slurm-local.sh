@@ -17,7 +17,12 @@ start() {
       DEBIAN_FRONTEND=noninteractive apt-get update -qq
       DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
         slurmctld slurmd slurm-client munge >/dev/null; }
-  mkdir -p "$dir"/state "$dir"/spool/slurmd-localhost "$dir"/log
+  mkdir -p "$dir"/state "$dir"/log
+  # slurmd puts Unix sockets in its spool folder, and a socket path must stay under 108
+  # bytes: a deep DIR (a build tree inside a temporary clone) would make batch launches
+  # fail, so the spool lives in a short folder of its own, removed by stop.
+  spool=$(mktemp -d /tmp/slurmd.XXXXXX)
+  echo "$spool" > "$dir"/spool-dir
   # munge: one daemon per machine, shared; start it only if none answers.
   if ! (munge -n | unmunge) >/dev/null 2>&1; then
     install -d -o munge -g munge -m 0755 /run/munge
@@ -46,7 +51,7 @@ SlurmdUser=root
 AuthType=auth/munge
 AuthInfo=cred_expire=10
 StateSaveLocation=$dir/state
-SlurmdSpoolDir=$dir/spool/slurmd-%n
+SlurmdSpoolDir=$spool
 SlurmctldPidFile=$dir/slurmctld.pid
 SlurmdPidFile=$dir/slurmd-%n.pid
 SlurmctldLogFile=$dir/log/slurmctld.log
@@ -85,6 +90,10 @@ stop() {
     for _ in $(seq 1 40); do kill -0 "$pid" 2>/dev/null || break; sleep 0.25; done
     rm -f "$dir/$f"
   done
+  if [[ -s $dir/spool-dir ]]; then
+    rm -rf -- "$(cat "$dir"/spool-dir)"
+    rm -f "$dir"/spool-dir
+  fi
 }
 
 case ${1:-} in
