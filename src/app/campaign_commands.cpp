@@ -107,6 +107,13 @@ std::string check_output(const std::string& path, const CampaignSpec& spec, int&
         return spec.path + ": refusing to use the archive: " + why +
                " (choose another [campaign] output or -o)";
     }
+    // Checkpoints without their archive belong to a run whose archive was removed or moved:
+    // a new campaign must not continue from them.
+    if (const std::string folder = checkpoint_folder(path);
+        fs::is_directory(folder, ec) && !fs::is_empty(folder, ec))
+        return spec.path + ": refusing to start '" + path + "': the checkpoint folder '" + folder +
+               "' of an earlier run is there without its archive (restore the archive to "
+               "continue that run, or remove the folder to start afresh)";
     const fs::path p(path);
     const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
     if (!fs::is_directory(dir, ec) || ::access(dir.c_str(), W_OK) != 0)

@@ -308,7 +308,7 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, A
         fs::remove(checkpoint, ignored);
         fs::remove(checkpoint + ".tmp", ignored);
     }
-    if (outcome == Outcome::Done && last_checkpoint)  // kept: a longer run continues from it
+    if (outcome == Outcome::Done && last_checkpoint && model_of(params).extendable)  // kept: a longer run continues from it
         timed([&] { write_checkpoint(checkpoint, params, *last_checkpoint, true); });
     summary.resumed += resume ? 1 : 0;
     summary.io_seconds += io;

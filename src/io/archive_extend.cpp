@@ -49,6 +49,9 @@ std::string Archive::check_extension(const std::string& path, const CampaignSpec
             if (la != lb) return "another campaign name, replica count or version";
             continue;
         }
+        if (k - 1 < spec.replicas.size() && !model_of(spec.replicas[k - 1]).extendable && la != lb)
+            return "replica " + std::to_string(k - 1) + " differs, and " +
+                   spec.replicas[k - 1].model + " cannot be extended (its strain is not a run length)";
         const auto [ra, va] = split_run_length(la);
         const auto [rb, vb] = split_run_length(lb);
         if (ra != rb || va.size() != vb.size()) return "replica " + std::to_string(k - 1) + " differs in more than its run length";

@@ -343,7 +343,7 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path) {
     if (const toml::table* run_table = r.table(root, "run"); run_table && run_table->get("checkpoint_steps")) {
         std::int64_t longest = 0;
         for (const auto& p : spec.replicas)
-            if (uses_parameter(p, "checkpoint_steps")) longest = std::max(longest, schedule_of(p).steps);
+            if (uses_parameter(p, "checkpoint_steps")) longest = std::max(longest, checkpointed_steps(p));
         if (longest > 0 && base.checkpoint_steps > longest)
             r.fail("[run] checkpoint_steps", std::to_string(base.checkpoint_steps),
                    "at most the longest replica's " + std::to_string(longest) +

@@ -14,7 +14,7 @@ namespace {
 
 /// The format of the file and of what it means: v1 with fingerprint v6 (identity-keyed
 /// random numbers, caches dropped at checkpoint steps).
-constexpr const char* kFormat = "jamsim checkpoint 1 (campaign v6)";
+constexpr const char* kFormat = "jamsim checkpoint 2 (campaign v6)";
 
 void sync_file(const std::string& path) {
     const int fd = ::open(path.c_str(), O_RDONLY);
@@ -95,6 +95,7 @@ void write_checkpoint(const std::string& path, const ReplicaParams& p, const Rep
             h5::write_attribute(g.get(), "uy2_count", state.correlation.uy2_count);
             g.close("correlation");
         }
+        write_vector(f, "protocol", state.protocol, H5T_NATIVE_DOUBLE);
         h5::check(H5Fflush(f, H5F_SCOPE_GLOBAL), "flush '" + tmp + "'");
         file.close("checkpoint '" + tmp + "'");
         if (!final) sync_file(tmp);
@@ -145,6 +146,7 @@ ReplicaState read_state(const std::string& path) {
         const h5::Handle g(H5Gopen2(f, "correlation", H5P_DEFAULT), H5Gclose, "open correlation");
         s.correlation.uy2_sum = h5::read_double_attribute(g.get(), "uy2_sum");
         s.correlation.uy2_count = h5::read_double_attribute(g.get(), "uy2_count");
+        s.protocol = h5::read_dataset(f, "protocol");
         return s;
     } catch (const h5::Error& e) {
         throw CheckpointError("checkpoint '" + path + "' cannot be read: " + e.what());
@@ -165,9 +167,9 @@ ReplicaState read_checkpoint(const std::string& path, const ReplicaParams& p) {
     if (replica != describe_without_run_length(p))
         throw CheckpointError("checkpoint '" + path + "' belongs to another replica (\"" + replica +
                               "\", this campaign's is \"" + describe_without_run_length(p) + "\")");
-    if (s.step > schedule_of(p).steps)
+    if (!model_of(p).open_ended && s.step > checkpointed_steps(p))
         throw CheckpointError("checkpoint '" + path + "' is at step " + std::to_string(s.step) +
-                              ", beyond this replica's " + std::to_string(schedule_of(p).steps) +
+                              ", beyond this replica's " + std::to_string(checkpointed_steps(p)) +
                               " steps (a shorter run than the one it was saved in)");
     return s;
 }

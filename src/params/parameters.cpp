@@ -71,8 +71,8 @@ const ParamInfo kParameters[] = {
      kNum, JAMSIM_CHECK(positive(p.sample_interval), "sample_interval > 0"),
      "sample_interval > 0"},
     {"checkpoint_steps", "run", "checkpoint_steps", "--checkpoint-steps", "steps",
-     "steps (QS: strain steps) between checkpoint steps, where the run drops its kernel caches "
-     "and may save its state",
+     "steps (QS, SHEARED: strain steps; COOL: cooling steps) between checkpoint steps, where "
+     "the run drops its kernel caches and may save its state",
      &R::checkpoint_steps, kNum, JAMSIM_CHECK(p.checkpoint_steps >= 1, "checkpoint_steps >= 1"),
      "an integer >= 1"},
     {"rate_ladder", "sweep", "rate_ladder", "", "",  // campaigns only: it links replicas

@@ -43,35 +43,62 @@ StaticState quench(System& sys, ForceField& forces, Minimizer& minimizer,
     return s;
 }
 
+std::vector<double> JammingSearch::pack() const {
+    return {phi, step, crossed ? 1.0 : 0.0, jammed ? 1.0 : 0.0, phi_unjammed,
+            static_cast<double>(minimizations), static_cast<double>(force_evaluations)};
+}
+
+JammingSearch JammingSearch::unpack(const std::vector<double>& v) {
+    if (v.size() != 7) throw std::invalid_argument("a jamming search state has 7 numbers, not " + std::to_string(v.size()));
+    return {.phi = v[0], .step = v[1], .crossed = v[2] != 0.0, .jammed = v[3] != 0.0,
+            .phi_unjammed = v[4], .minimizations = static_cast<int>(v[5]),
+            .force_evaluations = static_cast<std::int64_t>(v[6])};
+}
+
 JammingPoint find_jamming_point(System& sys, ForceField& forces, Minimizer& minimizer,
                                 const MinimizeCriteria& criteria, double phi_step,
-                                double phi_tol) {
-    JammingPoint out;
-    StaticState state = quench(sys, forces, minimizer, criteria);
-    ++out.minimizations;
-    out.force_evaluations += state.minimum.force_evaluations;
-    double phi = state.phi, step = phi_step;
-    bool crossed = false;  // the threshold has been bracketed at least once
-    while (!(state.jammed() && crossed && step < phi_tol)) {
-        if (!state.jammed()) out.phi_unjammed = phi;
-        phi += state.jammed() ? -step : step;
-        if (!(phi > 0.0 && phi < 1.0))
-            throw std::runtime_error("jamming search left 0 < phi < 1 (phi = " + str(phi) + ")");
-        set_packing_fraction(sys, forces, phi);
-        const bool was_jammed = state.jammed();
+                                double phi_tol, const JammingSearch* resume,
+                                const std::function<void(const JammingSearch&)>& before_minimisation) {
+    JammingSearch s;
+    StaticState state;
+    const auto minimise = [&] {
         state = quench(sys, forces, minimizer, criteria);
-        ++out.minimizations;
-        out.force_evaluations += state.minimum.force_evaluations;
-        if (state.jammed() != was_jammed) {  // crossed the threshold: refine and reverse
-            step *= 0.5;
-            crossed = true;
+        ++s.minimizations;
+        s.force_evaluations += state.minimum.force_evaluations;
+    };
+    bool pending = false;  // a resumed search starts with the minimisation it was saved before
+    if (resume) {
+        s = *resume;
+        pending = true;
+    } else {
+        minimise();
+        s.phi = state.phi;
+        s.step = phi_step;
+        s.jammed = state.jammed();
+    }
+    for (;;) {
+        if (!pending) {
+            if (s.jammed && s.crossed && s.step < phi_tol) break;
+            if (!s.jammed) s.phi_unjammed = s.phi;
+            s.phi += s.jammed ? -s.step : s.step;
+            if (!(s.phi > 0.0 && s.phi < 1.0))
+                throw std::runtime_error("jamming search left 0 < phi < 1 (phi = " + str(s.phi) + ")");
+            set_packing_fraction(sys, forces, s.phi);
+            if (before_minimisation) before_minimisation(s);
+        }
+        pending = false;
+        const bool was_jammed = s.jammed;
+        minimise();
+        s.jammed = state.jammed();
+        if (s.jammed != was_jammed) {  // crossed the threshold: refine and reverse
+            s.step *= 0.5;
+            s.crossed = true;
         }
     }
     // The configuration follows its own landscape, so the answer is the final bracket: the
     // jammed state now, within `step` of the last unjammed one.
-    out.phi_j = phi;
-    out.state = state;
-    return out;
+    return {.phi_j = s.phi, .phi_unjammed = s.phi_unjammed, .state = state,
+            .minimizations = s.minimizations, .force_evaluations = s.force_evaluations};
 }
 
 } // namespace jamsim

@@ -46,7 +46,8 @@ ModelInfo dynamics(const DynamicsInfo& d) {
                            evaluations_per_step(p);
                 },
             .run = run_dynamics,
-            .make = d.make};
+            .make = d.make,
+            .extendable = true};
 }
 
 /// One line per model or protocol: adding one is its own file plus a line here.
@@ -139,6 +140,10 @@ std::vector<ParamError> validate(const ReplicaParams& p) {
 }
 
 Schedule schedule_of(const ReplicaParams& p) { return model_of(p).schedule(p); }
+std::int64_t checkpointed_steps(const ReplicaParams& p) {
+    const ModelInfo& m = model_of(p);
+    return m.checkpointed_steps ? m.checkpointed_steps(p) : m.schedule(p).steps;
+}
 double estimated_cost(const ReplicaParams& p) { return model_of(p).cost(p); }
 int evaluations_per_step(const ReplicaParams& p) { return model_of(p).evaluations_per_step(p); }
 
@@ -150,6 +155,7 @@ std::int64_t sample_count(const ReplicaParams& p) {
 namespace {
 std::string describe_parameters(const ReplicaParams& p, bool run_length) {
     std::string out;
+    run_length = run_length || !model_of(p).extendable;
     for (const ParamInfo* info : used_parameters(p)) {
         if (!run_length && (info->key == "strain" || info->key == "time")) continue;
         if (!out.empty()) out.push_back(' ');

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <memory>
 #include <utility>
+#include <vector>
 
 #include "jamsim/force/force_field.hpp"
 #include "jamsim/run/replica.hpp"
@@ -36,13 +37,21 @@ class ReplicaRun {
     const ReplicaState* resumed() const { return context_.resume; }
 
     /// At a checkpoint step (step > 0, a multiple of checkpoint_steps, not the step a resumed
-    /// run starts with): drop the kernel caches (a fresh force field; the caller makes a fresh
-    /// model or minimiser), then save the state if the policy says so and stop if asked to.
-    /// Returns true when the caches were dropped.
+    /// run starts with): checkpoint(). Returns true when the caches were dropped (the caller
+    /// makes a fresh model or minimiser).
     bool checkpoint_step(std::int64_t step, std::int64_t steps,
                          const VelocityCorrelation* correlation = nullptr) {
-        if (step == 0 || step % params_.checkpoint_steps != 0 || (step == first_step() && resumed()))
-            return false;
+        if (step == 0 || step % params_.checkpoint_steps != 0) return false;
+        return checkpoint(step, steps, correlation);
+    }
+
+    /// Make `step` a checkpoint step (unless a resumed run starts with it): drop the kernel
+    /// caches (a fresh force field), keep the state, save it if the policy says so and stop if
+    /// asked to. `protocol` is a protocol's own state at this step (a φ_J search's bracket).
+    bool checkpoint(std::int64_t step, std::int64_t steps,
+                    const VelocityCorrelation* correlation = nullptr,
+                    std::vector<double> protocol = {}) {
+        if (step == first_step() && resumed()) return false;
         result.list_builds += static_cast<std::int64_t>(forces.builds());
         forces = ForceField(potential::make_soft_sphere(params_.alpha), params_.skin);
         // The state at this step, kept (the last one is handed back with the result, so a
@@ -50,6 +59,7 @@ class ReplicaRun {
         auto state = std::make_shared<ReplicaState>(ReplicaState{
             .step = step, .steps = steps, .system = system(), .series = result.series,
             .correlation = correlation ? correlation->sums() : VelocityCorrelation::Sums{},
+            .protocol = std::move(protocol),
             .force_evaluations = result.force_evaluations, .list_builds = result.list_builds,
             .wall_seconds = elapsed()});
         result.last_checkpoint = state;

@@ -6,6 +6,7 @@
 // state has no time; QS rows carry their strain.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "jamsim/core/rng.hpp"
 #include "jamsim/minimize/minimizer.hpp"
@@ -53,10 +54,17 @@ Sample sample_of(const StaticState& st, const System& sys, double strain) {
 }
 
 /// A protocol in progress: the shared run state plus the minimiser and its criteria.
+///
+/// Checkpoint steps. A protocol counts its steps through its stages: the preparation's
+/// steps first (cooling steps of COOL, strain steps of SHEARED's quasistatic shear; 0 for
+/// COMPRESS), with a checkpoint step at every multiple of checkpoint_steps, then the φ_J
+/// search, whose minimisation m (m ≥ 2) is step `stage + m - 1` and always a checkpoint
+/// step (a minimisation costs ~1e3 force evaluations per disk). The final quench of RAND and
+/// COOL is a single minimisation, not divided.
 struct Protocol : ReplicaRun {
-    Protocol(const ReplicaParams& p, const RunContext& context)
+    Protocol(const ReplicaParams& p, const RunContext& context, std::int64_t stage_steps = 0)
         : ReplicaRun(p, context), params(p), after_sample(context.after_sample),
-          minimizer(make_minimizer(p.minimizer)), criteria(criteria_of(p)) {}
+          minimizer(make_minimizer(p.minimizer)), criteria(criteria_of(p)), stage(stage_steps) {}
 
     StaticState minimise() {  // quench the configuration as it is, counting its cost
         StaticState st = quench(system(), forces, *minimizer, criteria);
@@ -67,16 +75,47 @@ struct Protocol : ReplicaRun {
         result.series.push(sample_of(st, system(), strain));
         if (after_sample) after_sample();
     }
+    /// Where a preparation stage resumes: its first step, or `stage` when the run resumes
+    /// later (in the φ_J search), which skips the stage.
+    std::int64_t stage_start() const { return std::min(first_step(), stage); }
+    /// Called before step `step` of the preparation stage. (The minimiser stays: it keeps
+    /// nothing from one minimisation to the next, and the stage holds a reference to it.)
+    void before_stage_step(std::int64_t step, std::int64_t before_stage, std::int64_t evaluations) {
+        result.force_evaluations = before_stage + evaluations;
+        checkpoint_step(step, stage + 1);
+    }
     void cool_down() {  // overdamped Langevin cooling (Paper I)
         const ReplicaParams& p = params;
-        result.force_evaluations +=
+        const std::int64_t first = stage_start();
+        if (first == stage) return;
+        const std::int64_t before_stage = result.force_evaluations;
+        result.force_evaluations = before_stage +
             cool(system(), forces, {p.temperature, p.cooling_time, p.dt, p.kd},
-                 RngStream(random_key(p), RngPurpose::ThermalNoise));
+                 RngStream(random_key(p), RngPurpose::ThermalNoise), first,
+                 [&](std::int64_t step, std::int64_t n) { before_stage_step(step, before_stage, n); });
+    }
+    void shear() {  // quasistatic shear at phi (the sheared ensemble)
+        const std::int64_t first = stage_start();
+        if (first == stage) return;
+        const std::int64_t before_stage = result.force_evaluations;
+        result.force_evaluations = before_stage + shear_quasistatically(
+            system(), forces, *minimizer, criteria, params.strain, params.strain_step, first,
+            [&](std::int64_t step, std::int64_t n) { before_stage_step(step, before_stage, n); });
     }
     void record_jamming_point() {  // compression/decompression to φ_J (O'Hern et al.)
-        const JammingPoint jp =
-            find_jamming_point(system(), forces, *minimizer, criteria, 1e-3, params.phi_tol);
-        result.force_evaluations += jp.force_evaluations;
+        std::optional<JammingSearch> resume;
+        if (resumed() && first_step() > stage) resume = JammingSearch::unpack(resumed()->protocol);
+        // The evaluations before the search; the search counts its own (saved with it).
+        const std::int64_t before_search = result.force_evaluations - (resume ? resume->force_evaluations : 0);
+        const JammingPoint jp = find_jamming_point(
+            system(), forces, *minimizer, criteria, 1e-3, params.phi_tol, resume ? &*resume : nullptr,
+            [&](const JammingSearch& s) {
+                result.force_evaluations = before_search + s.force_evaluations;
+                const std::int64_t step = stage + s.minimizations;  // before minimisation m + 1
+                // Progress: the search takes ~30 minimisations (Δφ from 1e-3 down to phi_tol).
+                checkpoint(step, stage + std::max(s.minimizations + 1, 30), nullptr, s.pack());
+            });
+        result.force_evaluations = before_search + jp.force_evaluations;
         record(jp.state, 0.0);
     }
 
@@ -84,6 +123,7 @@ struct Protocol : ReplicaRun {
     const SampleHook& after_sample;
     std::unique_ptr<Minimizer> minimizer;
     MinimizeCriteria criteria;
+    std::int64_t stage;  ///< steps of the preparation stage
 };
 
 ReplicaResult run_qs(const ReplicaParams& p, const RunContext& context) {
@@ -112,24 +152,28 @@ ReplicaResult run_compress(const ReplicaParams& p, const RunContext& context) {
     return run.finish();
 }
 
+std::int64_t cooling_steps_of(const ReplicaParams& p) {
+    return cooling_steps({p.temperature, p.cooling_time, p.dt, p.kd});
+}
+std::int64_t shear_steps_of(const ReplicaParams& p) { return shear_steps(p.strain, p.strain_step); }
+
 ReplicaResult run_cool(const ReplicaParams& p, const RunContext& context) {
-    Protocol run(p, context);
+    Protocol run(p, context, cooling_steps_of(p));
     run.cool_down();
     run.record(run.minimise(), 0.0);
     return run.finish();
 }
 
 ReplicaResult run_cool_compress(const ReplicaParams& p, const RunContext& context) {
-    Protocol run(p, context);
+    Protocol run(p, context, cooling_steps_of(p));
     run.cool_down();
     run.record_jamming_point();
     return run.finish();
 }
 
 ReplicaResult run_sheared(const ReplicaParams& p, const RunContext& context) {
-    Protocol run(p, context);
-    run.result.force_evaluations += shear_quasistatically(run.system(), run.forces, *run.minimizer,
-                                                          run.criteria, p.strain, p.strain_step);
+    Protocol run(p, context, shear_steps_of(p));
+    run.shear();
     run.record_jamming_point();
     return run.finish();
 }
@@ -145,12 +189,14 @@ constexpr std::string_view kRand[] = {"minimizer", "energy_floor", "force_tol", 
 constexpr std::string_view kCompress[] = {"minimizer", "energy_floor", "force_tol",
                                           "force_tol_abs", "phi_tol"};
 constexpr std::string_view kCool[] = {"minimizer", "energy_floor", "force_tol", "force_tol_abs",
-                                      "temperature", "cooling_time", "dt", "kd"};
+                                      "temperature", "cooling_time", "dt", "kd",
+                                      "checkpoint_steps"};
 constexpr std::string_view kCoolCompress[] = {"minimizer", "energy_floor", "force_tol",
                                               "force_tol_abs", "phi_tol", "temperature",
-                                              "cooling_time", "dt", "kd"};
+                                              "cooling_time", "dt", "kd", "checkpoint_steps"};
 constexpr std::string_view kSheared[] = {"minimizer", "energy_floor", "force_tol",
-                                         "force_tol_abs", "strain", "strain_step", "phi_tol"};
+                                         "force_tol_abs", "strain", "strain_step", "phi_tol",
+                                         "checkpoint_steps"};
 
 // Cost estimates in force evaluations per disk: a RAND quench ~1e3, a φ_J search ~2e4, a
 // QS step ~1e2, a cooling step 1.
@@ -168,7 +214,7 @@ ModelInfo qs_protocol() {
                                 .sample_every = std::max<std::int64_t>(1, std::llround(p.sample_interval / p.strain_step))};
             },
             .cost = [](const ReplicaParams& p) { return n_of(p) * 1e2 * qs_steps(p); },
-            .run = run_qs};
+            .run = run_qs, .extendable = true};
 }
 
 ModelInfo rand_protocol() {
@@ -184,7 +230,7 @@ ModelInfo compress_protocol() {
             .summary = "RAND, then compression/decompression to its own phi_J: the jammed state at phi_J+",
             .parameters = kCompress, .evaluations_per_step = one_evaluation, .stable_dt = no_dt_limit,
             .schedule = one_state, .cost = [](const ReplicaParams& p) { return n_of(p) * 2e4; },
-            .run = run_compress};
+            .run = run_compress, .open_ended = true};
 }
 
 ModelInfo cool_protocol() {
@@ -193,7 +239,7 @@ ModelInfo cool_protocol() {
             .parameters = kCool, .evaluations_per_step = one_evaluation, .stable_dt = no_dt_limit,
             .schedule = one_state,
             .cost = [](const ReplicaParams& p) { return n_of(p) * (1e3 + p.cooling_time / p.dt); },
-            .run = run_cool};
+            .run = run_cool, .checkpointed_steps = cooling_steps_of};
 }
 
 ModelInfo cool_compress_protocol() {
@@ -202,7 +248,7 @@ ModelInfo cool_compress_protocol() {
             .parameters = kCoolCompress, .evaluations_per_step = one_evaluation,
             .stable_dt = no_dt_limit, .schedule = one_state,
             .cost = [](const ReplicaParams& p) { return n_of(p) * (2e4 + p.cooling_time / p.dt); },
-            .run = run_cool_compress};
+            .run = run_cool_compress, .checkpointed_steps = cooling_steps_of, .open_ended = true};
 }
 
 ModelInfo sheared_protocol() {
@@ -211,7 +257,7 @@ ModelInfo sheared_protocol() {
             .parameters = kSheared, .evaluations_per_step = one_evaluation,
             .stable_dt = no_dt_limit, .schedule = one_state,
             .cost = [](const ReplicaParams& p) { return n_of(p) * (2e4 + 1e2 * qs_steps(p)); },
-            .run = run_sheared};
+            .run = run_sheared, .checkpointed_steps = shear_steps_of, .open_ended = true};
 }
 
 } // namespace jamsim

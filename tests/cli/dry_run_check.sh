@@ -3,7 +3,7 @@
 # total, and creates no archive.
 set -euo pipefail
 out=dry-run-out.h5
-rm -f "$out"
+rm -rf "$out" "$out.checkpoints"
 listing=$("$1" run --dry-run "$2" -o "$out")
 echo "$listing"
 [[ ! -e $out ]] || { echo "FAIL: dry run wrote $out"; exit 1; }

@@ -10,7 +10,7 @@ set -euo pipefail
 jamsim=$1 spec=$2 work=$3 py=$4 kills=${5:-12}
 mpirun=${MPIEXEC:-mpiexec}
 mkdir -p "$work"
-rm -rf "$work"/ref.h5 "$work"/loop.h5 "$work"/loop.h5.checkpoints
+rm -rf "$work"/ref.h5 "$work"/ref.h5.checkpoints "$work"/loop.h5 "$work"/loop.h5.checkpoints
 timeout 300 "$mpirun" -n 2 "$jamsim" run "$spec" -o "$work/ref.h5" > "$work/ref.log"
 RANDOM=7  # reproducible kill moments
 during_write=0 from_checkpoint=0 done_kills=0

@@ -7,7 +7,7 @@ set -euo pipefail
 jamsim=$1 spec=$2 work=$3 py=$4
 mpirun=${MPIEXEC:-mpiexec}
 mkdir -p "$work"
-rm -f "$work/ref.h5" "$work/killed.h5"
+rm -rf "$work/ref.h5" "$work/ref.h5.checkpoints" "$work/killed.h5" "$work/killed.h5.checkpoints"
 timeout 300 "$mpirun" -n 2 "$jamsim" run "$spec" -o "$work/ref.h5" > "$work/ref.log"
 
 setsid timeout 300 "$mpirun" -n 2 "$jamsim" run "$spec" -o "$work/killed.h5" > "$work/killed.log" 2>&1 &

@@ -78,7 +78,7 @@ void check_resume(const ReplicaParams& p) {
                                          .stop = [&] { return ++asked == 3; }};
     EXPECT_THROW(run_replica(p, {.checkpoints = &stop_at_third}), ReplicaInterrupted) << p.model;
     ASSERT_EQ(at_stop.size(), 1u) << p.model;
-    EXPECT_EQ(at_stop[0].step, 3 * p.checkpoint_steps) << p.model;
+    EXPECT_EQ(at_stop[0].step, saved[2].step) << p.model;
     expect_same(plain, run_replica(p, {.resume = &at_stop[0]}), p.model + " after a stop");
 }
 
@@ -119,6 +119,41 @@ TEST(CheckpointResume, QuasistaticShear) {
     p.checkpoint_steps = 10;
     check_resume(p);
 }
+
+// The minimisation protocols: a cooling or quasistatic-shear stage with checkpoint steps
+// every checkpoint_steps, then a φ_J search with one before every minimisation; resumed in
+// either stage (first, middle and last saved state), and after a stop.
+ReplicaParams protocol(const std::string& model) {
+    ReplicaParams p = replica(model);
+    p.n = 32;
+    p.phi = 0.83;
+    p.phi_tol = 1e-4;
+    p.temperature = 1e-3;
+    p.cooling_time = 30;
+    p.dt = 0.1;  // 300 cooling steps
+    p.strain = 0.05;
+    p.strain_step = 1e-3;  // 50 strain steps
+    p.checkpoint_steps = 40;
+    return p;
+}
+
+TEST(CheckpointResume, PhiJSearch) { check_resume(protocol("COMPRESS")); }
+TEST(CheckpointResume, Cooling) { check_resume(protocol("COOL")); }
+TEST(CheckpointResume, CoolingThenPhiJSearch) {
+    const ReplicaParams p = protocol("COOL_COMPRESS");
+    std::vector<ReplicaState> saved;
+    const CheckpointPolicy keep{.due = [] { return true; },
+                                .save = [&](const ReplicaState& s) { saved.push_back(s); }, .stop = {}};
+    run_replica(p, {.checkpoints = &keep});
+    // Both stages are checkpointed: cooling steps 40, 80, ..., 280, then the search's.
+    ASSERT_GT(saved.size(), 8u);
+    EXPECT_EQ(saved[6].step, 280);
+    EXPECT_TRUE(saved[6].protocol.empty());
+    EXPECT_EQ(saved[7].step, 301);
+    EXPECT_EQ(saved[7].protocol.size(), 7u);
+    check_resume(p);
+}
+TEST(CheckpointResume, ShearedThenPhiJSearch) { check_resume(protocol("SHEARED")); }
 
 // A checkpoint of another replica, or a damaged one, is refused with a message naming it.
 TEST(CheckpointResume, ForeignCheckpointRefused) {

@@ -48,6 +48,15 @@ struct ModelInfo {
     ReplicaResult (*run)(const ReplicaParams& p, const RunContext& context);
     /// Dynamics: the model (nullptr for minimisation protocols).
     std::unique_ptr<Model> (*make)(const ReplicaParams& p, const RandomKey& key) = nullptr;
+    /// The steps checkpoint_steps counts when they are not the schedule's (a protocol's
+    /// cooling or quasistatic-shear stage); nullptr: the schedule's steps.
+    std::int64_t (*checkpointed_steps)(const ReplicaParams& p) = nullptr;
+    /// After those steps comes a φ_J search with a checkpoint step before every minimisation,
+    /// so a checkpoint's step has no upper bound.
+    bool open_ended = false;
+    /// strain (time at rate 0) is a run length: a longer run of the replica continues it, so a
+    /// finished replica keeps its last checkpoint and a campaign can be extended.
+    bool extendable = false;
 };
 
 /// Every registered model, in registration order.
@@ -70,6 +79,8 @@ std::vector<const ParamInfo*> used_parameters(const ReplicaParams& p);
 std::vector<ParamError> validate(const ReplicaParams& p);
 
 Schedule schedule_of(const ReplicaParams& p);
+/// The steps `checkpoint_steps` counts (ModelInfo::checkpointed_steps, else the schedule's).
+std::int64_t checkpointed_steps(const ReplicaParams& p);
 double estimated_cost(const ReplicaParams& p);
 int evaluations_per_step(const ReplicaParams& p);
 /// Samples (rows) a replica writes.
@@ -78,8 +89,8 @@ std::int64_t sample_count(const ReplicaParams& p);
 /// "key=value key=value ..." of the parameters p's model uses (17 significant digits where
 /// needed): the canonical description of a replica (fingerprints, messages).
 std::string describe(const ReplicaParams& p);
-/// The same without the run length (strain, or time at rate 0): what a checkpoint must match
-/// to continue a replica that has been extended.
+/// The same without the run length (strain, or time at rate 0) of an extendable model: what a
+/// checkpoint must match to continue a replica that has been extended.
 std::string describe_without_run_length(const ReplicaParams& p);
 /// The replica's random identity: a 64-bit hash of its model and of the physical parameters
 /// it uses (Identity::Physics), seed excluded. With the seed it keys every random number,

@@ -41,6 +41,8 @@ struct ReplicaState {
     System system;          ///< every particle array in memory order, and the box
     TimeSeries series = {};  ///< the rows so far
     VelocityCorrelation::Sums correlation = {};  ///< g_y sums so far (dynamics)
+    /// A minimisation protocol's own state at this step (a φ_J search's bracket; empty else).
+    std::vector<double> protocol = {};
     std::int64_t force_evaluations = 0;
     std::int64_t list_builds = 0;
     double wall_seconds = 0.0;  ///< compute time of the replica before this state
