@@ -14,6 +14,7 @@
 
 #include "jamsim/campaign/stop_request.hpp"
 #include "jamsim/io/archive.hpp"
+#include "jamsim/io/capacity.hpp"
 #include "jamsim/io/checkpoint_file.hpp"
 #include "jamsim/io/initial_states.hpp"
 #include "jamsim/io/campaign_spec.hpp"
@@ -44,6 +45,8 @@ struct RunOptions {
     bool retry_failed = false;      // run failed replicas again
     double checkpoint_seconds = 300;  // save a running replica's state at most this often
     DryRunPlan plan;                  // what --dry-run estimates for
+    std::int64_t max_replicas = kDefaultMaxReplicas;
+    CapacityLimits limits;
 };
 
 /// Exit status of a run that was interrupted (a signal) with every running replica's state
@@ -238,6 +241,14 @@ void print_dry_run(const CampaignSpec& spec, const std::string& output, const Dr
     }
 }
 
+void print_capacity(const CapacityEstimate& e, const std::string& output) {
+    std::printf("archive %s: %s when complete (%s on disk now), checkpoints up to %s, %s free on its "
+                "filesystem; memory: about %s per rank, %d ranks on a node of %s available\n",
+                output.c_str(), show_bytes(e.archive_bytes).c_str(), show_bytes(e.archive_present).c_str(),
+                show_bytes(e.checkpoint_bytes).c_str(), show_bytes(e.free_bytes).c_str(),
+                show_bytes(e.rank_memory).c_str(), e.ranks_per_node, show_bytes(e.node_memory).c_str());
+}
+
 int run(const RunOptions& opt, int& argc, char**& argv) {
     mpi::Session session(argc, argv);
     const linalg::PetscScope petsc;  // finalised before MPI (declared after the session)
@@ -247,11 +258,22 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
     // Rank 0 reads and checks everything before any rank starts work.
     std::string text, error, output = opt.output;
     int extend = 0;  // the archive holds this campaign with shorter runs: extend it
+    const int node_ranks = opt.dry_run ? opt.plan.ranks : mpi::ranks_on_node(comm);
+    const int ranks = opt.dry_run ? opt.plan.ranks : mpi::size(comm);
     if (rank == 0) {
         try {
-            const CampaignSpec spec = load_campaign(opt.spec_path);
+            const CampaignSpec spec = load_campaign(opt.spec_path, opt.max_replicas);
             text = spec.text;
             if (output.empty()) output = spec.output;
+            // Size and memory before anything is created (the dry run prints them).
+            const CapacityEstimate capacity = estimate_capacity(spec, output, ranks, node_ranks);
+            if (opt.dry_run) print_capacity(capacity, output);
+            error = check_capacity(capacity, opt.limits, spec, output);
+            if (!error.empty() && opt.dry_run) {
+                std::printf("the run would be refused: %s\n", error.c_str());
+                error.clear();
+            }
+            if (!error.empty()) throw SpecError(error);
             // A dry run writes nothing, but an existing archive it names must fit the campaign.
             if (!opt.dry_run || std::filesystem::exists(output)) error = check_output(output, spec, extend);
             if (error.empty()) error = check_checkpoints(output, spec);
@@ -276,7 +298,7 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
     mpi::broadcast(text, 0, comm);
     mpi::broadcast(output, 0, comm);
     mpi::broadcast(extend, 0, comm);
-    const CampaignSpec spec = parse_campaign(text, opt.spec_path);
+    const CampaignSpec spec = parse_campaign(text, opt.spec_path, opt.max_replicas);
     if (opt.dry_run) {
         if (rank == 0) {
             if (extend)
@@ -483,6 +505,20 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
         "Save each running replica's state at its first checkpoint step after this long "
         "(0: at every checkpoint step; [run] checkpoint_steps sets the steps)")
         ->default_str("300s");
+    cmd->add_option("--max-replicas", opt->max_replicas,
+                    "Refuse a campaign of more replicas (a typo in seeds or a sweep list)")
+        ->check(CLI::PositiveNumber)->capture_default_str();
+    cmd->add_option_function<std::string>(
+        "--max-archive-size",
+        [opt](const std::string& v) {
+            opt->limits.max_archive_bytes = parse_bytes(v);
+            if (!(opt->limits.max_archive_bytes > 0))
+                throw CLI::ValidationError("jamsim run: --max-archive-size = " + v +
+                                           " is not allowed: a size > 0 such as 500G, 2T or 1e13");
+        },
+        "Refuse a campaign whose archive would be larger (the free space of its filesystem is "
+        "checked as well)")
+        ->default_str("1T");
     cmd->add_option("--ranks", opt->plan.ranks, "--dry-run: ranks of the planned run")
         ->check(CLI::PositiveNumber)->default_str("1");
     cmd->add_option("--shards", opt->plan.shards, "--dry-run: Slurm array tasks of the planned run")

@@ -258,7 +258,7 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, A
     std::optional<System> initial;
     if (options.initial_states && !resume) timed([&] { initial = options.initial_states->load(params, id); });
     const std::int64_t before = spec.predecessor.empty() ? -1 : spec.predecessor[static_cast<std::size_t>(id)];
-    timed([&] { archive.mark_running(id, rank); });
+    timed([&] { archive.mark_running(id, rank, resume.has_value()); });
     auto last_save = Clock::now();
     std::size_t rows_saved = resume ? resume->series.size() : 0;  // already in the archive
     const CheckpointPolicy policy{

@@ -59,6 +59,26 @@ std::vector<Column> parameter_columns(const CampaignSpec& spec) {
 
 } // namespace
 
+ArchiveLayout archive_layout(const CampaignSpec& spec) {
+    ArchiveLayout out;
+    std::int64_t particles = 0;
+    double per_replica_bytes = 0.0;
+    for (const auto& p : spec.replicas) {
+        out.particle_offset.push_back(particles);
+        particles += p.n;
+        out.samples = std::max<hsize_t>(out.samples, static_cast<hsize_t>(sample_count(p)));
+        out.bins = std::max<hsize_t>(out.bins, VelocityCorrelation::bins_for(box_side_for(p.n, p.phi, p.size_ratio)));
+    }
+    out.particles = std::max<hsize_t>(1, static_cast<hsize_t>(particles));
+    // Per replica: the parameter and bookkeeping columns (~40 numbers and a 256-byte reason).
+    per_replica_bytes = 8.0 * 40 + 256;
+    const double replicas = static_cast<double>(spec.replicas.size());
+    out.bytes = 8.0 * (replicas * static_cast<double>(out.samples) * static_cast<double>(std::size(kSampleColumns)) +
+                       replicas * 2.0 * static_cast<double>(out.bins) + 3.0 * static_cast<double>(out.particles)) +
+                replicas * per_replica_bytes;
+    return out;
+}
+
 const char* to_string(ReplicaStatus s) {
     switch (s) {
     case ReplicaStatus::Pending: return "pending";
@@ -85,11 +105,7 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
                 "create archive '" + path + "'");
     const hid_t f = file.get();
     const auto replicas = static_cast<hsize_t>(spec.replicas.size());
-    hsize_t samples = 1, particles = 1;
-    for (const auto& p : spec.replicas) {
-        samples = std::max<hsize_t>(samples, static_cast<hsize_t>(sample_count(p)));
-        particles = std::max<hsize_t>(particles, static_cast<hsize_t>(p.n));
-    }
+    const ArchiveLayout layout = archive_layout(spec);
     std::string created = utc_now();
     mpi::broadcast(created, 0, comm);  // attributes must be identical on every rank
     h5::write_attribute(f, "campaign", spec.name);
@@ -104,7 +120,7 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
     h5::write_attribute(f, "code_version", std::string(kVersion));
     h5::write_attribute(f, "build_flags", std::string(kBuildFlags));
     h5::write_attribute(f, "created", created);
-    h5::write_attribute(f, "layout_version", std::int64_t{3});
+    h5::write_attribute(f, "layout_version", std::int64_t{kLayoutVersion});
     h5::write_attribute(f, "n_replicas", static_cast<std::int64_t>(replicas));
     for (const char* g : {"replicas", "timeseries", "final"}) h5::create_group(f, g).close(g);
 
@@ -149,22 +165,29 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
         h5::create_filled_dataset(f, "/replicas/failure_reason", rt.get(), {replicas}, empty, "",
                "why a failed replica failed (empty otherwise)");
     }
+    // The bulk: allocated but never filled, so creating it writes nothing (a replica's rows
+    // are defined once its status is done; its writer pads them with NaN to the row length).
     for (const auto& c : kSampleColumns)
-        h5::create_filled_dataset(f, std::string("/timeseries/") + c.name, H5T_NATIVE_DOUBLE, {replicas, samples},
-               &nan, c.units, std::string(c.description) + "; row = replica, NaN past n_samples");
+        h5::create_unfilled_dataset(f, std::string("/timeseries/") + c.name, H5T_NATIVE_DOUBLE,
+                                    {replicas, layout.samples}, c.units,
+                                    std::string(c.description) +
+                                        "; row = replica, NaN past n_samples (undefined unless status is done, "
+                                        "past rows_written while running)");
+    // Final configurations of all replicas end to end: replica r's N disks start at
+    // /replicas/particle_offset[r] (no padding to the largest N).
     for (const char* name : {"x", "y", "diameter"})
-        h5::create_filled_dataset(f, std::string("/final/") + name, H5T_NATIVE_DOUBLE, {replicas, particles}, &nan,
+        h5::create_unfilled_dataset(f, std::string("/final/") + name, H5T_NATIVE_DOUBLE, {layout.particles},
                "d_s",
-               std::string(name) + " of the final configuration by particle index (NaN past N); "
-                                   "x, y sheared coordinates in [0, L), lab x = x + box_strain y");
-    hsize_t bins = 1;
-    for (const auto& p : spec.replicas)
-        bins = std::max<hsize_t>(bins, VelocityCorrelation::bins_for(box_side_for(p.n, p.phi, p.size_ratio)));
+               std::string(name) + " of the final configurations, replica r at [particle_offset[r], "
+                                   "particle_offset[r] + N[r]); x, y sheared coordinates in [0, L), "
+                                   "lab x = x + box_strain y");
     h5::create_group(f, "correlation").close("correlation");
-    h5::create_filled_dataset(f, "/correlation/x", H5T_NATIVE_DOUBLE, {replicas, bins}, &nan, "d_s",
-                   "bin centres of g_y: lab x distance of disks within a strip |dy| < 1/2");
-    h5::create_filled_dataset(f, "/correlation/g_y", H5T_NATIVE_DOUBLE, {replicas, bins}, &nan, "1",
+    h5::create_unfilled_dataset(f, "/correlation/x", H5T_NATIVE_DOUBLE, {replicas, layout.bins}, "d_s",
+                   "bin centres of g_y: lab x distance of disks within a strip |dy| < 1/2 (NaN past the replica's bins)");
+    h5::create_unfilled_dataset(f, "/correlation/g_y", H5T_NATIVE_DOUBLE, {replicas, layout.bins}, "1",
                    "g_y(x) = <u_y(r) u_y(r + x)>/<u_y^2> over the steady state (thesis eq. 4.23)");
+    h5::create_filled_dataset(f, "/replicas/particle_offset", H5T_NATIVE_INT64, {replicas}, &zero, "1",
+                              "index of the replica's first disk in /final/x, /final/y, /final/diameter");
     h5::create_filled_dataset(f, "/final/box_side", H5T_NATIVE_DOUBLE, {replicas}, &nan, "d_s", "cell side L");
     h5::create_filled_dataset(f, "/final/box_strain", H5T_NATIVE_DOUBLE, {replicas}, &nan, "1",
            "Lees-Edwards strain gamma in [-1/2, 1/2)");
@@ -181,9 +204,11 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
         std::vector<std::uint64_t> ids;
         for (const auto& p : spec.replicas) ids.push_back(replica_identity(p));
         write_block(f, "/replicas/identity", H5T_NATIVE_UINT64, {0}, {replicas}, ids.data());
+        write_block(f, "/replicas/particle_offset", H5T_NATIVE_INT64, {0}, {replicas},
+                    layout.particle_offset.data());
     }
     check(H5Fflush(f, H5F_SCOPE_GLOBAL), "flush '" + path + "'");
-    return Archive(std::move(file), comm);
+    return Archive(std::move(file), comm, layout);
 }
 
 Archive Archive::open(MPI_Comm comm, const std::string& path) {
@@ -191,7 +216,14 @@ Archive Archive::open(MPI_Comm comm, const std::string& path) {
     const auto fapl = h5::mpio_file_access(comm);
     Handle file(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl.get()), H5Fclose,
                 "open archive '" + path + "'");
-    return Archive(std::move(file), comm);
+    ArchiveLayout layout;
+    const Handle dxpl = h5::independent_transfer();
+    layout.particle_offset = h5::read_all<std::int64_t>(file.get(), "/replicas/particle_offset",
+                                                        H5T_NATIVE_INT64, dxpl.get());
+    layout.samples = h5::dataset_shape(file.get(), "/timeseries/time").at(1);
+    layout.bins = h5::dataset_shape(file.get(), "/correlation/g_y").at(1);
+    layout.particles = h5::dataset_shape(file.get(), "/final/x").at(0);
+    return Archive(std::move(file), comm, std::move(layout));
 }
 
 std::string Archive::check_existing(const std::string& path, const CampaignSpec& spec) {
@@ -230,10 +262,18 @@ std::string Archive::check_existing(const std::string& path, const CampaignSpec&
     }
 }
 
-void Archive::mark_running(std::int64_t replica, int rank) {
+void Archive::mark_running(std::int64_t replica, int rank, bool keep_rows) {
     const auto r = static_cast<hsize_t>(replica);
     const std::int32_t who = rank;
     write_block(file_.get(), "/replicas/rank", H5T_NATIVE_INT32, {r}, {1}, &who);
+    // Its rows NaN until written (the datasets are not filled): partial rows of a running
+    // replica end in NaN, as finished rows do past n_samples.
+    if (!keep_rows) {
+        const std::vector<double> none(layout_.samples, kNaN);
+        for (const auto& c : kSampleColumns)
+            write_block(file_.get(), std::string("/timeseries/") + c.name, H5T_NATIVE_DOUBLE, {r, 0},
+                        {1, layout_.samples}, none.data());
+    }
     const auto s = static_cast<std::int8_t>(ReplicaStatus::Running);
     write_block(file_.get(), "/replicas/status", H5T_NATIVE_INT8, {r}, {1}, &s);
     // A replica run again (--retry-failed) forgets an old failure; after the status, so that
@@ -247,25 +287,26 @@ void Archive::write_done(std::int64_t replica, const ReplicaResult& result, int 
     const hid_t f = file_.get();
     const auto r = static_cast<hsize_t>(replica);
     const auto rows = static_cast<hsize_t>(result.series.size());
-    for (const auto& c : kSampleColumns) {
-        const auto v = result.series.column(c.member);
-        if (rows > 0)
-            write_block(f, std::string("/timeseries/") + c.name, H5T_NATIVE_DOUBLE, {r, 0},
-                        {1, rows}, v.data());
-    }
+    // Whole rows, NaN past the replica's own length (the datasets are not filled).
+    const auto padded = [](std::vector<double> v, hsize_t length) {
+        v.resize(std::max<std::size_t>(v.size(), length), kNaN);
+        return v;
+    };
+    if (rows > layout_.samples) throw h5::Error("replica " + std::to_string(replica) + " has more rows than its archive");
+    for (const auto& c : kSampleColumns)
+        write_block(f, std::string("/timeseries/") + c.name, H5T_NATIVE_DOUBLE, {r, 0},
+                    {1, layout_.samples}, padded(result.series.column(c.member), layout_.samples).data());
     const FinalConfiguration fin = final_configuration(result.final_state);
     const auto n = static_cast<hsize_t>(fin.x.size());
-    write_block(f, "/final/x", H5T_NATIVE_DOUBLE, {r, 0}, {1, n}, fin.x.data());
-    write_block(f, "/final/y", H5T_NATIVE_DOUBLE, {r, 0}, {1, n}, fin.y.data());
-    write_block(f, "/final/diameter", H5T_NATIVE_DOUBLE, {r, 0}, {1, n}, fin.diameter.data());
+    const auto first = static_cast<hsize_t>(layout_.particle_offset.at(r));
+    write_block(f, "/final/x", H5T_NATIVE_DOUBLE, {first}, {n}, fin.x.data());
+    write_block(f, "/final/y", H5T_NATIVE_DOUBLE, {first}, {n}, fin.y.data());
+    write_block(f, "/final/diameter", H5T_NATIVE_DOUBLE, {first}, {n}, fin.diameter.data());
     write_block(f, "/final/box_side", H5T_NATIVE_DOUBLE, {r}, {1}, &fin.box_side);
-    const auto bins = static_cast<hsize_t>(result.correlation_g.size());
-    if (bins > 0) {
-        write_block(f, "/correlation/x", H5T_NATIVE_DOUBLE, {r, 0}, {1, bins},
-                    result.correlation_x.data());
-        write_block(f, "/correlation/g_y", H5T_NATIVE_DOUBLE, {r, 0}, {1, bins},
-                    result.correlation_g.data());
-    }
+    write_block(f, "/correlation/x", H5T_NATIVE_DOUBLE, {r, 0}, {1, layout_.bins},
+                padded(result.correlation_x, layout_.bins).data());
+    write_block(f, "/correlation/g_y", H5T_NATIVE_DOUBLE, {r, 0}, {1, layout_.bins},
+                padded(result.correlation_g, layout_.bins).data());
     write_block(f, "/final/box_strain", H5T_NATIVE_DOUBLE, {r}, {1}, &fin.box_strain);
     write_block(f, "/replicas/wall_seconds", H5T_NATIVE_DOUBLE, {r}, {1}, &result.wall_seconds);
     const auto rows_written = static_cast<std::int64_t>(rows);
@@ -302,6 +343,11 @@ void Archive::write_failed(std::int64_t replica, const std::string& reason, doub
                            int rank) {
     const hid_t f = file_.get();
     const auto r = static_cast<hsize_t>(replica);
+    // Its rows: NaN (the datasets are not filled, and a reader may ignore the status).
+    const std::vector<double> none(layout_.samples, kNaN);
+    for (const auto& c : kSampleColumns)
+        write_block(f, std::string("/timeseries/") + c.name, H5T_NATIVE_DOUBLE, {r, 0},
+                    {1, layout_.samples}, none.data());
     char text[kReasonLength] = {};
     reason.copy(text, kReasonLength - 1);
     const Handle rt = h5::fixed_string_type(kReasonLength);
@@ -319,12 +365,24 @@ void Archive::import_replica(const std::string& source_path, std::int64_t replic
     // Everything that belongs to one replica; the parameters are equal by the fingerprint.
     std::vector<std::string> paths;
     for (const auto& c : kSampleColumns) paths.push_back(std::string("/timeseries/") + c.name);
-    for (const char* p : {"/correlation/x", "/correlation/g_y", "/final/x", "/final/y",
-                          "/final/diameter", "/final/box_side", "/final/box_strain",
+    for (const char* p : {"/correlation/x", "/correlation/g_y", "/final/box_side", "/final/box_strain",
                           "/replicas/rank", "/replicas/wall_seconds", "/replicas/force_evaluations",
                           "/replicas/rows_written", "/replicas/progress",
                           "/replicas/failure_reason", "/replicas/status"})  // status last: it validates the rest
         paths.emplace_back(p);
+    // The final configuration: N disks at the replica's offset (the same in both archives,
+    // which hold the same replicas).
+    {
+        const auto first = static_cast<hsize_t>(layout_.particle_offset.at(r));
+        const hsize_t n = (r + 1 < layout_.particle_offset.size()
+                               ? static_cast<hsize_t>(layout_.particle_offset[r + 1])
+                               : layout_.particles) - first;
+        std::vector<double> buffer(n);
+        for (const char* path : {"/final/x", "/final/y", "/final/diameter"}) {
+            h5::read_block(src.get(), path, H5T_NATIVE_DOUBLE, {first}, {n}, buffer.data());
+            write_block(file_.get(), path, H5T_NATIVE_DOUBLE, {first}, {n}, buffer.data());
+        }
+    }
     for (const auto& path : paths) {
         const std::vector<hsize_t> dims = h5::dataset_shape(src.get(), path);
         Handle set(H5Dopen2(src.get(), path.c_str(), H5P_DEFAULT), H5Dclose, "open " + path);

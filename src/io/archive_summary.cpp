@@ -2,6 +2,8 @@
 #include "jamsim/io/archive.hpp"
 #include "archive_detail.hpp"
 
+#include <limits>
+
 namespace jamsim {
 
 using archive_detail::kReasonLength;
@@ -13,7 +15,8 @@ StoredCampaign read_stored_campaign(const std::string& path) {
     const Handle file = h5::open_unlocked_readonly(path);
     const std::string text = h5::read_string_attribute(file.get(), "spec_text");
     if (text.empty()) throw h5::Error("'" + path + "' is not a jamsim campaign archive");
-    StoredCampaign out{parse_campaign(text, h5::read_string_attribute(file.get(), "spec_path")), {}};
+    StoredCampaign out{parse_campaign(text, h5::read_string_attribute(file.get(), "spec_path"),
+                                     std::numeric_limits<std::int64_t>::max()), {}};
     for (auto v : h5::read_all<std::int8_t>(file.get(), "/replicas/status", H5T_NATIVE_INT8))
         out.status.push_back(static_cast<ReplicaStatus>(v));
     return out;

@@ -177,7 +177,7 @@ void link_rate_ladders(const Reader& r, CampaignSpec& spec) {
 
 } // namespace
 
-CampaignSpec parse_campaign(const std::string& text, const std::string& path) {
+CampaignSpec parse_campaign(const std::string& text, const std::string& path, std::int64_t max_replicas) {
     const Reader r(path);
     toml::table root;
     try {
@@ -257,10 +257,10 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path) {
         }
 
     std::vector<std::uint64_t> seeds;
+    std::int64_t seed_count = 0;  // seeds = K: seeds 1..K (listed once the sweep's size is checked)
     if (const toml::node* s = sweep->get("seeds"); s && !s->is_array()) {
-        const auto count = r.integer(*s, "[sweep] seeds");
-        if (count < 1) r.fail("[sweep] seeds", show(*s), "a count >= 1 or a list of seeds");
-        for (std::int64_t k = 1; k <= count; ++k) seeds.push_back(static_cast<std::uint64_t>(k));
+        seed_count = r.integer(*s, "[sweep] seeds");
+        if (seed_count < 1) r.fail("[sweep] seeds", show(*s), "a count >= 1 or a list of seeds");
     } else if (s) {
         r.each(*sweep, "[sweep]", "seeds", [&](const toml::node& n, const std::string& where) {
             const auto v = r.integer(n, where);
@@ -299,6 +299,12 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path) {
             });
         else
             rates.push_back(0.0);
+        const double grid_size = static_cast<double>(ns.size()) * static_cast<double>(phis.size()) *
+                                 static_cast<double>(rates.size());
+        if (grid_size > static_cast<double>(max_replicas))
+            r.fail("[sweep]", std::to_string(ns.size()) + " N x " + std::to_string(phis.size()) + " phi x " +
+                                  std::to_string(rates.size()) + " rate",
+                   "at most " + std::to_string(max_replicas) + " replicas (jamsim run --max-replicas raises the cap)");
         for (auto n : ns)
             for (double phi : phis)
                 for (double rate : rates) points.push_back({n, phi, rate});
@@ -322,6 +328,17 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path) {
     }
     if (points.empty())
         r.fail("[sweep]", "{}", "N, phi and rate lists, or points = [...], or both");
+    // The sweep's size, before a replica is made: a typo (seeds = 10000000) must not fill
+    // the memory of every rank.
+    const double seeds_per_point = seed_count > 0 ? static_cast<double>(seed_count) : static_cast<double>(seeds.size());
+    const double replica_count = static_cast<double>(points.size()) * seeds_per_point;
+    if (replica_count > static_cast<double>(max_replicas))
+        r.fail("[sweep]", show_value(replica_count) + " replicas (" + std::to_string(points.size()) +
+                              " points x " + show_value(seeds_per_point) + " seeds)",
+               "at most " + std::to_string(max_replicas) +
+                   " replicas per campaign (jamsim run --max-replicas raises the cap; each replica "
+                   "costs every rank about 1 kB of memory before it runs)");
+    for (std::int64_t k = 1; k <= seed_count; ++k) seeds.push_back(static_cast<std::uint64_t>(k));
 
     for (const Point& pt : points)
         for (std::uint64_t seed : seeds) {
@@ -352,19 +369,20 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path) {
     return spec;
 }
 
-CampaignSpec load_campaign(const std::string& path) {
+CampaignSpec load_campaign(const std::string& path, std::int64_t max_replicas) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw SpecError(path + ": cannot read the campaign file");
     std::ostringstream text;
     text << in.rdbuf();
-    return parse_campaign(text.str(), path);
+    return parse_campaign(text.str(), path, max_replicas);
 }
 
 std::string fingerprint(const CampaignSpec& spec) {
     // The version names what the results mean: v5 keyed every random number by the replica's
     // identity (its physical parameters and seed) instead of its position in the sweep, and
-    // records only the parameters a model uses; v6 drops the kernel caches at checkpoint steps.
-    std::string out = "jamsim campaign v6 " + spec.name + " replicas " +
+    // records only the parameters a model uses; v6 drops the kernel caches at checkpoint steps;
+    // v7 has checkpoint steps in every minimisation protocol and archive layout 4.
+    std::string out = "jamsim campaign v7 " + spec.name + " replicas " +
                       std::to_string(spec.replicas.size()) + '\n';
     for (std::size_t k = 0; k < spec.replicas.size(); ++k)
         out += std::to_string(k) + ' ' + describe(spec.replicas[k]) + '\n';

@@ -14,7 +14,7 @@ namespace {
 
 /// The format of the file and of what it means: v1 with fingerprint v6 (identity-keyed
 /// random numbers, caches dropped at checkpoint steps).
-constexpr const char* kFormat = "jamsim checkpoint 2 (campaign v6)";
+constexpr const char* kFormat = "jamsim checkpoint 2 (campaign v7)";
 
 void sync_file(const std::string& path) {
     const int fd = ::open(path.c_str(), O_RDONLY);

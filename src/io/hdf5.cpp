@@ -151,21 +151,34 @@ Handle fixed_string_type(std::size_t bytes) {
     return t;
 }
 
-void create_filled_dataset(hid_t file, const std::string& path, hid_t type,
-                           std::vector<hsize_t> dims, const void* fill, const std::string& units,
-                           const std::string& description) {
+namespace {
+void create_dataset(hid_t file, const std::string& path, hid_t type, std::vector<hsize_t> dims,
+                    const void* fill, const std::string& units, const std::string& description) {
     Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose,
                  "dataspace of " + path);
     Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "creation properties");
     check(H5Pset_alloc_time(dcpl.get(), H5D_ALLOC_TIME_EARLY), "early allocation");
-    check(H5Pset_fill_time(dcpl.get(), H5D_FILL_TIME_ALLOC), "fill time");
-    check(H5Pset_fill_value(dcpl.get(), type, fill), "fill value");
+    check(H5Pset_fill_time(dcpl.get(), fill ? H5D_FILL_TIME_ALLOC : H5D_FILL_TIME_NEVER), "fill time");
+    if (fill) check(H5Pset_fill_value(dcpl.get(), type, fill), "fill value");
     Handle set(H5Dcreate2(file, path.c_str(), type, space.get(), H5P_DEFAULT, dcpl.get(),
                           H5P_DEFAULT),
                H5Dclose, "create dataset " + path);
     write_attribute(set.get(), "units", units);
     write_attribute(set.get(), "description", description);
     set.close(path);
+}
+} // namespace
+
+void create_filled_dataset(hid_t file, const std::string& path, hid_t type,
+                           std::vector<hsize_t> dims, const void* fill, const std::string& units,
+                           const std::string& description) {
+    create_dataset(file, path, type, std::move(dims), fill, units, description);
+}
+
+void create_unfilled_dataset(hid_t file, const std::string& path, hid_t type,
+                             std::vector<hsize_t> dims, const std::string& units,
+                             const std::string& description) {
+    create_dataset(file, path, type, std::move(dims), nullptr, units, description);
 }
 
 namespace {

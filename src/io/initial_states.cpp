@@ -1,6 +1,7 @@
 #include "jamsim/io/initial_states.hpp"
 
 #include <cmath>
+#include <utility>
 
 #include "jamsim/io/hdf5.hpp"
 
@@ -61,9 +62,17 @@ System InitialStates::load(const ReplicaParams& p, std::int64_t id) const {
         const h5::Handle f = h5::open_unlocked_readonly(source_);
         Particles q;
         q.resize(n);
-        h5::read_block(f.get(), "/final/x", H5T_NATIVE_DOUBLE, {k, 0}, {1, n}, q.x.data());
-        h5::read_block(f.get(), "/final/y", H5T_NATIVE_DOUBLE, {k, 0}, {1, n}, q.y.data());
-        h5::read_block(f.get(), "/final/diameter", H5T_NATIVE_DOUBLE, {k, 0}, {1, n}, q.diameter.data());
+        // Layout 4: every replica's disks end to end from /replicas/particle_offset; layout 3:
+        // one row per replica.
+        const bool rows = h5::dataset_shape(f.get(), "/final/x").size() == 2;
+        std::int64_t first = 0;
+        if (!rows) h5::read_block(f.get(), "/replicas/particle_offset", H5T_NATIVE_INT64, {k}, {1}, &first);
+        for (const auto& [name, v] : {std::pair{"/final/x", &q.x}, {"/final/y", &q.y}, {"/final/diameter", &q.diameter}}) {
+            if (rows)
+                h5::read_block(f.get(), name, H5T_NATIVE_DOUBLE, {k, 0}, {1, n}, v->data());
+            else
+                h5::read_block(f.get(), name, H5T_NATIVE_DOUBLE, {static_cast<hsize_t>(first)}, {n}, v->data());
+        }
         double side = 0, strain = 0;
         h5::read_block(f.get(), "/final/box_side", H5T_NATIVE_DOUBLE, {k}, {1}, &side);
         h5::read_block(f.get(), "/final/box_strain", H5T_NATIVE_DOUBLE, {k}, {1}, &strain);

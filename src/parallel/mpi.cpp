@@ -35,6 +35,14 @@ int size(MPI_Comm comm) {
     return s;
 }
 
+int ranks_on_node(MPI_Comm comm) {
+    MPI_Comm node = MPI_COMM_NULL;
+    check(MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node), "MPI_Comm_split_type");
+    const int n = size(node);
+    check(MPI_Comm_free(&node), "MPI_Comm_free");
+    return n;
+}
+
 void broadcast(std::string& text, int root, MPI_Comm comm) {
     unsigned long long length = text.size();
     check(MPI_Bcast(&length, 1, MPI_UNSIGNED_LONG_LONG, root, comm), "MPI_Bcast (length)");

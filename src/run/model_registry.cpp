@@ -7,6 +7,7 @@
 #include "jamsim/dynamics/cd0.hpp"
 #include "jamsim/dynamics/rd0.hpp"
 #include "jamsim/dynamics/sllod.hpp"
+#include "jamsim/observe/time_series.hpp"
 #include "jamsim/run/replica.hpp"
 
 namespace jamsim {
@@ -47,7 +48,8 @@ ModelInfo dynamics(const DynamicsInfo& d) {
                 },
             .run = run_dynamics,
             .make = d.make,
-            .extendable = true};
+            .extendable = true,
+            .bytes_per_disk = d.bytes_per_disk};
 }
 
 /// One line per model or protocol: adding one is its own file plus a line here.
@@ -146,6 +148,12 @@ std::int64_t checkpointed_steps(const ReplicaParams& p) {
 }
 double estimated_cost(const ReplicaParams& p) { return model_of(p).cost(p); }
 int evaluations_per_step(const ReplicaParams& p) { return model_of(p).evaluations_per_step(p); }
+
+double estimated_memory(const ReplicaParams& p) {
+    const double row_bytes = 8.0 * static_cast<double>(std::size(kSampleColumns));
+    return static_cast<double>(p.n) * model_of(p).bytes_per_disk +
+           3.0 * row_bytes * static_cast<double>(sample_count(p));
+}
 
 std::int64_t sample_count(const ReplicaParams& p) {
     const Schedule s = schedule_of(p);

@@ -6,6 +6,7 @@ import sys
 
 import h5py
 import numpy as np
+from archive_rows import replica_row
 
 a, b = (h5py.File(p, "r") for p in sys.argv[1:3])
 expected = int(sys.argv[3])
@@ -27,7 +28,8 @@ for key in common:
     assert a["replicas/identity"][i] == b["replicas/identity"][j], key
     for group in ("timeseries", "final", "correlation"):
         for name in a[group]:
-            x, y = np.atleast_1d(a[group][name][i]), np.atleast_1d(b[group][name][j])
+            x = np.atleast_1d(replica_row(a, group, name, i))
+            y = np.atleast_1d(replica_row(b, group, name, j))
             m = min(x.size, y.size)  # padding (NaN) follows the campaign's largest replica
             assert np.isnan(x[m:]).all() and np.isnan(y[m:]).all(), (key, group, name)
             x, y = x[:m], y[:m]

@@ -57,7 +57,11 @@ TEST(Archive, WriteReadBackFailAndImport) {
         }
         const auto x = h5::read_dataset(file.get(), "/final/x");
         const auto fin = final_configuration(result.final_state);
-        for (std::size_t k = 0; k < fin.x.size(); ++k) EXPECT_EQ(x[x.size() / 2 + k], fin.x[k]);
+        // Layout 4: the disks of all replicas end to end; replica 1 follows replica 0's 64.
+        ASSERT_EQ(x.size(), 64u + 128u);
+        const auto offset = h5::read_all<std::int64_t>(file.get(), "/replicas/particle_offset", H5T_NATIVE_INT64);
+        ASSERT_EQ(offset, (std::vector<std::int64_t>{0, 64}));
+        for (std::size_t k = 0; k < fin.x.size(); ++k) EXPECT_EQ(x[64 + k], fin.x[k]);
     }
     const ArchiveSummary s = summarize_archive(path);
     EXPECT_EQ(s.done, 1);

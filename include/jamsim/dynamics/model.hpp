@@ -80,6 +80,9 @@ struct DynamicsInfo {
     double (*stable_dt)(const ReplicaParams& p);
     /// The model for a replica; `key` keys its random numbers (models with noise).
     std::unique_ptr<Model> (*make)(const ReplicaParams& p, const RandomKey& key);
+    /// Memory a replica needs per disk (bytes; measured peak RSS over the libraries' base at
+    /// N = 65536, with a margin): the memory check before a campaign runs.
+    double bytes_per_disk = 256.0;
 };
 
 inline double no_dt_limit(const ReplicaParams&) { return std::numeric_limits<double>::infinity(); }

@@ -16,10 +16,25 @@ namespace jamsim {
 enum class ReplicaStatus : std::int8_t { Pending = 0, Running = 1, Done = 2, Failed = 3 };
 const char* to_string(ReplicaStatus s);
 
+/// The archive layout version written (README, "Campaign archive"): 4 stores the final
+/// configurations end to end (/replicas/particle_offset) and never fills the bulk datasets.
+constexpr std::int64_t kLayoutVersion = 4;
+
+/// The shapes of a campaign's archive, from its spec.
+struct ArchiveLayout {
+    hsize_t samples = 1;    ///< row length of /timeseries (the most samples of any replica)
+    hsize_t bins = 1;       ///< row length of /correlation (the most g_y bins)
+    hsize_t particles = 1;  ///< length of /final/x: every replica's N (at least 1)
+    std::vector<std::int64_t> particle_offset;  ///< [R] first disk of each replica in /final
+    /// Bytes the archive will take once every replica is written (data, not metadata).
+    double bytes = 0.0;
+};
+ArchiveLayout archive_layout(const CampaignSpec& spec);
+
 /// One campaign archive, opened by every rank of `comm` through the MPI-IO driver.
 ///
 /// Crash safety by construction: create() makes every dataset collectively with its final
-/// shape (early allocation, NaN fill) and flushes; after that the run writes only raw data,
+/// shape (early allocation; the bulk unfilled, so creation writes no data) and flushes; after that the run writes only raw data,
 /// independently, into space that already exists, so no metadata changes until the
 /// collective close. A replica's rows are written first and its status (done/failed) last,
 /// so after a SIGKILL the status column says which rows are valid. Layout: README.md,
@@ -46,7 +61,9 @@ class Archive {
     static void extend(MPI_Comm comm, const std::string& path, const CampaignSpec& spec);
 
     /// Independent writes, by the rank that runs the replica.
-    void mark_running(std::int64_t replica, int rank);
+    /// Status running; its rows are set to NaN unless `keep_rows` (a replica continued from a
+    /// checkpoint, whose rows so far are in the archive).
+    void mark_running(std::int64_t replica, int rank, bool keep_rows = false);
     void write_done(std::int64_t replica, const ReplicaResult& result, int rank);
     /// A running replica's rows so far and its progress (fraction of steps) at a checkpoint:
     /// readers see them while its status is still 1 (running), i.e. partial. Rows before
@@ -70,9 +87,11 @@ class Archive {
     void close();
 
   private:
-    Archive(h5::Handle file, MPI_Comm comm) : file_(std::move(file)), comm_(comm) {}
+    Archive(h5::Handle file, MPI_Comm comm, ArchiveLayout layout)
+        : file_(std::move(file)), comm_(comm), layout_(std::move(layout)) {}
     h5::Handle file_;
     MPI_Comm comm_ = MPI_COMM_NULL;
+    ArchiveLayout layout_;
 };
 
 /// Read-only summary of an archive for `jamsim status` and tests (serial driver).

@@ -1,5 +1,6 @@
 #pragma once
 #include <stdexcept>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -35,11 +36,17 @@ struct CampaignSpec {
     std::vector<std::int64_t> predecessor;
 };
 
-/// Parse and validate a campaign; throws SpecError.
-CampaignSpec parse_campaign(const std::string& text, const std::string& path);
+/// Replicas a campaign may have unless the user raises the cap (jamsim run --max-replicas):
+/// the papers' campaigns have about 1e5; every rank holds each replica's parameters.
+constexpr std::int64_t kDefaultMaxReplicas = 250'000;
+
+/// Parse and validate a campaign; throws SpecError, also for a sweep of more than
+/// `max_replicas` replicas (checked before any replica is made).
+CampaignSpec parse_campaign(const std::string& text, const std::string& path,
+                            std::int64_t max_replicas = kDefaultMaxReplicas);
 
 /// Read a file and parse it; throws SpecError (also for an unreadable file).
-CampaignSpec load_campaign(const std::string& path);
+CampaignSpec load_campaign(const std::string& path, std::int64_t max_replicas = kDefaultMaxReplicas);
 
 /// Canonical description of everything that determines the replicas' output (one line per
 /// replica, its used parameters). Two specs with the same fingerprint produce the same

@@ -96,6 +96,13 @@ Handle independent_transfer();
 /// Fixed-length, NUL-terminated string type of `bytes` bytes.
 Handle fixed_string_type(std::size_t bytes);
 
+/// Collective: a dataset of shape `dims`, allocated now but never filled (the file stays
+/// sparse until data is written: creating terabytes costs nothing; what was never written
+/// reads as zeros), with "units" and "description" attributes.
+void create_unfilled_dataset(hid_t file, const std::string& path, hid_t type,
+                             std::vector<hsize_t> dims, const std::string& units,
+                             const std::string& description);
+
 /// Collective: a dataset of shape `dims`, allocated now and filled with `fill`, with "units"
 /// and "description" attributes.
 void create_filled_dataset(hid_t file, const std::string& path, hid_t type,

@@ -26,6 +26,8 @@ class Session {
 
 int rank(MPI_Comm comm);
 int size(MPI_Comm comm);
+/// Collective: how many ranks of `comm` share this rank's node (its memory).
+int ranks_on_node(MPI_Comm comm);
 
 /// Broadcast a string from root (its length first).
 void broadcast(std::string& text, int root, MPI_Comm comm);

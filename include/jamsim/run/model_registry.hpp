@@ -57,6 +57,8 @@ struct ModelInfo {
     /// strain (time at rate 0) is a run length: a longer run of the replica continues it, so a
     /// finished replica keeps its last checkpoint and a campaign can be extended.
     bool extendable = false;
+    /// Memory a replica needs per disk (bytes), for the memory check before a run.
+    double bytes_per_disk = 256.0;
 };
 
 /// Every registered model, in registration order.
@@ -83,6 +85,9 @@ Schedule schedule_of(const ReplicaParams& p);
 std::int64_t checkpointed_steps(const ReplicaParams& p);
 double estimated_cost(const ReplicaParams& p);
 int evaluations_per_step(const ReplicaParams& p);
+/// Memory one running replica needs (bytes, without the libraries' base): its disks and its
+/// rows (held in memory, copied at checkpoints).
+double estimated_memory(const ReplicaParams& p);
 /// Samples (rows) a replica writes.
 std::int64_t sample_count(const ReplicaParams& p);
 

@@ -1,0 +1,42 @@
+#pragma once
+// What a campaign will take from the machine, computed from its spec before any work or
+// allocation: the archive's size, the checkpoints beside it, the memory of a rank. `jamsim
+// run` refuses a campaign that does not fit (with the numbers and what to change) and the dry
+// run prints the same figures.
+#include <string>
+
+#include "jamsim/io/campaign_spec.hpp"
+
+namespace jamsim {
+
+/// Bytes; NaN where the machine does not say.
+struct CapacityEstimate {
+    double archive_bytes = 0;     ///< the archive once every replica is written
+    double archive_present = 0;   ///< what an existing archive already occupies on disk
+    double checkpoint_bytes = 0;  ///< checkpoint files at their largest (running and final)
+    double free_bytes = 0;        ///< free space on the output's filesystem (for this user)
+    double rank_memory = 0;       ///< one rank: the libraries, the spec and its largest replica
+    double node_memory = 0;       ///< available memory of this node (MemAvailable)
+    int ranks_per_node = 1;
+};
+
+/// The estimate for `spec` written to `output` by `ranks` ranks, `ranks_per_node` of them on
+/// this node.
+CapacityEstimate estimate_capacity(const CampaignSpec& spec, const std::string& output, int ranks,
+                                   int ranks_per_node);
+
+/// Limits the user can raise on the command line.
+struct CapacityLimits {
+    double max_archive_bytes = 1e12;  ///< 1 TB (--max-archive-size)
+};
+
+/// "" when the campaign fits, else why not and what to change (one message).
+std::string check_capacity(const CapacityEstimate& e, const CapacityLimits& limits,
+                           const CampaignSpec& spec, const std::string& output);
+
+/// "1.5 GB", "830 kB" (decimal units).
+std::string show_bytes(double bytes);
+/// "10G", "1.5T", "500M", "2e12" in bytes; negative when it does not parse.
+double parse_bytes(const std::string& text);
+
+} // namespace jamsim

@@ -1,0 +1,140 @@
+#include "jamsim/io/capacity.hpp"
+
+#include <sys/stat.h>
+#include <sys/statvfs.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include "jamsim/io/archive.hpp"
+#include "jamsim/observe/time_series.hpp"
+#include "jamsim/run/model_registry.hpp"
+
+namespace jamsim {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+/// Peak memory of a rank before it runs a replica: MPI, HDF5, PETSc (measured ~35 MB).
+constexpr double kLibraryBytes = 64e6;
+/// Free space left on the filesystem after the campaign (a full disk breaks everyone's jobs).
+constexpr double kDiskMargin = 0.10;
+/// A rank's share of its node's available memory that one rank may plan to use.
+constexpr double kMemoryMargin = 0.8;
+
+double free_space(const std::string& output) {
+    namespace fs = std::filesystem;
+    const fs::path p(output);
+    const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
+    struct statvfs s {};
+    if (::statvfs(dir.c_str(), &s) != 0) return kNaN;
+    return static_cast<double>(s.f_bavail) * static_cast<double>(s.f_frsize);
+}
+
+double occupied(const std::string& path) {
+    struct stat s {};
+    if (::stat(path.c_str(), &s) != 0) return 0.0;
+    return static_cast<double>(s.st_blocks) * 512.0;  // allocated, not apparent (sparse) size
+}
+
+double available_memory() {
+    std::ifstream in("/proc/meminfo");
+    std::string key;
+    double kb = 0;
+    std::string unit;
+    while (in >> key >> kb >> unit)
+        if (key == "MemAvailable:") return kb * 1024.0;
+    return kNaN;
+}
+
+/// One checkpoint file of replica p: its particle arrays (7 doubles and a tag per disk), its
+/// rows and g_y sums.
+double checkpoint_size(const ReplicaParams& p) {
+    const double row = 8.0 * static_cast<double>(std::size(kSampleColumns));
+    return 60.0 * static_cast<double>(p.n) + row * static_cast<double>(sample_count(p)) + 4096.0;
+}
+
+} // namespace
+
+CapacityEstimate estimate_capacity(const CampaignSpec& spec, const std::string& output, int ranks,
+                                   int ranks_per_node) {
+    CapacityEstimate e;
+    e.archive_bytes = archive_layout(spec).bytes + 1e6;  // + metadata and attributes
+    e.archive_present = occupied(output);
+    double largest_checkpoint = 0, finals = 0, largest_replica = 0;
+    for (const auto& p : spec.replicas) {
+        largest_checkpoint = std::max(largest_checkpoint, checkpoint_size(p));
+        largest_replica = std::max(largest_replica, estimated_memory(p));
+        // A finished replica that a longer run can continue keeps its last checkpoint.
+        if (model_of(p).extendable && checkpointed_steps(p) >= p.checkpoint_steps) finals += checkpoint_size(p);
+    }
+    const double running = std::min<double>(std::max(ranks, 1), static_cast<double>(spec.replicas.size()));
+    e.checkpoint_bytes = finals + 2.0 * running * largest_checkpoint;  // a .tmp beside each
+    e.free_bytes = free_space(output);
+    e.ranks_per_node = std::max(ranks_per_node, 1);
+    e.rank_memory = kLibraryBytes + static_cast<double>(spec.replicas.size()) * 1024.0 +
+                    static_cast<double>(spec.text.size()) + largest_replica;
+    e.node_memory = available_memory();
+    return e;
+}
+
+std::string check_capacity(const CapacityEstimate& e, const CapacityLimits& limits,
+                           const CampaignSpec& spec, const std::string& output) {
+    std::int64_t largest_n = 0, most_samples = 0;
+    for (const auto& p : spec.replicas) {
+        largest_n = std::max(largest_n, p.n);
+        most_samples = std::max(most_samples, sample_count(p));
+    }
+    const std::string shape = std::to_string(spec.replicas.size()) + " replicas, N up to " +
+                              std::to_string(largest_n) + ", up to " + std::to_string(most_samples) +
+                              " samples each";
+    if (e.archive_bytes > limits.max_archive_bytes)
+        return spec.path + ": the archive '" + output + "' would take " + show_bytes(e.archive_bytes) + " (" +
+               shape + "), more than the cap of " + show_bytes(limits.max_archive_bytes) +
+               ": check N, seeds, strain and sample_interval, or raise the cap with --max-archive-size";
+    const double needed = std::max(0.0, e.archive_bytes - e.archive_present) + e.checkpoint_bytes;
+    if (std::isfinite(e.free_bytes) && needed > (1.0 - kDiskMargin) * e.free_bytes)
+        return spec.path + ": the archive '" + output + "' needs " + show_bytes(needed) + " more (" +
+               show_bytes(e.archive_bytes) + " of archive for " + shape + ", " + show_bytes(e.checkpoint_bytes) +
+               " of checkpoints), but its filesystem has " + show_bytes(e.free_bytes) +
+               " free (jamsim leaves 10% of it free): write it to a larger filesystem (-o) or make the "
+               "campaign smaller (fewer replicas or samples: a larger sample_interval)";
+    if (std::isfinite(e.node_memory) && e.rank_memory * e.ranks_per_node > kMemoryMargin * e.node_memory)
+        return spec.path + ": each rank needs about " + show_bytes(e.rank_memory) + " of memory (" + shape +
+               "), " + std::to_string(e.ranks_per_node) + " ranks on this node need " +
+               show_bytes(e.rank_memory * e.ranks_per_node) + ", but it has " + show_bytes(e.node_memory) +
+               " available (jamsim plans for 80% of it): run fewer ranks per node or split the campaign";
+    return "";
+}
+
+std::string show_bytes(double bytes) {
+    if (!std::isfinite(bytes)) return "unknown";
+    const char* units[] = {"B", "kB", "MB", "GB", "TB", "PB", "EB"};
+    int k = 0;
+    while (std::abs(bytes) >= 1000.0 && k < 6) {
+        bytes /= 1000.0;
+        ++k;
+    }
+    char buf[32];
+    std::snprintf(buf, sizeof buf, k == 0 ? "%.0f %s" : "%.3g %s", bytes, units[k]);
+    return buf;
+}
+
+double parse_bytes(const std::string& text) {
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (end == text.c_str() || !std::isfinite(v) || v < 0) return -1.0;
+    std::string unit(end);
+    if (!unit.empty() && (unit.back() == 'B' || unit.back() == 'b')) unit.pop_back();
+    const double scale = unit.empty() ? 1.0 : unit == "k" || unit == "K" ? 1e3 : unit == "M" ? 1e6
+                       : unit == "G" ? 1e9 : unit == "T" ? 1e12 : unit == "P" ? 1e15 : -1.0;
+    return scale < 0 ? -1.0 : v * scale;
+}
+
+} // namespace jamsim
