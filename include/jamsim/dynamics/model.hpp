@@ -3,6 +3,7 @@
 #include <limits>
 #include <memory>
 #include <span>
+#include <string>
 #include <string_view>
 
 #include "jamsim/core/rng.hpp"
@@ -80,6 +81,11 @@ struct DynamicsInfo {
     double (*stable_dt)(const ReplicaParams& p);
     /// The model for a replica; `key` keys its random numbers (models with noise).
     std::unique_ptr<Model> (*make)(const ReplicaParams& p, const RandomKey& key);
+    /// What the stable Δt rests on, for the refusal ("for RD0 with kd 1 and alpha 2 (...)");
+    /// nullptr: "for MODEL with mass M and kd K (stability of the integrator)".
+    std::string (*stable_dt_basis)(const ReplicaParams& p) = nullptr;
+    /// A note for the run log where a limit is only advisory ("" when none); nullptr: none.
+    std::string (*advisory)(const ReplicaParams& p) = nullptr;
 };
 
 inline double no_dt_limit(const ReplicaParams&) { return std::numeric_limits<double>::infinity(); }
