@@ -418,12 +418,17 @@ int status(const std::string& path) {
                 s.campaign.c_str(), path.c_str(), static_cast<long long>(s.done), total,
                 static_cast<long long>(s.running), static_cast<long long>(s.failed),
                 static_cast<long long>(s.pending));
-    const bool complete = s.pending == 0 && s.running == 0;  // e.g. a merged archive
-    std::printf("last run started %s, finished %s\n", s.started.empty() ? "-" : s.started.c_str(),
-                complete && (s.finished.empty() || s.finished < s.started)
-                    ? "- (every replica is finished)"
-                : s.finished.empty() || s.finished < s.started ? "- (running or interrupted)"
-                                                               : s.finished.c_str());
+    // Complete: every replica done or failed, whether by runs or by merging shards (a merged
+    // archive has no run of its own that finished).
+    const bool complete = s.pending == 0 && s.running == 0;
+    const bool run_finished = !s.finished.empty() && !(s.finished < s.started);
+    std::string state = complete        ? "complete: every replica is finished"
+                        : run_finished ? ""
+                                       : "running or interrupted";
+    if (complete && !s.merged.empty()) state += "; merged " + s.merged;
+    std::printf("last run started %s, finished %s%s\n", s.started.empty() ? "-" : s.started.c_str(),
+                run_finished ? s.finished.c_str() : "-",
+                state.empty() ? "" : (" (" + state + ")").c_str());
     if (s.cost_done > 0 && s.cost_left > 0) {
         const double per_cost = s.wall_seconds_done / s.cost_done;
         const double ranks = s.ranks > 0 ? static_cast<double>(s.ranks) : 1.0;

@@ -147,8 +147,7 @@ std::string diagnose_archive_file(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) return quoted(path) + " cannot be read: " + std::strerror(errno);
     if (size == 0)
-        return quoted(path) + " is empty (0 bytes), not a campaign archive (a run killed before "
-                              "it created the archive leaves none; remove the file)";
+        return quoted(path) + " is empty (0 bytes), not a campaign archive";
     const Superblock sb = read_superblock(in, size);
     if (!sb.found)
         return quoted(path) + " is not an HDF5 file (no HDF5 signature in its " +

@@ -79,6 +79,7 @@ class Archive {
 struct ArchiveSummary {
     std::string campaign;
     std::string started, finished;
+    std::string merged;  ///< when jamsim merge last wrote it ("" if never)
     std::int64_t pending = 0, running = 0, done = 0, failed = 0;
     double wall_seconds_done = 0.0;
     double cost_done = 0.0, cost_left = 0.0;  ///< estimated costs of done / unfinished replicas
