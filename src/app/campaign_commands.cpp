@@ -15,6 +15,7 @@
 #include "jamsim/campaign/stop_request.hpp"
 #include "jamsim/io/archive.hpp"
 #include "jamsim/io/capacity.hpp"
+#include "jamsim/io/archive_file_check.hpp"
 #include "jamsim/io/checkpoint_file.hpp"
 #include "jamsim/io/initial_states.hpp"
 #include "jamsim/io/campaign_spec.hpp"
@@ -96,6 +97,9 @@ std::string check_output(const std::string& path, const CampaignSpec& spec, int&
         if (fs::is_directory(path, ec))
             return spec.path + ": [campaign] output = \"" + path +
                    "\" is not allowed: a file path, not a directory";
+        if (const std::string bad = diagnose_archive_file(path); !bad.empty())
+            return spec.path + ": refusing to use the archive: " + bad +
+                   " (choose another [campaign] output or -o, or remove the file)";
         const std::string why = Archive::check_existing(path, spec);
         if (why.empty()) return "";
         const std::string not_longer = Archive::check_extension(path, spec);
@@ -152,6 +156,48 @@ std::string check_checkpoints(const std::string& output, const CampaignSpec& spe
     return "";
 }
 
+/// PETSc options (campaign-wide, [model] petsc_options) that PETSc does not recognise or the
+/// CD0 solver does not use: refused before any work, by PETSc itself (the table's check has
+/// refused those no PETSc solver would see).
+std::string check_petsc_options(const CampaignSpec& spec) {
+    for (const ReplicaParams& p : spec.replicas) {
+        if (p.petsc_options.empty() || !uses_parameter(p, "petsc_options")) continue;
+        try {
+            if (const std::string why = linalg::petsc_options_problem(p.petsc_options); !why.empty())
+                return spec.path + ": [model] petsc_options = \"" + p.petsc_options +
+                       "\" is not allowed: " + why;
+        } catch (const std::exception& e) {
+            return spec.path + ": [model] petsc_options = \"" + p.petsc_options +
+                   "\" could not be checked: " + e.what();
+        }
+        return "";  // the same options for every replica: one check
+    }
+    return "";
+}
+
+/// Advisory warnings (limits not refused; model_registry.hpp `advisories`), each kind once in
+/// the run log with the number of replicas it concerns.
+void print_advisories(const CampaignSpec& spec) {
+    std::vector<std::pair<std::string, std::string>> first;  // kind, text of its first replica
+    std::vector<std::size_t> count;
+    for (const ReplicaParams& p : spec.replicas)
+        for (auto& [kind, text] : advisories(p)) {
+            std::size_t k = 0;
+            while (k < first.size() && first[k].first != kind) ++k;
+            if (k == first.size()) {
+                first.emplace_back(kind, text);
+                count.push_back(0);
+            }
+            ++count[k];
+        }
+    for (std::size_t k = 0; k < first.size(); ++k)
+        std::fprintf(stderr, "jamsim run: warning: %s: %s%s\n", spec.path.c_str(),
+                     first[k].second.c_str(),
+                     count[k] > 1 ? (" (and " + std::to_string(count[k] - 1) +
+                                     " more replicas alike)").c_str()
+                                  : "");
+}
+
 /// Seconds per estimated cost unit for each (model, N) of a campaign, measured on this
 /// machine: a dynamics replica runs a probe of about 2e7 particle force evaluations (at least
 /// 20 steps); a minimisation protocol runs its first replica whole when its nominal time is
@@ -170,6 +216,7 @@ std::map<std::pair<std::string, std::int64_t>, double> calibrate(const CampaignS
             if (steps >= static_cast<double>(schedule_of(p).steps)) continue;  // as long as the replica
             (p.rate > 0 ? probe.strain : probe.time) = steps * p.dt * (p.rate > 0 ? p.rate : 1.0);
             probe.sample_interval = probe.rate > 0 ? probe.strain : probe.time;
+            probe.transient = 0.0;  // the probe is shorter than the replica's transient may be
             probe.checkpoint_steps = 1'000'000'000;
         } else if (estimated_cost(p) / kNominalRate > 10.0) {
             continue;
@@ -277,6 +324,8 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
             // A dry run writes nothing, but an existing archive it names must fit the campaign.
             if (!opt.dry_run || std::filesystem::exists(output)) error = check_output(output, spec, extend);
             if (error.empty()) error = check_checkpoints(output, spec);
+            if (error.empty()) error = check_petsc_options(spec);
+            if (error.empty()) print_advisories(spec);
             if (error.empty() && !spec.replicas.front().initial.empty()) {
                 try {  // every replica must find its starting state before any work
                     const InitialStates source(spec.replicas.front().initial);
@@ -377,19 +426,31 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
     return 0;
 }
 
+/// A bad file given as an archive: its diagnosis on stderr, exit status 2.
+constexpr int kExitRefused = 2;
+
 int status(const std::string& path) {
+    if (const std::string bad = diagnose_archive_file(path); !bad.empty()) {
+        std::fprintf(stderr, "jamsim status: %s\n", bad.c_str());
+        return kExitRefused;
+    }
     const ArchiveSummary s = summarize_archive(path);
     const long long total = s.pending + s.running + s.done + s.failed;
     std::printf("campaign %s (%s): %lld/%lld done, %lld running, %lld failed, %lld pending\n",
                 s.campaign.c_str(), path.c_str(), static_cast<long long>(s.done), total,
                 static_cast<long long>(s.running), static_cast<long long>(s.failed),
                 static_cast<long long>(s.pending));
-    const bool complete = s.pending == 0 && s.running == 0;  // e.g. a merged archive
-    std::printf("last run started %s, finished %s\n", s.started.empty() ? "-" : s.started.c_str(),
-                complete && (s.finished.empty() || s.finished < s.started)
-                    ? "- (every replica is finished)"
-                : s.finished.empty() || s.finished < s.started ? "- (running or interrupted)"
-                                                               : s.finished.c_str());
+    // Complete: every replica done or failed, whether by runs or by merging shards (a merged
+    // archive has no run of its own that finished).
+    const bool complete = s.pending == 0 && s.running == 0;
+    const bool run_finished = !s.finished.empty() && !(s.finished < s.started);
+    std::string state = complete        ? "complete: every replica is finished"
+                        : run_finished ? ""
+                                       : "running or interrupted";
+    if (complete && !s.merged.empty()) state += "; merged " + s.merged;
+    std::printf("last run started %s, finished %s%s\n", s.started.empty() ? "-" : s.started.c_str(),
+                run_finished ? s.finished.c_str() : "-",
+                state.empty() ? "" : (" (" + state + ")").c_str());
     if (s.cost_done > 0 && s.cost_left > 0) {
         const double per_cost = s.wall_seconds_done / s.cost_done;
         const double ranks = s.ranks > 0 ? static_cast<double>(s.ranks) : 1.0;
@@ -413,6 +474,10 @@ int merge(const std::string& output, const std::vector<std::string>& shards, int
     }
     std::vector<StoredCampaign> stored;
     for (const auto& path : shards) {
+        if (const std::string bad = diagnose_archive_file(path); !bad.empty()) {
+            std::fprintf(stderr, "jamsim merge: shard %s\n", bad.c_str());
+            return kExitRefused;
+        }
         try {
             stored.push_back(read_stored_campaign(path));
         } catch (const std::exception& e) {
@@ -434,6 +499,10 @@ int merge(const std::string& output, const std::vector<std::string>& shards, int
     const CampaignSpec& spec = stored.front().spec;
     const bool exists = std::filesystem::exists(output);
     if (exists) {
+        if (const std::string bad = diagnose_archive_file(output); !bad.empty()) {
+            std::fprintf(stderr, "jamsim merge: refusing the output: %s\n", bad.c_str());
+            return kExitRefused;
+        }
         const std::string why = Archive::check_existing(output, spec);
         if (!why.empty()) {
             std::fprintf(stderr, "jamsim merge: refusing: %s\n", why.c_str());
@@ -488,9 +557,19 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
     cmd->add_option("campaign", opt->spec_path, "Campaign file (TOML)")->required();
     cmd->add_option("-o,--output", opt->output, "Archive path (overrides [campaign] output)");
     cmd->add_flag("--dry-run", opt->dry_run, "List replicas and costs; write nothing");
-    cmd->add_option("--progress-interval", opt->progress_interval,
-                    "Seconds between progress lines when not on a terminal")
-        ->capture_default_str();
+    cmd->add_option_function<std::string>(
+           "--progress-interval",
+           [opt](const std::string& text) {
+               // A negative or non-finite interval would print a line at every sample.
+               char* end = nullptr;
+               const double v = std::strtod(text.c_str(), &end);
+               if (text.empty() || *end != '\0' || !std::isfinite(v) || v < 0)
+                   throw CLI::ValidationError("jamsim run: --progress-interval = " + text +
+                                              " is not allowed: a finite number of seconds >= 0");
+               opt->progress_interval = v;
+           },
+           "Seconds between progress lines when not on a terminal")
+        ->default_str("10");
     cmd->add_flag("--retry-failed", opt->retry_failed,
                   "Run the failed replicas of an existing archive again (after a fix to the code "
                   "or the machine; the campaign itself cannot change)");
@@ -553,12 +632,13 @@ CLI::App* add_status_command(CLI::App& app) {
     auto* cmd = app.add_subcommand("status", "Summarise a campaign archive (also while running)");
     cmd->add_option("archive", *path, "Campaign archive (HDF5)")->required();
     cmd->callback([path] {
+        int rc = 1;
         try {
-            status(*path);
+            rc = status(*path);
         } catch (const std::exception& e) {
             std::fprintf(stderr, "jamsim status: %s\n", e.what());
-            throw CLI::RuntimeError(1);
         }
+        if (rc != 0) throw CLI::RuntimeError(rc);
     });
     return cmd;
 }

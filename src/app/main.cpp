@@ -10,6 +10,21 @@
 #include "reference_commands.hpp"
 #include "replica_command.hpp"
 
+namespace jamsim::app {
+
+/// The exit status of a parse error, its message printed as CLI11 prints it: a command's own
+/// status (CLI::RuntimeError: 75 interrupted, 2 refused, 1 failed) as it is, --help and
+/// --version 0, and every usage error (CLI11's 100-127: an unknown option, a missing or
+/// malformed value, a refused value) 2, the status of a usage error by convention.
+int exit_status(const CLI::App& app, const CLI::ParseError& e) {
+    const int status = app.exit(e);
+    constexpr int kUsageError = 2;
+    if (e.get_name() == "RuntimeError" || status == 0) return status;
+    return status >= static_cast<int>(CLI::ExitCodes::IncorrectConstruction) ? kUsageError : status;
+}
+
+} // namespace jamsim::app
+
 int main(int argc, char** argv) {
     CLI::App app{"jamsim: sheared bidisperse soft disks through the jamming transition"};
     app.set_version_flag("--version", std::string("jamsim ") + jamsim::kVersion);
@@ -24,7 +39,7 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        return app.exit(e);
+        return jamsim::app::exit_status(app, e);
     } catch (const std::exception& e) {
         std::cerr << "jamsim: error: " << e.what() << '\n';
         return 1;

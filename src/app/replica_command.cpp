@@ -74,6 +74,12 @@ void run(const ReplicaOptions& opt) {
     const ReplicaParams params = params_of(opt);
     check_output_path(opt.output);
     const linalg::PetscScope petsc;  // CD0 initialises PETSc on first use; finalise it here
+    // PETSc options that PETSc does not recognise or the CD0 solver does not use.
+    if (!params.petsc_options.empty() && uses_parameter(params, "petsc_options"))
+        if (const std::string why = linalg::petsc_options_problem(params.petsc_options); !why.empty())
+            usage_error("petsc-options", params.petsc_options, why);
+    for (const auto& [kind, text] : advisories(params))
+        std::fprintf(stderr, "jamsim replica: warning: %s\n", text.c_str());
 
     std::optional<System> initial;
     if (!params.initial.empty()) {

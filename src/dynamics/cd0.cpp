@@ -1,5 +1,7 @@
 #include "jamsim/dynamics/cd0.hpp"
 
+#include "jamsim/dynamics/overdamped_stability.hpp"
+
 namespace jamsim {
 
 void Cd0::solve(const ForceField& forces, const Box& box, std::span<const double> x,
@@ -90,9 +92,11 @@ DynamicsInfo cd0_model() {
                        "(thesis eqs. 4.15-4.19)",
             .parameters = kCd0Parameters,
             .evaluations_per_step = [](const ReplicaParams& p) { return p.integrator == "heun" ? 2 : 1; },
-            .stable_dt = no_dt_limit,
+            .stable_dt = contact_drag_stable_dt,
             .make = [](const ReplicaParams& p, const RandomKey&) -> std::unique_ptr<Model> { return std::make_unique<Cd0>(p); },
-            .bytes_per_disk = 1536.0};  // the contact matrix and its factor: ~1.1 kB measured
+            .bytes_per_disk = 1536.0,  // the contact matrix and its factor: ~1.1 kB measured
+            .stable_dt_basis = contact_drag_dt_basis,
+            .advisory = [](const ReplicaParams& p) { return overdamped_dt_advisory(p, contact_drag_stable_dt); }};
 }
 
 } // namespace jamsim

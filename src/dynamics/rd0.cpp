@@ -1,5 +1,7 @@
 #include "jamsim/dynamics/rd0.hpp"
 
+#include "jamsim/dynamics/overdamped_stability.hpp"
+
 namespace jamsim {
 
 void Rd0::advance(System& sys, ForceField& forces, double dt, double rate, std::int64_t) {
@@ -36,8 +38,10 @@ DynamicsInfo rd0_model() {
             .summary = "overdamped, reservoir dissipation -k_d u_i (thesis eq. 4.22)",
             .parameters = kRd0Parameters,
             .evaluations_per_step = [](const ReplicaParams& p) { return p.integrator == "heun" ? 2 : 1; },
-            .stable_dt = no_dt_limit,
-            .make = [](const ReplicaParams& p, const RandomKey&) -> std::unique_ptr<Model> { return std::make_unique<Rd0>(p); }};
+            .stable_dt = reservoir_drag_stable_dt,
+            .make = [](const ReplicaParams& p, const RandomKey&) -> std::unique_ptr<Model> { return std::make_unique<Rd0>(p); },
+            .stable_dt_basis = reservoir_drag_dt_basis,
+            .advisory = [](const ReplicaParams& p) { return overdamped_dt_advisory(p, reservoir_drag_stable_dt); }};
 }
 
 } // namespace jamsim

@@ -13,6 +13,7 @@
 #include <numbers>
 
 #include "jamsim/core/rng.hpp"
+#include "jamsim/dynamics/overdamped_stability.hpp"
 #include "jamsim/dynamics/rd0.hpp"
 
 namespace jamsim {
@@ -65,10 +66,13 @@ DynamicsInfo thermal_rd0_model() {
                        "(Euler-Maruyama)",
             .parameters = kParameters,
             .evaluations_per_step = [](const ReplicaParams&) { return 1; },
-            .stable_dt = no_dt_limit,
+            // The drift is RD0's Euler step; the noise does not change its stability.
+            .stable_dt = reservoir_drag_stable_dt,
             .make = [](const ReplicaParams& p, const RandomKey& key) -> std::unique_ptr<Model> {
                 return std::make_unique<ThermalRd0>(p, key);
-            }};
+            },
+            .stable_dt_basis = reservoir_drag_dt_basis,
+            .advisory = [](const ReplicaParams& p) { return overdamped_dt_advisory(p, reservoir_drag_stable_dt); }};
 }
 
 } // namespace jamsim

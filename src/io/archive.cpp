@@ -120,7 +120,7 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
     h5::write_attribute(f, "code_version", std::string(kVersion));
     h5::write_attribute(f, "build_flags", std::string(kBuildFlags));
     h5::write_attribute(f, "created", created);
-    h5::write_attribute(f, "layout_version", std::int64_t{kLayoutVersion});
+    h5::write_attribute(f, "layout_version", std::int64_t{kArchiveLayoutVersion});
     h5::write_attribute(f, "n_replicas", static_cast<std::int64_t>(replicas));
     for (const char* g : {"replicas", "timeseries", "final"}) h5::create_group(f, g).close(g);
 

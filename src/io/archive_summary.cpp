@@ -30,6 +30,7 @@ ArchiveSummary summarize_archive(const std::string& path) {
     if (s.campaign.empty()) throw h5::Error("'" + path + "' is not a jamsim campaign archive");
     s.started = h5::read_string_attribute(file.get(), "run_started");
     s.finished = h5::read_string_attribute(file.get(), "run_finished");
+    s.merged = h5::read_string_attribute(file.get(), "merged");
     const auto status = h5::read_all<std::int8_t>(file.get(), "/replicas/status", H5T_NATIVE_INT8);
     const auto wall = h5::read_all<double>(file.get(), "/replicas/wall_seconds", H5T_NATIVE_DOUBLE);
     const auto cost = h5::read_all<double>(file.get(), "/replicas/estimated_cost", H5T_NATIVE_DOUBLE);

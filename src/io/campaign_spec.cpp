@@ -6,6 +6,7 @@
 
 #include <toml++/toml.h>
 
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <optional>
@@ -17,9 +18,20 @@ namespace jamsim {
 
 namespace {
 
+/// Text with its NUL characters written as TOML writes them (\u0000), so that a message
+/// shows them instead of ending there.
+std::string printable(const std::string& text) {
+    std::string out;
+    for (char c : text) {
+        if (c == '\0') out += "\\u0000";
+        else out.push_back(c);
+    }
+    return out;
+}
+
 std::string show(const toml::node& node) {
     std::ostringstream os;
-    if (auto s = node.as_string()) os << '"' << s->get() << '"';
+    if (auto s = node.as_string()) os << '"' << printable(s->get()) << '"';
     else if (node.is_table()) os << "{...}";
     else if (auto a = node.as_array()) {
         os << '[';
@@ -50,7 +62,7 @@ class Reader {
             if (allowed.count(std::string(key.str()))) continue;
             std::string list;
             for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-            fail((name.empty() ? "" : name + " ") + std::string(key.str()), show(node),
+            fail((name.empty() ? "" : name + " ") + printable(std::string(key.str())), show(node),
                  "unknown key; known keys in " + (name.empty() ? "the top level" : name) +
                      ": " + list);
         }
@@ -84,8 +96,18 @@ class Reader {
             if (required) fail(where + " " + key, "(missing)", "a string (required)");
             return fallback;
         }
-        if (auto s = node->as_string()) return s->get();
+        if (auto s = node->as_string()) {
+            no_nul(s->get(), where + " " + key, *node);
+            return s->get();
+        }
         fail(where + " " + key, show(*node), "a string");
+    }
+
+    /// A NUL character would silently end the string where it is stored (HDF5 attributes,
+    /// file names, C strings): refuse it.
+    void no_nul(const std::string& text, const std::string& where, const toml::node& node) const {
+        if (text.find('\0') != std::string::npos)
+            fail(where, show(node), "a string without NUL characters (\\u0000)");
     }
 
     template <class F> void each(const toml::table& t, const std::string& where,
@@ -142,6 +164,7 @@ void read_into(const Reader& r, ReplicaParams& p, const ParamInfo& info, const t
                const std::string& where) {
     const auto value = scalar(node);
     if (!value || !set_value(p, info, *value)) r.fail(where, show(node), kind_of(info));
+    if (const auto* text = std::get_if<std::string>(&*value)) r.no_nul(*text, where, node);
 }
 
 /// Rate ladders: for each (N, phi, seed) the replicas in order of decreasing rate, each
@@ -370,6 +393,13 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
 }
 
 CampaignSpec load_campaign(const std::string& path, std::int64_t max_replicas) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::file_status st = fs::status(path, ec);
+    if (!fs::exists(st)) throw SpecError(path + ": no such campaign file");
+    if (fs::is_directory(st))
+        throw SpecError(path + ": is a directory, not a campaign file (a TOML file)");
+    if (!fs::is_regular_file(st)) throw SpecError(path + ": is not a regular file, not a campaign file");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw SpecError(path + ": cannot read the campaign file");
     std::ostringstream text;

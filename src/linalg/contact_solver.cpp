@@ -3,7 +3,13 @@
 
 #include <petscksp.h>
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <sstream>
 #include <stdexcept>
 
 namespace jamsim::linalg {
@@ -12,11 +18,11 @@ namespace {
 
 /// Every PETSc call goes through here: a non-zero code becomes an exception (PETSc's own
 /// handler is replaced by PetscReturnErrorHandler, so nothing aborts the MPI job).
+std::string petsc_error_text(PetscErrorCode rc);
+
 void check(PetscErrorCode rc, const char* what) {
     if (rc == 0) return;
-    const char* text = nullptr;
-    PetscErrorMessage(rc, &text, nullptr);
-    throw std::runtime_error(std::string("PETSc: ") + what + " failed: " + (text ? text : "?"));
+    throw std::runtime_error(std::string("PETSc: ") + what + " failed: " + petsc_error_text(rc));
 }
 
 void ensure_petsc() {
@@ -34,7 +40,144 @@ void ensure_petsc() {
     check(PetscPushErrorHandler(PetscReturnErrorHandler, nullptr), "PetscPushErrorHandler");
 }
 
+/// The CD0 solver's KSP configuration, options last (so that they win): both the solver and
+/// the options check use it.
+void configure_ksp(KSP ksp) {
+    check(KSPSetOptionsPrefix(ksp, std::string(kPetscPrefix).c_str()), "KSPSetOptionsPrefix");
+    check(KSPSetType(ksp, KSPCG), "KSPSetType");
+    PC pc;
+    check(KSPGetPC(ksp, &pc), "KSPGetPC");
+    check(PCSetType(pc, PCCHOLESKY), "PCSetType");
+    check(PCFactorSetMatOrderingType(pc, MATORDERINGND), "PCFactorSetMatOrderingType");
+    check(KSPSetTolerances(ksp, 1e-10, 1e-30, PETSC_DEFAULT, 10000), "KSPSetTolerances");
+    check(KSPSetInitialGuessNonzero(ksp, PETSC_TRUE), "KSPSetInitialGuessNonzero");
+    // Converge on the true residual ‖b − A u‖ ≤ rtol ‖b‖ (units of velocity), not the
+    // preconditioned one, whose meaning changes with a stale preconditioner.
+    check(KSPSetNormType(ksp, KSP_NORM_UNPRECONDITIONED), "KSPSetNormType");
+    check(KSPSetFromOptions(ksp), "KSPSetFromOptions");  // last: options win
+}
+
+/// PETSc objects of the options check, destroyed in any case (errors there cannot be
+/// reported from a destructor and change nothing of the check's answer).
+struct CheckObjects {
+    KSP ksp = nullptr;
+    Mat a = nullptr;
+    Vec b = nullptr, x = nullptr;
+    CheckObjects() = default;
+    CheckObjects(const CheckObjects&) = delete;
+    CheckObjects& operator=(const CheckObjects&) = delete;
+    ~CheckObjects() {
+        if (ksp) KSPDestroy(&ksp);
+        if (a) MatDestroy(&a);
+        if (b) VecDestroy(&b);
+        if (x) VecDestroy(&x);
+    }
+};
+
+/// Removes the checked options from the database again, whatever happens.
+struct ClearOptions {
+    const std::vector<std::string>& names;
+    explicit ClearOptions(const std::vector<std::string>& n) : names(n) {}
+    ClearOptions(const ClearOptions&) = delete;
+    ClearOptions& operator=(const ClearOptions&) = delete;
+    ~ClearOptions() {
+        for (const auto& name : names) PetscOptionsClearValue(nullptr, name.c_str());
+    }
+};
+
+/// Standard output sent to /dev/null while it lives (view and monitor options of the tiny
+/// check solve print there); restored, flushed, on destruction.
+class SilencedStdout {
+  public:
+    SilencedStdout() {
+        std::fflush(stdout);
+        saved_ = ::dup(STDOUT_FILENO);
+        if (saved_ < 0) throw std::runtime_error("PETSc options check: dup(stdout) failed");
+        const int null = ::open("/dev/null", O_WRONLY);
+        if (null < 0 || ::dup2(null, STDOUT_FILENO) < 0) {
+            if (null >= 0) ::close(null);
+            ::close(saved_);
+            throw std::runtime_error("PETSc options check: cannot redirect stdout");
+        }
+        ::close(null);
+    }
+    ~SilencedStdout() {
+        std::fflush(stdout);
+        ::dup2(saved_, STDOUT_FILENO);
+        ::close(saved_);
+    }
+    SilencedStdout(const SilencedStdout&) = delete;
+    SilencedStdout& operator=(const SilencedStdout&) = delete;
+
+  private:
+    int saved_ = -1;
+};
+
+/// PETSc's text for an error code and its last detailed message.
+std::string petsc_error_text(PetscErrorCode rc) {
+    const char* text = nullptr;
+    char* specific = nullptr;
+    PetscErrorMessage(rc, &text, &specific);
+    std::string out = text ? text : "error";
+    if (specific && *specific) out += std::string(" (") + specific + ")";
+    return out;
+}
+
 } // namespace
+
+std::vector<std::string> petsc_option_names(const std::string& options) {
+    std::vector<std::string> names;
+    std::istringstream in(options);
+    for (std::string token; in >> token;) {
+        if (token.size() < 2 || token[0] != '-') continue;  // a value
+        const char c = token[1];
+        if (std::isdigit(static_cast<unsigned char>(c)) || c == '.') continue;  // -1, -.5
+        names.push_back(token);
+    }
+    return names;
+}
+
+std::string petsc_options_problem(const std::string& options) {
+    const std::vector<std::string> names = petsc_option_names(options);
+    if (names.empty()) return "";
+    ensure_petsc();
+    for (const auto& name : names) {  // given before (not by a check): not ours to judge
+        PetscBool set = PETSC_FALSE;
+        check(PetscOptionsHasName(nullptr, nullptr, name.c_str(), &set), "PetscOptionsHasName");
+        if (set) return name + " is already set in PETSc's options database";
+    }
+    const ClearOptions clear{names};
+    CheckObjects o;
+    try {
+        check(PetscOptionsInsertString(nullptr, options.c_str()), "PetscOptionsInsertString");
+        // The contact matrix of two touching disks with δ = 1e-3, solved once as CD0 would.
+        check(MatCreateSeqAIJ(PETSC_COMM_SELF, 2, 2, 2, nullptr, &o.a), "MatCreateSeqAIJ");
+        const PetscInt rows[] = {0, 1};
+        const PetscScalar values[] = {1.001, -1.0, -1.0, 1.001};
+        check(MatSetValues(o.a, 2, rows, 2, rows, values, INSERT_VALUES), "MatSetValues");
+        check(MatAssemblyBegin(o.a, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+        check(MatAssemblyEnd(o.a, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+        check(VecCreateSeq(PETSC_COMM_SELF, 2, &o.b), "VecCreateSeq");
+        check(VecDuplicate(o.b, &o.x), "VecDuplicate");
+        check(VecSet(o.b, 1.0), "VecSet");
+        check(VecSet(o.x, 0.0), "VecSet");
+        check(KSPCreate(PETSC_COMM_SELF, &o.ksp), "KSPCreate");
+        const SilencedStdout quiet;
+        configure_ksp(o.ksp);
+        check(KSPSetOperators(o.ksp, o.a, o.a), "KSPSetOperators");
+        check(KSPSolve(o.ksp, o.b, o.x), "KSPSolve");
+    } catch (const std::runtime_error& e) {
+        return std::string("options PETSc accepts: ") + e.what();
+    }
+    for (const auto& name : names) {
+        PetscBool used = PETSC_FALSE;
+        // The database keeps names without their leading dash.
+        check(PetscOptionsUsed(nullptr, name.c_str() + 1, &used), "PetscOptionsUsed");
+        if (!used) return name + " is not used by the CD0 solver (PETSc KSP and PC with prefix -" +
+                          std::string(kPetscPrefix) + "; e.g. -cd0_ksp_type, -cd0_pc_type, -cd0_ksp_rtol)";
+    }
+    return "";
+}
 
 PetscScope::~PetscScope() {
     PetscBool up = PETSC_FALSE, down = PETSC_FALSE;
@@ -161,19 +304,7 @@ PetscContactSolver::PetscContactSolver(std::size_t n, double delta, const std::s
         check(VecCreateSeq(PETSC_COMM_SELF, impl_->n, &impl_->b), "VecCreateSeq");
         check(VecDuplicate(impl_->b, &impl_->x), "VecDuplicate");
         check(KSPCreate(PETSC_COMM_SELF, &impl_->ksp), "KSPCreate");
-        check(KSPSetOptionsPrefix(impl_->ksp, "cd0_"), "KSPSetOptionsPrefix");
-        check(KSPSetType(impl_->ksp, KSPCG), "KSPSetType");
-        PC pc;
-        check(KSPGetPC(impl_->ksp, &pc), "KSPGetPC");
-        check(PCSetType(pc, PCCHOLESKY), "PCSetType");
-        check(PCFactorSetMatOrderingType(pc, MATORDERINGND), "PCFactorSetMatOrderingType");
-        check(KSPSetTolerances(impl_->ksp, 1e-10, 1e-30, PETSC_DEFAULT, 10000),
-              "KSPSetTolerances");
-        check(KSPSetInitialGuessNonzero(impl_->ksp, PETSC_TRUE), "KSPSetInitialGuessNonzero");
-        // Converge on the true residual ‖b − A u‖ ≤ rtol ‖b‖ (units of velocity), not the
-        // preconditioned one, whose meaning changes with a stale preconditioner.
-        check(KSPSetNormType(impl_->ksp, KSP_NORM_UNPRECONDITIONED), "KSPSetNormType");
-        check(KSPSetFromOptions(impl_->ksp), "KSPSetFromOptions");  // last: options win
+        configure_ksp(impl_->ksp);
     } catch (...) {
         this->~PetscContactSolver();
         throw;

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "jamsim/linalg/contact_solver.hpp"
 #include "jamsim/minimize/minimizer.hpp"
 
 namespace jamsim {
@@ -41,6 +42,30 @@ std::string check_force_tol(const R& p) {
     if (!non_negative(p.force_tol)) return "force_tol >= 0";
     if (p.force_tol == 0.0 && p.force_tol_abs == 0.0)
         return "force_tol > 0 or force_tol_abs > 0 (a reachable stopping rule)";
+    return "";
+}
+
+// PETSc options must reach a PETSc solver (CD0's backend, chosen by `solver` and N) and carry
+// its prefix; whether PETSc recognises them is checked where PETSc runs
+// (linalg::petsc_options_problem, before a run starts).
+std::string check_petsc_options(const R& p) {
+    if (p.petsc_options.empty()) return "";
+    if (p.solver == "eigen")
+        return "none with solver = eigen (the Eigen backend reads no PETSc options; choose "
+               "solver = petsc to use them)";
+    if (p.solver == "auto" && static_cast<std::uint64_t>(p.n) <= linalg::kAutoEigenMaxN)
+        return "none with solver = auto at N = " + std::to_string(p.n) +
+               " (auto uses Eigen up to N = " + std::to_string(linalg::kAutoEigenMaxN) +
+               ", which reads no PETSc options; choose solver = petsc to use them)";
+    std::string prefix = "-";  // appended, not "-" + ...: GCC 12 warns falsely (-Wrestrict)
+    prefix.append(linalg::kPetscPrefix);
+    for (const auto& name : linalg::petsc_option_names(p.petsc_options))
+        if (name.rfind(prefix, 0) != 0) {
+            std::string out = "options with the CD0 solver's prefix ";
+            out.append(prefix).append(" (").append(name).append(" has none: ").append(prefix);
+            out.append(name.substr(1)).append("?)");
+            return out;
+        }
     return "";
 }
 
@@ -116,7 +141,7 @@ const ParamInfo kParameters[] = {
      "auto, petsc, eigen"},
     {"petsc_options", "model", "petsc_options", "--petsc-options", "",
      "CD0 PETSc options with prefix cd0_, e.g. \"-cd0_pc_type icc\"", &R::petsc_options, kNum,
-     nullptr, "PETSc options"},
+     check_petsc_options, "PETSc options"},
     {"temperature", "model", "temperature", "--temperature", "k_e",
      "temperature (COOL, COOL_COMPRESS: the starting temperature T_0)", &R::temperature, kPhys,
      JAMSIM_CHECK(positive(p.temperature), "temperature > 0"), "temperature > 0"},

@@ -49,7 +49,9 @@ ModelInfo dynamics(const DynamicsInfo& d) {
             .run = run_dynamics,
             .make = d.make,
             .extendable = true,
-            .bytes_per_disk = d.bytes_per_disk};
+            .bytes_per_disk = d.bytes_per_disk,
+            .stable_dt_basis = d.stable_dt_basis,
+            .advisory = d.advisory};
 }
 
 /// One line per model or protocol: adding one is its own file plus a line here.
@@ -79,6 +81,21 @@ std::uint64_t hash64(std::string_view text) {
     h = (h ^ (h >> 27)) * 0x94d049bb133111ebull;
     return h ^ (h >> 31);
 }
+
+/// The run length a replica's transient and sampling are measured against: strain (rate > 0,
+/// and the quasistatic protocols) or time (dynamics at rate 0); key nullptr when it has none.
+struct RunLength {
+    const char* key = nullptr;
+    double value = 0.0;
+};
+RunLength run_length(const ReplicaParams& p) {
+    if (uses_parameter(p, "strain")) return {"strain", p.strain};
+    if (uses_parameter(p, "time")) return {"time", p.time};
+    return {};
+}
+
+/// Fewer samples than this after the transient: averages from so few are worth a warning.
+constexpr std::int64_t kFewSamples = 10;
 
 } // namespace
 
@@ -133,12 +150,58 @@ std::vector<ParamError> validate(const ReplicaParams& p) {
         if (info->check)
             if (std::string allowed = info->check(p); !allowed.empty())
                 errors.push_back({std::string(info->key), show_value(get_value(p, *info)), allowed});
-    if (errors.empty() && uses_parameter(p, "dt") && p.dt > m->stable_dt(p))
+    if (!errors.empty()) return errors;
+    if (uses_parameter(p, "dt") && p.dt > m->stable_dt(p))
         errors.push_back({"dt", show_value(p.dt),
-                          "dt <= " + show_value(m->stable_dt(p)) + " for " + p.model +
-                              " with mass " + show_value(p.mass) + " and kd " +
-                              show_value(p.kd) + " (stability of the integrator)"});
+                          "dt <= " + show_value(m->stable_dt(p)) + " " +
+                              (m->stable_dt_basis ? m->stable_dt_basis(p)
+                                                  : "for " + p.model + " with mass " +
+                                                        show_value(p.mass) + " and kd " +
+                                                        show_value(p.kd) +
+                                                        " (stability of the integrator)")});
+    // The transient and the sampling against the run length (strain, or time at rate 0): a
+    // transient that covers the run leaves nothing to average (empty means, an all-NaN g_y),
+    // a sample interval beyond it only the first sample.
+    if (const RunLength run = run_length(p); run.key) {
+        if (uses_parameter(p, "transient") && p.transient >= run.value)
+            errors.push_back({"transient", show_value(p.transient),
+                              std::string("transient < ") + run.key + " = " +
+                                  show_value(run.value) +
+                                  " (averages and g_y use the samples after the transient)"});
+        if (uses_parameter(p, "sample_interval") && p.sample_interval > run.value)
+            errors.push_back({"sample_interval", show_value(p.sample_interval),
+                              std::string("sample_interval <= ") + run.key + " = " +
+                                  show_value(run.value) +
+                                  " (a longer interval samples only the initial state)"});
+    }
     return errors;
+}
+
+std::vector<std::pair<std::string, std::string>> advisories(const ReplicaParams& p) {
+    std::vector<std::pair<std::string, std::string>> out;
+    const ModelInfo* m = find_model(p.model);
+    if (!m || !validate(p).empty()) return out;
+    if (m->advisory)
+        if (std::string note = m->advisory(p); !note.empty()) out.emplace_back("dt", note);
+    // Samples at or after the transient, from the schedule (both ends are sampled).
+    const RunLength run = run_length(p);
+    if (run.key && uses_parameter(p, "transient") && uses_parameter(p, "sample_interval")) {
+        const Schedule s = m->schedule(p);
+        const double per_sample = run.value / static_cast<double>(s.steps) *
+                                  static_cast<double>(s.sample_every);  // strain (time)
+        const std::int64_t last = s.steps / s.sample_every;
+        const auto first = static_cast<std::int64_t>(std::ceil(p.transient / per_sample - 1e-9));
+        const std::int64_t after = std::max<std::int64_t>(0, last - first + 1);
+        if (after < kFewSamples)
+            out.emplace_back("samples",
+                             "transient = " + show_value(p.transient) + " leaves " +
+                                 std::to_string(after) + " samples (" + run.key + " = " +
+                                 show_value(run.value) + ", sample_interval = " +
+                                 show_value(p.sample_interval) +
+                                 ") for the averages and g_y, fewer than " +
+                                 std::to_string(kFewSamples) + ": they will be noisy");
+    }
+    return out;
 }
 
 Schedule schedule_of(const ReplicaParams& p) { return model_of(p).schedule(p); }

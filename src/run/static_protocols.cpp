@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "jamsim/core/rng.hpp"
+#include "jamsim/dynamics/overdamped_stability.hpp"
 #include "jamsim/minimize/minimizer.hpp"
 #include "jamsim/protocols/jamming.hpp"
 #include "jamsim/protocols/preparation.hpp"
@@ -202,6 +203,9 @@ constexpr std::string_view kSheared[] = {"minimizer", "energy_floor", "force_tol
 // QS step ~1e2, a cooling step 1.
 double n_of(const ReplicaParams& p) { return static_cast<double>(p.n); }
 double qs_steps(const ReplicaParams& p) { return p.strain / p.strain_step; }
+std::string cooling_advisory(const ReplicaParams& p) {
+    return overdamped_dt_advisory(p, reservoir_drag_stable_dt);
+}
 
 } // namespace
 
@@ -236,19 +240,22 @@ ModelInfo compress_protocol() {
 ModelInfo cool_protocol() {
     return {.name = "COOL", .kind = ModelKind::Minimisation,
             .summary = "overdamped Langevin cooling T(t) = T_0 (1 - t/cooling_time), then a quench",
-            .parameters = kCool, .evaluations_per_step = one_evaluation, .stable_dt = no_dt_limit,
+            .parameters = kCool, .evaluations_per_step = one_evaluation,
+            .stable_dt = reservoir_drag_stable_dt,  // the cooling is RD0T's Euler step
             .schedule = one_state,
             .cost = [](const ReplicaParams& p) { return n_of(p) * (1e3 + p.cooling_time / p.dt); },
-            .run = run_cool, .checkpointed_steps = cooling_steps_of};
+            .run = run_cool, .checkpointed_steps = cooling_steps_of,
+            .stable_dt_basis = reservoir_drag_dt_basis, .advisory = cooling_advisory};
 }
 
 ModelInfo cool_compress_protocol() {
     return {.name = "COOL_COMPRESS", .kind = ModelKind::Minimisation,
             .summary = "COOL's cooling, then the phi_J search of COMPRESS (Paper I)",
             .parameters = kCoolCompress, .evaluations_per_step = one_evaluation,
-            .stable_dt = no_dt_limit, .schedule = one_state,
+            .stable_dt = reservoir_drag_stable_dt, .schedule = one_state,
             .cost = [](const ReplicaParams& p) { return n_of(p) * (2e4 + p.cooling_time / p.dt); },
-            .run = run_cool_compress, .checkpointed_steps = cooling_steps_of, .open_ended = true};
+            .run = run_cool_compress, .checkpointed_steps = cooling_steps_of, .open_ended = true,
+            .stable_dt_basis = reservoir_drag_dt_basis, .advisory = cooling_advisory};
 }
 
 ModelInfo sheared_protocol() {

@@ -115,6 +115,7 @@ TEST(CheckpointResume, QuasistaticShear) {
     ReplicaParams p = replica("QS");
     p.strain_step = 1e-3;
     p.strain = 0.06;
+    p.transient = 0.02;  // within the run (a transient at or beyond the strain is refused)
     p.sample_interval = 5e-3;
     p.checkpoint_steps = 10;
     check_resume(p);

@@ -3,6 +3,7 @@
 #include <limits>
 #include <memory>
 #include <span>
+#include <string>
 #include <string_view>
 
 #include "jamsim/core/rng.hpp"
@@ -83,6 +84,11 @@ struct DynamicsInfo {
     /// Memory a replica needs per disk (bytes; measured peak RSS over the libraries' base at
     /// N = 65536, with a margin): the memory check before a campaign runs.
     double bytes_per_disk = 256.0;
+    /// What the stable Δt rests on, for the refusal ("for RD0 with kd 1 and alpha 2 (...)");
+    /// nullptr: "for MODEL with mass M and kd K (stability of the integrator)".
+    std::string (*stable_dt_basis)(const ReplicaParams& p) = nullptr;
+    /// A note for the run log where a limit is only advisory ("" when none); nullptr: none.
+    std::string (*advisory)(const ReplicaParams& p) = nullptr;
 };
 
 inline double no_dt_limit(const ReplicaParams&) { return std::numeric_limits<double>::infinity(); }

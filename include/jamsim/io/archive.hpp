@@ -8,6 +8,7 @@
 
 #include "jamsim/run/replica.hpp"
 #include "jamsim/io/campaign_spec.hpp"
+#include "jamsim/io/archive_file_check.hpp"
 #include "jamsim/io/hdf5.hpp"
 
 namespace jamsim {
@@ -16,9 +17,6 @@ namespace jamsim {
 enum class ReplicaStatus : std::int8_t { Pending = 0, Running = 1, Done = 2, Failed = 3 };
 const char* to_string(ReplicaStatus s);
 
-/// The archive layout version written (README, "Campaign archive"): 4 stores the final
-/// configurations end to end (/replicas/particle_offset) and never fills the bulk datasets.
-constexpr std::int64_t kLayoutVersion = 4;
 
 /// The shapes of a campaign's archive, from its spec.
 struct ArchiveLayout {
@@ -98,6 +96,7 @@ class Archive {
 struct ArchiveSummary {
     std::string campaign;
     std::string started, finished;
+    std::string merged;  ///< when jamsim merge last wrote it ("" if never)
     std::int64_t pending = 0, running = 0, done = 0, failed = 0;
     double wall_seconds_done = 0.0;
     double cost_done = 0.0, cost_left = 0.0;  ///< estimated costs of done / unfinished replicas

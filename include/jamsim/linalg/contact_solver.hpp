@@ -53,6 +53,22 @@ class ContactSolver {
 /// Eigen 48 ms at 65536).
 inline constexpr std::size_t kAutoEigenMaxN = 65536;
 
+/// The options prefix of the CD0 solver's KSP and PC: every PETSc option given to CD0 must
+/// carry it ("-cd0_pc_type icc"); an unprefixed one would configure nothing of CD0.
+inline constexpr std::string_view kPetscPrefix = "cd0_";
+
+/// The option names of a PETSc options string, as PETSc splits it: whitespace-separated
+/// tokens that start with '-' and are not numbers ("-cd0_pc_type icc -cd0_ksp_rtol 1e-8"
+/// -> {"-cd0_pc_type", "-cd0_ksp_rtol"}). Needs no PETSc.
+std::vector<std::string> petsc_option_names(const std::string& options);
+
+/// "" when PETSc accepts `options` and the CD0 solver's KSP uses every one of them, else what
+/// is wrong ("-cd0_pc_typo is not used by the CD0 solver", or PETSc's own error). Checked by
+/// configuring the very KSP of PetscContactSolver on a 2×2 contact matrix and solving it
+/// once (output of view or monitor options discarded); the options database is left as it
+/// was. Initialises PETSc when needed (PetscScope finalises it).
+std::string petsc_options_problem(const std::string& options);
+
 /// The backend for `n` disks: "auto", "petsc" or "eigen" (the `solver` parameter);
 /// `petsc_options` go to the PETSc backend. Throws std::invalid_argument for another name.
 std::unique_ptr<ContactSolver> make_contact_solver(std::string_view backend, std::size_t n,

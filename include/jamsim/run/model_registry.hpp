@@ -8,6 +8,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "jamsim/dynamics/model.hpp"
@@ -59,6 +60,10 @@ struct ModelInfo {
     bool extendable = false;
     /// Memory a replica needs per disk (bytes), for the memory check before a run.
     double bytes_per_disk = 256.0;
+    /// What the stable Δt rests on (DynamicsInfo::stable_dt_basis); nullptr: mass and kd.
+    std::string (*stable_dt_basis)(const ReplicaParams& p) = nullptr;
+    /// An advisory note for the run log ("" when none; DynamicsInfo::advisory).
+    std::string (*advisory)(const ReplicaParams& p) = nullptr;
 };
 
 /// Every registered model, in registration order.
@@ -79,6 +84,10 @@ std::vector<const ParamInfo*> used_parameters(const ReplicaParams& p);
 /// Every violation among the parameters p's model uses, including its stable Δt (empty when
 /// usable). An unknown model is the only error reported then.
 std::vector<ParamError> validate(const ReplicaParams& p);
+/// Advisory warnings for a valid replica: limits that are not refused but may spoil the
+/// result (few samples after the transient; a stable Δt that holds only for the overlaps it
+/// assumes). Each is a (kind, text) pair: a run prints each kind once in its log.
+std::vector<std::pair<std::string, std::string>> advisories(const ReplicaParams& p);
 
 Schedule schedule_of(const ReplicaParams& p);
 /// The steps `checkpoint_steps` counts (ModelInfo::checkpointed_steps, else the schedule's).

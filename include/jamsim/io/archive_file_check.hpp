@@ -1,0 +1,20 @@
+#pragma once
+// What is wrong with a file given as a campaign archive, in words: missing, a directory,
+// empty, not HDF5, truncated, not a jamsim campaign archive, another layout or version.
+#include <cstdint>
+#include <string>
+
+namespace jamsim {
+
+/// The archive layout this jamsim reads and writes: the root attribute layout_version that
+/// Archive::create records (4: final configurations end to end, bulk datasets unfilled).
+inline constexpr std::int64_t kArchiveLayoutVersion = 4;
+
+/// "" when `path` opens as a jamsim campaign archive of this layout and fingerprint version;
+/// otherwise one sentence naming the file and what it is ("'x.h5' is empty (0 bytes): ..."),
+/// for `jamsim status`, `run` and `merge` to print before they touch it. Serial, read-only,
+/// HDF5 file locking off (a running campaign may hold the file); HDF5's error stack is not
+/// printed. Never throws for a bad file.
+std::string diagnose_archive_file(const std::string& path);
+
+} // namespace jamsim

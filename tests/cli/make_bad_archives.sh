@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# usage: make_bad_archives.sh JAMSIM CAMPAIGN.toml
+# In the current directory: good.h5 (a finished archive of CAMPAIGN) and one file of each
+# kind that is not a usable archive, for the tests of `status`, `run` and `merge` on them:
+# empty.h5, text.h5 (not HDF5), truncated.h5, plain.h5 (HDF5, not jamsim), replica.h5 (a
+# single-replica file), layout.h5 (another archive layout), version.h5 (another campaign
+# fingerprint version), a_directory/; missing.h5 is removed.
+set -euo pipefail
+jamsim=$1 spec=$2
+here=$(cd "$(dirname "$0")" && pwd)
+rm -rf good.h5 good.h5.checkpoints empty.h5 text.h5 truncated.h5 plain.h5 replica.h5 \
+  layout.h5 version.h5 missing.h5 a_directory
+"$jamsim" run "$spec" -o good.h5 >/dev/null 2>&1
+: > empty.h5
+echo "not an archive" > text.h5
+head -c $(( $(stat -c %s good.h5) / 2 )) good.h5 > truncated.h5
+"$jamsim" replica --N 16 --phi 0.8 --rate 1e-2 --strain 0.01 -o replica.h5 >/dev/null 2>&1
+cp good.h5 layout.h5
+cp good.h5 version.h5
+mkdir a_directory
+/usr/bin/python3 - <<'PY'
+import h5py
+with h5py.File("plain.h5", "w") as f:
+    f["x"] = [1.0, 2.0]
+with h5py.File("layout.h5", "r+") as f:
+    f.attrs["layout_version"] = 2
+PY
+/usr/bin/python3 "$here/../mpi/other_version.py" version.h5
