@@ -16,6 +16,7 @@
 #include "jamsim/io/archive.hpp"
 #include "jamsim/io/capacity.hpp"
 #include "jamsim/io/archive_file_check.hpp"
+#include "jamsim/io/archive_lock.hpp"
 #include "jamsim/io/checkpoint_file.hpp"
 #include "jamsim/io/initial_states.hpp"
 #include "jamsim/io/campaign_spec.hpp"
@@ -357,6 +358,14 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
         }
         return 0;
     }
+    // One writer per archive: from here on this run holds it (refused while another lives).
+    std::optional<ArchiveLock> lock;
+    try {
+        lock.emplace(ArchiveLock::acquire(comm, output, "jamsim run " + opt.spec_path));
+    } catch (const ArchiveBusy& e) {
+        if (rank == 0) std::fprintf(stderr, "jamsim run: %s\n", e.what());
+        return 2;
+    }
     try {
         if (extend) {
             if (rank == 0)
@@ -392,6 +401,7 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
                    "MPI_Reduce");
         if (stopped) {
             archive.close();
+            lock->release();
             if (rank == 0)
                 std::printf("campaign %s interrupted after %.3f s: %lld running replicas saved their "
                             "state at a checkpoint step; run the same command again to continue\n",
@@ -400,6 +410,7 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
         }
         archive.stamp("run_finished");
         archive.close();
+        lock->release();
         if (rank == 0) {  // the checkpoint folder, once every replica has removed its own
             std::error_code ignored;
             std::filesystem::remove(checkpoint_folder(output), ignored);  // only if empty
@@ -498,6 +509,20 @@ int merge(const std::string& output, const std::vector<std::string>& shards, int
     }
     const CampaignSpec& spec = stored.front().spec;
     const bool exists = std::filesystem::exists(output);
+    if (const std::string too_large = check_capacity(estimate_capacity(spec, output, 1, 1), {}, spec, output);
+        !too_large.empty()) {
+        std::fprintf(stderr, "jamsim merge: %s\n", too_large.c_str());
+        return 2;
+    }
+    // The output is written by this process alone, and no shard may still be written.
+    std::optional<ArchiveLock> lock;
+    try {
+        for (const auto& path : shards) ArchiveLock::check_free(path);
+        lock.emplace(ArchiveLock::acquire(MPI_COMM_SELF, output, "jamsim merge"));
+    } catch (const ArchiveBusy& e) {
+        std::fprintf(stderr, "jamsim merge: %s\n", e.what());
+        return 2;
+    }
     if (exists) {
         if (const std::string bad = diagnose_archive_file(output); !bad.empty()) {
             std::fprintf(stderr, "jamsim merge: refusing the output: %s\n", bad.c_str());
@@ -525,6 +550,7 @@ int merge(const std::string& output, const std::vector<std::string>& shards, int
         }
     out.stamp("merged");
     out.close();
+    lock->release();
     std::printf("merged %lld replicas from %zu shards into %s\n", copied, shards.size(),
                 output.c_str());
     return status(output);
