@@ -218,7 +218,9 @@ def bootstrap_collapse(replica_table, observable, fit, n_boot=200, seed=1):
     rng = np.random.default_rng(seed)
     pts = fit.points
     groups_of = {}
-    tab = replica_table[replica_table.get("left_out", "") == ""] if "left_out" in replica_table else replica_table
+    tab = replica_table
+    if "left_out" in tab.columns:
+        tab = tab[tab["left_out"] == ""]
     for i, p in pts.iterrows():
         sel = (np.isclose(tab["phi"], p["phi"])) & (np.isclose(tab["rate"], p["rate"]))
         if "model" in tab and p["group"] != "":
