@@ -88,6 +88,9 @@ def threshold_from_counts(phi, jammed, total):
         return -np.sum(k * np.log(p) + (m - k) * np.log(1 - p))
 
     q = k / m
+    if not np.any((q > 0) & (q < 1)):
+        raise AnalysisError("P_J jumps from 0 to 1 between two packing fractions: the width of the "
+                            "threshold is not resolved (more packing fractions or configurations needed)")
     mu0 = np.interp(0.5, q, phi) if np.all(np.diff(q) >= 0) else phi[np.argmin(abs(q - 0.5))]
     s0 = max(np.ptp(phi) / 4, 1e-4)
     res = optimize.minimize(nll, [mu0, np.log(s0)], method="Nelder-Mead",
@@ -95,6 +98,10 @@ def threshold_from_counts(phi, jammed, total):
     mu, log_s = res.x
     s = np.exp(log_s)
     cov = np.linalg.pinv(_numerical_hessian(nll, res.x, [s * 1e-2, 1e-2]))
+    errors = np.sqrt(np.diag(cov))
+    if not (np.all(np.isfinite(errors)) and np.all(errors > 0)) or errors[1] > 1:  # s_error > s
+        raise AnalysisError("P_J jumps from 0 to 1 between two packing fractions: the width of the "
+                            "threshold is not resolved (more packing fractions or configurations needed)")
     return float(mu), float(np.sqrt(max(cov[0, 0], 0))), float(s), float(s * np.sqrt(max(cov[1, 1], 0)))
 
 
@@ -140,6 +147,7 @@ def finite_size_scaling(table, correction=False):
     """Joint weighted fit of s_N and mu_N (see the module) to the thresholds of one model
     (DataFrame N, mu, mu_error, s, s_error). Needs at least 3 sizes."""
     t = table.sort_values("N")
+    t = t[(t["mu_error"] > 0) & (t["s_error"] > 0) & np.isfinite(t["mu_error"]) & np.isfinite(t["s_error"])]
     n = t["N"].to_numpy(float)
     if len(n) < 3:
         raise AnalysisError(f"finite-size scaling needs at least 3 system sizes with a threshold; "

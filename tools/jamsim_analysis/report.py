@@ -66,6 +66,8 @@ class Report:
             func()
         except AnalysisError as e:
             self.skipped.append(dict(analysis=name, reason=str(e)))
+        except (ValueError, np.linalg.LinAlgError) as e:
+            self.skipped.append(dict(analysis=name, reason=f"numerical failure: {e}"))
 
     def write(self):
         d = self.doc
@@ -223,6 +225,10 @@ def _static(rep, archive, opts):
         d.paragraph("Threshold per N: mean mu and width s (compression protocols: of phi_J; "
                     "RAND and COOL: maximum-likelihood normal CDF fitted to P_J).")
         d.table(thr)
+        for _, t in thr.iterrows():
+            rep.fits += fit_rows(f"threshold {t['model']} N={int(t['N'])}", {"mu": t["mu"], "s": t["s"]},
+                                 {"mu": t["mu_error"], "s": t["s_error"]},
+                                 extra=f"{int(t['configurations'])} configurations")
     figures.jamming_figure(pj, thr if len(thr) else None, rep.path("pj.png"))
     d.figure("pj.png", "jamming probability P_J(phi) per N")
     jammed = states[states["jammed"] == 1]
