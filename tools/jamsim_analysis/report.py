@@ -91,11 +91,11 @@ def _dynamics(rep, archive, opts):
     left = table[table["left_out"] != ""]
     d = rep.doc
     d.heading("Steady-state averages")
-    d.paragraph("Each replica's window starts at its declared transient; more is dropped (up to half "
-                "the run) while the means of its first and last thirds differ by more than "
-                f"{stats.DRIFT_Z} standard errors (errors from the integrated autocorrelation time). "
-                "Averages per (model, N, phi, rate): mean over seeds, error = standard error over seeds "
-                "(the time error with one seed).")
+    d.paragraph("Each replica's window starts at its declared transient plus an MSER-5 truncation (the "
+                "start that minimises the standard error of the remaining mean); a replica whose first "
+                f"and last thirds then differ by more than {stats.DRIFT_Z} standard errors (from the "
+                "integrated autocorrelation time) drifts and is left out. Averages per (model, N, phi, "
+                "rate): mean over seeds, error = standard error over seeds (the time error with one seed).")
     d.paragraph(f"Replicas left out: {len(left)} of {len(table)}.")
     if len(left):
         d.table(left[["replica", "model", "N", "phi", "rate", "seed", "left_out"]])

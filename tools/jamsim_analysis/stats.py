@@ -128,8 +128,8 @@ def mean_with_error(x):
 @dataclasses.dataclass
 class SteadyWindow:
     """The steady part of a series: samples [start, n). start_time: its strain (or time);
-    drift_z: |mean(first third) - mean(last third)| / combined error; drifting: drift_z above
-    the threshold even after dropping up to half of the run past the declared transient."""
+    drift_z: |mean(first third) - mean(last third)| / combined error (see _drift_z); drifting:
+    drift_z above the threshold."""
     start: int
     start_time: float
     drift_z: float
@@ -137,32 +137,42 @@ class SteadyWindow:
 
 
 def _drift_z(values):
+    """|mean(first third) - mean(last third)| in standard errors. Under the hypothesis of a
+    stationary window both thirds share the last third's variance and tau_int (a transient
+    left in the first third would inflate its own estimate and hide itself)."""
     third = len(values) // 3
     if third < 4:
         return 0.0
-    a, b = mean_with_error(values[:third]), mean_with_error(values[-third:])
-    err = np.hypot(a.error, b.error)
-    return float(abs(a.mean - b.mean) / err) if err > 0 else (0.0 if a.mean == b.mean else np.inf)
+    a, b = np.mean(values[:third]), mean_with_error(values[-third:])
+    err = np.sqrt(2.0) * b.error
+    return float(abs(a - b.mean) / err) if err > 0 else (0.0 if a == b.mean else np.inf)
 
 
-def steady_window(times, values, transient=0.0, z_max=DRIFT_Z, step=0.1, max_drop=0.5):
-    """Steady window of a series: start at the first sample with times >= transient (the
-    declared transient), then, while the first and last thirds of the window disagree by
-    more than z_max standard errors, drop a further `step` of the post-transient run, at
-    most `max_drop` of it. Still disagreeing: flagged as drifting (window = the last part)."""
+def mser_truncation(values, batch=5):
+    """MSER-5 (White 1997): the number of leading samples to drop, d = 5 k with k
+    minimising the squared standard error sum_{i>k} (b_i - mean)^2 / (m - k)^2 of the batch
+    means b (batches of 5), searched over the first half."""
+    m = len(values) // batch
+    if m < 4:
+        return 0
+    b = np.asarray(values[: m * batch], float).reshape(m, batch).mean(axis=1)
+    scores = [np.var(b[k:]) / (m - k) for k in range(m // 2 + 1)]  # var/(m-k) = sum/(m-k)^2
+    return int(np.argmin(scores)) * batch
+
+
+def steady_window(times, values, transient=0.0, z_max=DRIFT_Z):
+    """Steady window of a series: from the first sample with times >= transient (the declared
+    transient), a further MSER-5 truncation (the start that minimises the standard error of
+    the remaining mean: the transient's bias against the noise); then the first and last
+    thirds of the window are compared, and more than z_max standard errors apart flags the
+    replica as drifting (the observable has not settled)."""
     times, values = np.asarray(times, float), np.asarray(values, float)
     first = int(np.searchsorted(times, transient, side="left")) if len(times) else 0
     first = min(first, len(values))
-    run = len(values) - first
-    start, z = first, 0.0
-    for k in range(int(round(max_drop / step)) + 1):
-        start = first + int(round(k * step * run))
-        z = _drift_z(values[start:])
-        if z <= z_max:
-            t0 = float(times[start]) if start < len(times) else float("nan")
-            return SteadyWindow(start, t0, z, False)
+    start = first + mser_truncation(values[first:])
+    z = _drift_z(values[start:])
     t0 = float(times[start]) if start < len(times) else float("nan")
-    return SteadyWindow(start, t0, z, True)
+    return SteadyWindow(start, t0, z, bool(z > z_max))
 
 
 KEYS = ("model", "N", "phi", "rate")
