@@ -1,10 +1,10 @@
 """Critical scaling collapse in the (phi, rate) plane (thesis eqs. 5.2-5.8).
 
 Model (ln of an observable O > 0, e.g. p or sigma, averaged over seeds):
-    ln O = q ln(rate) + P(x) [+ rate^w Q(x)],   x = (phi - phi_J) / rate^(1/znu),
+    ln O = q ln(rate) + P(x) [+ ln(1 + rate^w Q(x))],   x = (phi - phi_J) / rate^(1/znu),
 P a polynomial of degree K (ln of the scaling function), and, optionally, the leading
 correction to scaling O = rate^q e^P(x) (1 + rate^w Q(x)) (eq. 5.8 with b = rate^(-1/z),
-w = omega/z), linearised in ln O, Q of degree Kc. Derived: y = q znu, beta = znu - y (the
+w = omega/z), Q a polynomial of degree Kc. Derived: y = q znu, beta = znu - y (the
 Newtonian divergence O/rate ~ (phi_J - phi)^-beta below phi_J, eq. 5.4).
 
 Several groups (e.g. models RD0 and CD0) can share phi_J, q and znu with a P (and Q) of
@@ -53,7 +53,7 @@ class ScalingFit:
         p = np.polyval(self.theta[layout.p_slice(g)][::-1], x)
         if layout.correction and rate is not None:
             w = self.theta[layout.w_index]
-            p = p + rate ** w * np.polyval(self.theta[layout.q_slice(g)][::-1], x)
+            p = p + np.log(np.maximum(1 + rate ** w * np.polyval(self.theta[layout.q_slice(g)][::-1], x), 1e-12))
         return np.exp(p)
 
 
@@ -95,7 +95,8 @@ def _model(theta, layout, phi, rate, group):
         s = group == g
         out[s] += np.polyval(theta[layout.p_slice(g)][::-1], x[s])
         if layout.correction:
-            out[s] += rate[s] ** theta[layout.w_index] * np.polyval(theta[layout.q_slice(g)][::-1], x[s])
+            corr = rate[s] ** theta[layout.w_index] * np.polyval(theta[layout.q_slice(g)][::-1], x[s])
+            out[s] += np.log(np.maximum(1 + corr, 1e-12))
     return out
 
 
@@ -252,7 +253,9 @@ def bootstrap_collapse(replica_table, observable, fit, n_boot=200, seed=1):
 class CollapseComparison:
     """Joint fit (shared phi_J, q, znu; own scaling functions) against separate fits.
     f_statistic = ((chi2_joint - chi2_separate) / extra_dof) / (chi2_separate / dof_separate),
-    p_value from the F distribution; same_criticality: p_value >= alpha."""
+    p_value from the F distribution; same_criticality: p_value >= alpha. The test takes the
+    point errors as known: errors estimated from few seeds make it anticonservative (use
+    many seeds per point, or compare the separate fits' exponents with bootstrap errors)."""
     joint: ScalingFit
     separate: dict
     chi2_separate: float
