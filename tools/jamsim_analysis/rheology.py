@@ -7,12 +7,15 @@ import dataclasses
 
 import numpy as np
 import pandas as pd
+from scipy import stats as sps
 from scipy.optimize import least_squares
 
 from .errors import AnalysisError
 
 # A local slope is consistent with a value when within this many standard errors.
 SLOPE_Z = 2.0
+# Lowest rates form a plateau of O/rate^power when a constant fits them with this p value.
+PLATEAU_P = 0.001
 
 
 def local_slopes(groups, observable):
@@ -121,40 +124,37 @@ def fit_divergence(phi, value, error, phi_j=None, correction=False, start_beta=2
                       chi2, dof, pts, phi_j is not None)
 
 
-def plateau_values(groups, observable, power, phi_j=None, model=None):
-    """Per (N, phi) the rate -> 0 limit of O/rate^power: the weighted mean over the lowest
-    rates whose local slope is consistent with `power` (1: Newtonian, 2: Bagnold), going up
-    from the lowest rate while consistent. DataFrame N, phi, value, error, rates_used,
-    left_out (the reason, "" for points used)."""
+def plateau_values(groups, observable, power, phi_j=None, model=None, p_min=PLATEAU_P):
+    """Per (N, phi) the rate -> 0 limit of C = O/rate^power (power 1: Newtonian viscosity,
+    2: Bagnold coefficient): the weighted mean of C over the largest set of lowest rates
+    (at least 2) whose C agree with one constant (chi-squared p value >= p_min). DataFrame
+    N, phi, value, error, rates_used, left_out (the reason, "" for points used)."""
     regime = {1: "Newtonian", 2: "Bagnold"}[power]
     g = groups[groups["rate"] > 0]
     if model is not None:
         g = g[g["model"] == model]
-    slopes = local_slopes(g, observable)
     rows = []
     for (n, phi), part in g.groupby(["N", "phi"], sort=True):
         part = part.sort_values("rate")
         row = {"N": n, "phi": phi, "value": np.nan, "error": np.nan, "rates_used": 0, "left_out": ""}
+        rate = part["rate"].to_numpy(float)
+        c = part[observable].to_numpy(float) / rate ** power
+        e = part[f"{observable}_error"].to_numpy(float) / rate ** power
         if phi_j is not None and phi >= phi_j:
             row["left_out"] = f"phi >= phi_J = {phi_j:.4f}"
-        elif len(part) < 2:
-            row["left_out"] = "fewer than 2 rates (no slope)"
+        elif len(part) < 2 or not np.all(e[:2] > 0):
+            row["left_out"] = "fewer than 2 rates with errors"
         else:
-            s = slopes[(slopes["N"] == n) & (slopes["phi"] == phi)].sort_values("rate_low")
-            used = 1
-            for _, sl in s.iterrows():
-                if sl["regime"] in (regime, "undetermined"):
-                    used += 1
-                else:
+            for used in range(len(c), 1, -1):
+                w = 1 / e[:used] ** 2
+                mean = np.sum(w * c[:used]) / np.sum(w)
+                chi2 = np.sum(w * (c[:used] - mean) ** 2)
+                if sps.chi2.sf(chi2, used - 1) >= p_min:
+                    row.update(value=mean, error=1 / np.sqrt(np.sum(w)), rates_used=used)
                     break
-            if used < 2:
-                row["left_out"] = f"not {regime} at the lowest rates (slope {s['slope'].iloc[0]:.2f} +- {s['slope_error'].iloc[0]:.2f})"
             else:
-                low = part.iloc[:used]
-                c = low[observable].to_numpy(float) / low["rate"].to_numpy(float) ** power
-                e = low[f"{observable}_error"].to_numpy(float) / low["rate"].to_numpy(float) ** power
-                w = 1 / e ** 2
-                row.update(value=np.sum(w * c) / np.sum(w), error=1 / np.sqrt(np.sum(w)), rates_used=used)
+                row["left_out"] = (f"not {regime} at the lowest rates: O/rate^{power} differs between "
+                                   f"{rate[0]:g} and {rate[1]:g} (p < {p_min:g})")
         rows.append(row)
     return pd.DataFrame(rows)
 

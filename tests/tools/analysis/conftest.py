@@ -15,7 +15,7 @@ CAMPAIGNS = os.path.join(ROOT, "tests", "data", "campaigns")
 
 @pytest.fixture(scope="session")
 def jamsim():
-    path = os.environ.get("JAMSIM", os.path.join(ROOT, "build", "release", "jamsim"))
+    path = os.path.abspath(os.environ.get("JAMSIM", os.path.join(ROOT, "build", "release", "jamsim")))
     assert os.access(path, os.X_OK), f"no jamsim executable at {path} (set JAMSIM)"
     return path
 
