@@ -118,7 +118,8 @@ def correlation_figure(curves, minima, path):
     ax.set_ylabel(r"$g_y(x)$")
     ax.legend(fontsize=6)
     for (model, n, phi), part in minima.groupby(["model", "N", "phi"]):
-        bx.errorbar(part["rate"], part["x_min"], part["x_min_error"], marker="o", capsize=2,
+        err = part["x_min_error"] if part["x_min_error"].notna().any() else None
+        bx.errorbar(part["rate"], part["x_min"], err, marker="o", capsize=2,
                     label=f"{model} N = {int(n)} phi = {phi:g}")
     bx.set_xscale("log")
     bx.set_xlabel(r"$\dot\gamma$")

@@ -66,8 +66,8 @@ class Report:
             func()
         except AnalysisError as e:
             self.skipped.append(dict(analysis=name, reason=str(e)))
-        except (ValueError, np.linalg.LinAlgError) as e:
-            self.skipped.append(dict(analysis=name, reason=f"numerical failure: {e}"))
+        except Exception as e:  # noqa: BLE001 - one failed analysis must not stop the report
+            self.skipped.append(dict(analysis=name, reason=f"failed: {type(e).__name__}: {e}"))
 
     def write(self):
         d = self.doc

@@ -22,6 +22,8 @@ MIN_SAMPLES = 16
 # A replica drifts when the means of the first and last thirds of its window differ by more
 # than this many combined standard errors.
 DRIFT_Z = 3.5
+# Independent samples (n / 2 tau_int) a third of the window needs for the drift test.
+MIN_INDEPENDENT = 3
 
 
 def autocorrelation(x):
@@ -128,8 +130,8 @@ def mean_with_error(x):
 @dataclasses.dataclass
 class SteadyWindow:
     """The steady part of a series: samples [start, n). start_time: its strain (or time);
-    drift_z: |mean(first third) - mean(last third)| / combined error (see _drift_z); drifting:
-    drift_z above the threshold."""
+    drift_z: |mean(first third) - mean(last third)| / combined error (see _drift_z; NaN when
+    the window is too short for the test); drifting: drift_z above the threshold."""
     start: int
     start_time: float
     drift_z: float
@@ -137,15 +139,21 @@ class SteadyWindow:
 
 
 def _drift_z(values):
-    """|mean(first third) - mean(last third)| in standard errors. Under the hypothesis of a
-    stationary window both thirds share the last third's variance and tau_int (a transient
-    left in the first third would inflate its own estimate and hide itself)."""
+    """|mean(first third) - mean(last third)| in standard errors, NaN when a third holds
+    fewer than MIN_INDEPENDENT independent samples (too short to tell drift from slow
+    fluctuations). Under the hypothesis of a stationary window both thirds share the
+    variance and tau_int of the second half (a transient left in the first third would
+    inflate its own estimate and hide itself)."""
     third = len(values) // 3
     if third < 4:
-        return 0.0
-    a, b = np.mean(values[:third]), mean_with_error(values[-third:])
-    err = np.sqrt(2.0) * b.error
-    return float(abs(a - b.mean) / err) if err > 0 else (0.0 if a == b.mean else np.inf)
+        return float("nan")
+    half = values[len(values) // 2:]
+    tau, _ = integrated_autocorrelation_time(half)
+    if third < 2 * tau * MIN_INDEPENDENT:
+        return float("nan")
+    err = np.sqrt(2.0 * np.var(half, ddof=1) * 2 * tau / third)
+    diff = abs(np.mean(values[:third]) - np.mean(values[-third:]))
+    return float(diff / err) if err > 0 else (0.0 if diff == 0 else np.inf)
 
 
 def mser_truncation(values, batch=5):
