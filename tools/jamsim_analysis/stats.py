@@ -194,6 +194,7 @@ def replica_averages(archive, observables, time_column="strain", drift_observabl
     done appear with left_out = their status."""
     table = archive.replicas
     drift_observable = drift_observable or observables[0]
+    has_time = time_column in archive.observables()
     rows = []
     for _, rep in table.iterrows():
         row = {k: rep[k] for k in table.columns if k not in ("file",)}
@@ -204,7 +205,7 @@ def replica_averages(archive, observables, time_column="strain", drift_observabl
             rows.append(row)
             continue
         r = int(rep["replica"])
-        times = archive.series(r, time_column) if time_column in archive.observables() else None
+        times = archive.series(r, time_column) if has_time else None
         series = {o: archive.series(r, o) for o in observables}
         n = len(series[drift_observable])
         if times is None or not np.all(np.isfinite(times[:n])):
