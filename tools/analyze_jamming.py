@@ -11,16 +11,20 @@ replicas only.
                       (phi_j.png, phi_j.tsv), the fraction of isostatic states (states whose
                       non-rattlers have exactly 2(N' - 1) + 1 contacts, excess_contacts = 0),
                       and P_J(phi) as its cumulative distribution (pj_from_phi_j.png, .tsv).
-Prints the tables as well."""
+Prints the tables as well. A thin command over tools/jamsim_analysis (jamming.py);
+`jamsim_analyze.py jamming` adds the thresholds per N and their finite-size scaling."""
 import os
 import sys
 
-import h5py
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from jamsim_analysis import AnalysisError, open_archives  # noqa: E402
+from jamsim_analysis import jamming  # noqa: E402
 
 
 def fail(msg):
@@ -36,30 +40,30 @@ def main():
         fail("usage: analyze_jamming.py ARCHIVE.h5 OUTDIR (--help: what it computes)")
     path, out = sys.argv[1], sys.argv[2]
     try:
-        f = h5py.File(path, "r")
-    except OSError as e:
+        run = open_archives(path)
+    except AnalysisError as e:
         fail(f"cannot open archive '{path}': {e}")
-    with f:
-        if "timeseries/jammed" not in f:
-            fail(f"'{path}' has no /timeseries/jammed: not a jamsim archive of this version")
-        name = f.attrs.get("model", b"")
-        name = name.decode() if isinstance(name, bytes) else str(name)
-        if name in ("COMPRESS", "COOL_COMPRESS", "SHEARED"):
-            model = "COMPRESS"  # one state at phi_J+ per replica
-        elif name in ("RAND", "COOL"):
-            model = "RAND"  # one quenched state at phi per replica
-        else:
-            fail(f"'{path}': model '{name}' is not RAND, COOL, COMPRESS, COOL_COMPRESS or SHEARED"
-                 " (QS: use plot_campaign.py)")
-        r, ts = f["replicas"], f["timeseries"]
-        done = r["status"][...] == 2
-        N = r["N"][...][done].astype(int)
-        phi = r["phi"][...][done]
-        jammed = ts["jammed"][:, 0][done]
-        p = ts["pressure"][:, 0][done]
-        z = ts["contact_number_nonrattler"][:, 0][done]
-        phi_state = ts["packing_fraction"][:, 0][done]
-        excess = ts["excess_contacts"][:, 0][done]
+    if "jammed" not in run.observables():
+        fail(f"'{path}' has no /timeseries/jammed: not a jamsim archive of this version")
+    name = run.attributes().get("model", "")
+    if name in ("COMPRESS", "COOL_COMPRESS", "SHEARED"):
+        model = "COMPRESS"  # one state at phi_J+ per replica
+    elif name in ("RAND", "COOL"):
+        model = "RAND"  # one quenched state at phi per replica
+    else:
+        fail(f"'{path}': model '{name}' is not RAND, COOL, COMPRESS, COOL_COMPRESS or SHEARED"
+             " (QS: use plot_campaign.py)")
+    try:
+        states = jamming.static_states(run)  # finished replicas, the state's columns
+    except AnalysisError as e:
+        fail(f"'{path}': {e}")
+    N = states["N"].to_numpy().astype(int)
+    phi = states["phi"].to_numpy()
+    jammed = states["jammed"].to_numpy()
+    p = states["pressure"].to_numpy()
+    z = states["contact_number_nonrattler"].to_numpy()
+    phi_state = states["packing_fraction"].to_numpy()
+    excess = states["excess_contacts"].to_numpy()
     os.makedirs(out, exist_ok=True)
     if model == "RAND":
         rows = []

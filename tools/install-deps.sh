@@ -14,7 +14,7 @@ packages=(
   libeigen3-dev petsc-dev
   libcli11-dev libtomlplusplus-dev
   libgtest-dev libbenchmark-dev
-  python3-numpy python3-h5py python3-matplotlib python3-scipy
+  python3-numpy python3-h5py python3-matplotlib python3-scipy python3-pandas python3-pytest
 )
 if [[ "${1:-}" == "--bench" ]]; then
   packages+=(lammps)

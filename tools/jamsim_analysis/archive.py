@@ -1,0 +1,296 @@
+"""Reading jamsim output: campaign archives (also shards and merged archives) and
+single-replica files. This is the only module that touches HDF5; every layout detail (the
+layout_version of /final, how /timeseries and /correlation are stored) lives here.
+
+Layouts (README, "Campaign archive" and "Single-replica file"):
+  campaign: /replicas/<column> [R]; /timeseries/<observable> [R, S] (valid up to n_samples
+            for done replicas, rows_written otherwise); /correlation/{x,g_y} [R, B] (NaN past a
+            replica's bins); /final/box_side, box_strain [R]; /final/{x,y,diameter}:
+            layout 3: [R, N_max] (NaN past N); layout 4: 1-D concatenation over replicas with
+            /replicas/particle_offset [R] (start of replica r) and the count from /replicas/N.
+  replica:  parameters as root attributes; /timeseries/<observable> [S]; /final/{x,y,diameter}
+            [N] with attributes box_side and box_strain; /correlation/{x,g_y} [B].
+"""
+import dataclasses
+import os
+
+import h5py
+import numpy as np
+import pandas as pd
+
+from .errors import AnalysisError
+
+STATUS_NAMES = {0: "pending", 1: "running", 2: "done", 3: "failed"}
+DONE = 2
+# Which row wins when shards of one campaign hold the same replica: done, then failed,
+# running, pending.
+STATUS_PRIORITY = {2: 3, 3: 2, 1: 1, 0: 0}
+# /replicas columns that describe the run, not the physics.
+BOOKKEEPING = {"identity", "status", "failure_reason", "rank", "wall_seconds", "force_evaluations",
+               "rows_written", "progress", "n_samples", "estimated_cost", "predecessor",
+               "particle_offset"}
+# Numeric root attributes of a replica file that are results, not parameters.
+REPLICA_FILE_RESULTS = {"mean_pressure", "mean_shear_stress", "force_evaluations",
+                        "neighbor_list_builds", "wall_seconds", "layout_version"}
+# Largest dataset read whole and kept in memory (elements); larger ones are read by rows.
+WHOLE_READ_LIMIT = 20_000_000
+
+
+@dataclasses.dataclass
+class FinalConfiguration:
+    """A final configuration. x, y: sheared coordinates in [0, L) [N] (d_s); diameter [N]
+    (d_s); box_side L (d_s); box_strain: the Lees-Edwards strain gamma (lab x = x + gamma y)."""
+    x: np.ndarray
+    y: np.ndarray
+    diameter: np.ndarray
+    box_side: float
+    box_strain: float
+
+    def lab_x(self):
+        """Lab-frame x [N] (d_s): x + gamma y, inside the sheared cell's parallelogram."""
+        return self.x + self.box_strain * self.y
+
+
+def _text(value):
+    return value.decode() if isinstance(value, bytes) else str(value)
+
+
+def _open(path):
+    try:
+        return h5py.File(path, "r", locking=False)
+    except (OSError, TypeError) as e:
+        if not os.path.exists(path):
+            raise AnalysisError(f"'{path}': no such file") from None
+        raise AnalysisError(f"cannot open '{path}' as HDF5: {e}") from None
+
+
+class _Source:
+    """One file: its kind ('campaign' or 'replica'), text attributes and cached datasets."""
+
+    def __init__(self, path):
+        self.path = path
+        self.cache = {}
+        with _open(path) as f:
+            self.attrs = {k: (_text(v) if isinstance(v, (bytes, str)) else v) for k, v in f.attrs.items()}
+            if "replicas" in f and "timeseries" in f:
+                self.kind = "campaign"
+                self.n_rows = int(f["replicas/status"].shape[0])
+            elif "timeseries" in f and "model" in f.attrs:
+                self.kind = "replica"
+                self.n_rows = 1
+            else:
+                raise AnalysisError(f"'{path}' is neither a jamsim campaign archive (/replicas, "
+                                    "/timeseries) nor a single-replica file")
+        self.layout_version = int(self.attrs.get("layout_version", 0))
+
+    def read(self, name, rows=None):
+        """Dataset `name`, whole or the given rows (first axis)."""
+        with _open(self.path) as f:
+            if name not in f:
+                return None
+            ds = f[name]
+            if ds.size <= WHOLE_READ_LIMIT:
+                if name not in self.cache:
+                    self.cache[name] = ds[...]
+                data = self.cache[name]
+                return data if rows is None else data[np.asarray(rows, dtype=int)]
+            if rows is None:
+                return ds[...]
+            return np.stack([ds[int(r)] for r in rows])
+
+
+def _campaign_table(src):
+    """One row per replica of a campaign archive (the /replicas columns)."""
+    with _open(src.path) as f:
+        cols = {}
+        for name, ds in f["replicas"].items():
+            if ds.ndim != 1:
+                continue
+            data = ds[...]
+            if data.dtype.kind in "SO":
+                data = np.array([_text(v).rstrip("\x00") for v in data], dtype=object)
+            cols[name] = data
+    table = pd.DataFrame(cols)
+    table["identity"] = table.get("identity", pd.Series(np.zeros(len(table), np.uint64))).astype(np.uint64)
+    done = table["status"].to_numpy() == DONE
+    written = table["rows_written"].to_numpy() if "rows_written" in table else np.zeros(len(table))
+    samples = np.nan_to_num(table["n_samples"].to_numpy(dtype=float))
+    table["valid_rows"] = np.where(done, samples, written).astype(int)
+    table["row"] = np.arange(len(table))
+    return table
+
+
+def _replica_file_table(src):
+    """The one row of a single-replica file (its root attributes)."""
+    row = {}
+    for k, v in src.attrs.items():
+        if isinstance(v, str):
+            continue
+        if k in REPLICA_FILE_RESULTS:
+            continue
+        row[k] = float(np.asarray(v).ravel()[0])
+    with _open(src.path) as f:
+        n = len(f["timeseries/strain"]) if "timeseries/strain" in f else \
+            len(next(iter(f["timeseries"].values())))
+    ident = src.attrs.get("identity", "0")
+    row.update(identity=np.uint64(int(ident, 16) if isinstance(ident, str) else int(ident)),
+               status=DONE, n_samples=float(n), valid_rows=n, row=0,
+               wall_seconds=float(src.attrs.get("wall_seconds", np.nan)),
+               force_evaluations=int(src.attrs.get("force_evaluations", -1)), failure_reason="")
+    return pd.DataFrame([row])
+
+
+def _merge_shards(sources, tables):
+    """Shards of one campaign: per replica row the best-status shard's row."""
+    best = tables[0].copy()
+    best["source"] = sources[0]
+    for src, t in zip(sources[1:], tables[1:]):
+        if len(t) != len(best):
+            raise AnalysisError(f"'{src.path}' has {len(t)} replicas, '{sources[0].path}' "
+                                f"{len(best)}: not shards of one campaign")
+        better = t["status"].map(STATUS_PRIORITY).to_numpy() > best["status"].map(STATUS_PRIORITY).to_numpy()
+        t = t.copy()
+        t["source"] = src
+        best.loc[better] = t.loc[better]
+    return best
+
+
+class Archive:
+    """One or more jamsim output files as one table of replicas.
+
+    replicas: DataFrame, one row per replica: `replica` (index used by every method), `file`,
+      `campaign`, `model`, every parameter column (N, phi, rate, seed, ...; NaN where the
+      model does not read it), `status` (0..3) and `status_name`, `n_samples`,
+      `valid_rows` (rows of the time series that may be read), `wall_seconds` (s),
+      `force_evaluations`, `failure_reason`, `identity`.
+    Shards of one campaign (the same spec_fingerprint and replica count) are merged: each
+    replica comes from the shard where it is done."""
+
+    def __init__(self, paths):
+        if not paths:
+            raise AnalysisError("no archive given")
+        sources = [_Source(p) for p in paths]
+        groups = {}
+        for s in sources:
+            key = (s.attrs.get("spec_fingerprint"), s.n_rows) if s.kind == "campaign" else (s.path,)
+            groups.setdefault(key, []).append(s)
+        parts = []
+        for members in groups.values():
+            tables = [_campaign_table(s) if s.kind == "campaign" else _replica_file_table(s) for s in members]
+            merged = _merge_shards(members, tables)
+            first = members[0]
+            merged["campaign"] = first.attrs.get("campaign", os.path.basename(first.path))
+            merged["model"] = first.attrs.get("model", "")
+            parts.append(merged)
+        table = pd.concat(parts, ignore_index=True, sort=False)
+        table["file"] = [s.path for s in table["source"]]
+        table["status_name"] = table["status"].map(STATUS_NAMES)
+        table["replica"] = np.arange(len(table))
+        self._sources = table.pop("source").to_list()
+        self._rows = table["row"].to_numpy()
+        self.replicas = table
+        self.sources = sources
+
+    # -- metadata -----------------------------------------------------------------------
+    @property
+    def models(self):
+        """Sorted list of the models in these files."""
+        return sorted(set(self.replicas["model"]))
+
+    def attributes(self, replica=0):
+        """Root attributes (dict) of the file holding `replica`: campaign, model, spec_text,
+        code_version, layout_version, ..."""
+        return dict(self._sources[replica].attrs)
+
+    def done(self):
+        """The replicas table restricted to finished replicas."""
+        return self.replicas[self.replicas["status"] == DONE]
+
+    def observables(self):
+        """Names of the time-series columns present in every file."""
+        names = None
+        for s in self.sources:
+            with _open(s.path) as f:
+                here = set(f["timeseries"].keys())
+            names = here if names is None else names & here
+        return sorted(names)
+
+    # -- time series ----------------------------------------------------------------------
+    def series(self, replica, column):
+        """One replica's time series of `column` [valid_rows] (units of the column)."""
+        src, row = self._sources[replica], self._rows[replica]
+        n = int(self.replicas["valid_rows"].iat[replica])
+        name = f"timeseries/{column}"
+        if src.kind == "replica":
+            data = src.read(name)
+        else:
+            data = src.read(name, [row])
+            data = None if data is None else data[0]
+        if data is None:
+            raise AnalysisError(f"'{src.path}' has no time series '{column}'")
+        return np.asarray(data[:n], dtype=float)
+
+    def timeseries(self, columns=None, replicas=None, only_done=True):
+        """Time series in long form: one row per (replica, sample) with the columns
+        `replica`, `sample` and one per observable (default: every observable)."""
+        columns = list(columns) if columns is not None else self.observables()
+        table = self.done() if only_done else self.replicas
+        chosen = table["replica"].to_list() if replicas is None else list(replicas)
+        frames = []
+        for r in chosen:
+            data = {c: self.series(r, c) for c in columns}
+            n = min((len(v) for v in data.values()), default=0)
+            frame = pd.DataFrame({c: v[:n] for c, v in data.items()})
+            frame.insert(0, "sample", np.arange(n))
+            frame.insert(0, "replica", r)
+            frames.append(frame)
+        if not frames:
+            return pd.DataFrame(columns=["replica", "sample"] + columns)
+        return pd.concat(frames, ignore_index=True)
+
+    # -- per-replica arrays ---------------------------------------------------------------
+    def final(self, replica):
+        """The final configuration of `replica` (FinalConfiguration), whatever the layout."""
+        src, row = self._sources[replica], self._rows[replica]
+        n = int(self.replicas["N"].iat[replica])
+        return _read_final(src, row, n)
+
+    def correlation(self, replica):
+        """Velocity correlation of `replica`: (x [B] in d_s, g_y [B]); empty arrays if the
+        file has none."""
+        src, row = self._sources[replica], self._rows[replica]
+        x, g = src.read("correlation/x"), src.read("correlation/g_y")
+        if x is None or g is None:
+            return np.empty(0), np.empty(0)
+        if src.kind == "campaign":
+            x, g = x[row], g[row]
+        keep = np.isfinite(x) & np.isfinite(g)
+        return np.asarray(x[keep], float), np.asarray(g[keep], float)
+
+
+def _read_final(src, row, n):
+    """Final configuration of row `row` (N = n) of a source, for every layout."""
+    if src.kind == "replica":
+        with _open(src.path) as f:
+            g = f["final"]
+            return FinalConfiguration(g["x"][...], g["y"][...], g["diameter"][...],
+                                      float(g.attrs["box_side"]), float(g.attrs["box_strain"]))
+    with _open(src.path) as f:
+        if "final/x" not in f:
+            raise AnalysisError(f"'{src.path}' has no /final configurations")
+        g = f["final"]
+        if g["x"].ndim == 1:  # layout 4: concatenated, offsets per replica
+            if "replicas/particle_offset" not in f:
+                raise AnalysisError(f"'{src.path}': 1-D /final without /replicas/particle_offset")
+            start = int(f["replicas/particle_offset"][row])
+            part = slice(start, start + n)
+            x, y, d = g["x"][part], g["y"][part], g["diameter"][part]
+        else:  # layout 3: [R, N_max], NaN past N
+            x, y, d = g["x"][row, :n], g["y"][row, :n], g["diameter"][row, :n]
+        return FinalConfiguration(x, y, d, float(g["box_side"][row]), float(g["box_strain"][row]))
+
+
+def open_archives(*paths):
+    """Open one or more campaign archives, shards or single-replica files as an Archive."""
+    flat = [p for item in paths for p in ([item] if isinstance(item, str) else item)]
+    return Archive(flat)

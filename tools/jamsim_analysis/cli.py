@@ -1,0 +1,236 @@
+"""Command lines of the package: `jamsim_analyze.py COMMAND ...` (one analysis) and
+`jamsim_report.py ARCHIVE... OUTDIR` (every analysis that fits). Bad input: one message on
+stderr naming what is missing, exit status 2, no traceback."""
+import argparse
+import os
+import sys
+
+import numpy as np
+import pandas as pd
+
+from . import correlations, figures, jamming, pictures, report, rheology, scaling, stats
+from .archive import open_archives
+from .errors import AnalysisError
+
+pd.set_option("display.width", 160)
+pd.set_option("display.max_columns", 30)
+pd.set_option("display.max_rows", 500)
+
+
+def _flow_archive(paths):
+    """The archive(s), refused unless every model is a sheared-flow model."""
+    run = open_archives(paths)
+    other = sorted(set(run.models) - set(report.OVERDAMPED + report.MASSIVE))
+    if other:
+        raise AnalysisError(f"{', '.join(paths)}: model {', '.join(other)} has no flow curves; this analysis "
+                            f"needs a sheared-flow campaign ({', '.join(report.OVERDAMPED + report.MASSIVE)})")
+    return run
+
+
+def _averages(archive, observables):
+    table = stats.replica_averages(archive, observables)
+    return table, stats.group_averages(table, observables)
+
+
+def cmd_summary(a):
+    """One row per replica: parameters, status, force evaluations, wall time."""
+    run = open_archives(a.archives)
+    cols = [c for c in ("replica", "model", "N", "phi", "rate", "seed", "status_name", "n_samples",
+                        "force_evaluations", "wall_seconds", "failure_reason") if c in run.replicas]
+    print(run.replicas[cols].to_string(index=False))
+
+
+def cmd_averages(a):
+    """Steady windows, per-replica means with errors and tau_int, averages over seeds."""
+    table, groups = _averages(open_archives(a.archives), a.observable)
+    cols = ["replica", "model", "N", "phi", "rate", "seed", "window_start", "samples", "drift_z", "left_out"]
+    for o in a.observable:
+        cols += [o, f"{o}_error", f"{o}_tau"]
+    print(table[[c for c in cols if c in table]].to_string(index=False))
+    print()
+    print(groups.to_string(index=False))
+    if a.output:
+        groups.to_csv(a.output, sep="\t", index=False)
+
+
+def cmd_collapse(a):
+    """Critical scaling collapse of p or sigma in the (phi, rate) plane."""
+    table, groups = _averages(_flow_archive(a.archives), [a.observable])
+    pts = scaling.collapse_points(groups, a.observable, a.N, (a.phi_min, a.phi_max), a.rate_max,
+                                  model=a.model)
+    fit = scaling.fit_collapse(pts, a.degree, a.correction_degree if a.correction else -1,
+                               tuple(a.start), a.observable)
+    if a.bootstrap:
+        n = a.N if a.N is not None else groups.loc[groups["rate"] > 0, "N"].max()
+        rows = table[table["N"] == n]
+        if a.model is not None:
+            rows = rows[rows["model"] == a.model]
+        fit = scaling.bootstrap_collapse(rows, a.observable, fit, a.bootstrap)
+    print(f"{a.observable}: {len(fit.points)} points, degree {a.degree}, "
+          f"{'correction of degree %d' % a.correction_degree if a.correction else 'no correction'}; "
+          f"errors: {fit.method}; chi2/dof = {fit.chi2_per_dof:.3f} ({fit.dof} dof)")
+    for k, v in fit.values.items():
+        print(f"  {k:6s} = {v:.5g} +- {fit.errors[k]:.2g}")
+    os.makedirs(a.outdir, exist_ok=True)
+    figures.collapse_figure(fit, os.path.join(a.outdir, f"collapse_{a.observable}.png"))
+    pd.DataFrame([dict(parameter=k, value=v, error=fit.errors[k]) for k, v in fit.values.items()]
+                 + [dict(parameter="chi2_per_dof", value=fit.chi2_per_dof, error=np.nan)]).to_csv(
+        os.path.join(a.outdir, f"collapse_{a.observable}.tsv"), sep="\t", index=False)
+
+
+def cmd_compare(a):
+    """RD0 against CD0 (or any two models): joint collapse with shared phi_J, q, znu against separate ones."""
+    _, groups = _averages(_flow_archive(a.archives), [a.observable])
+    models = sorted(groups.loc[groups["rate"] > 0, "model"].unique())
+    pts = pd.concat([scaling.collapse_points(groups, a.observable, a.N, model=m) for m in models])
+    cmp = scaling.compare_collapses(pts, a.degree, observable=a.observable)
+    for name, f in list(cmp.separate.items()) + [("joint", cmp.joint)]:
+        print(f"{name:6s}: " + ", ".join(f"{k} = {f.values[k]:.4g} +- {f.errors[k]:.2g}" for k in ("phi_J", "q", "znu"))
+              + f", chi2/dof = {f.chi2_per_dof:.2f}")
+    print(cmp.statement())
+
+
+def _divergence_command(a, power):
+    _, groups = _averages(_flow_archive(a.archives), [a.observable])
+    func = rheology.newtonian_divergence if power == 1 else rheology.bagnold_analysis
+    plateau, fit = func(groups, a.observable, phi_j=a.phi_j, correction=a.correction, N=a.N, model=a.model)
+    print(rheology.local_slopes(groups, a.observable).to_string(index=False))
+    print(plateau.to_string(index=False))
+    print(", ".join(f"{k} = {v:.5g} +- {fit.errors[k]:.2g}" for k, v in fit.values.items())
+          + f", chi2/dof = {fit.chi2_per_dof:.2f}")
+    os.makedirs(a.outdir, exist_ok=True)
+    figures.divergence_figure(plateau, fit, f"{a.observable}/rate^{power}",
+                              os.path.join(a.outdir, f"divergence_{power}_{a.observable}.png"))
+
+
+def cmd_newtonian(a):
+    """eta = O/rate at its Newtonian plateau per phi < phi_J, fitted to (phi_J - phi)^-beta."""
+    _divergence_command(a, 1)
+
+
+def cmd_bagnold(a):
+    """Local slopes (Newtonian/Bagnold), B = O/rate^2 at its plateau and its divergence (1 + c (phi_J - phi)) (phi_J - phi)^-beta."""
+    _divergence_command(a, 2)
+
+
+def cmd_jamming(a):
+    """P_J(phi, N), thresholds per N and their finite-size scaling (phi_J(inf), nu)."""
+    states = jamming.static_states(open_archives(a.archives))
+    print(jamming.jamming_probability(states).to_string(index=False))
+    thr = jamming.thresholds(states)
+    print(thr.to_string(index=False))
+    for model in sorted(states["model"].unique()):
+        fit = jamming.finite_size_scaling(thr[thr["model"] == model] if len(thr) else thr, a.correction)
+        print(f"{model}: " + ", ".join(f"{k} = {v:.5g} +- {fit.errors[k]:.2g}" for k, v in fit.values.items())
+              + f", chi2/dof = {fit.chi2_per_dof:.2f}")
+
+
+def cmd_correlation(a):
+    """x_min of g_y(x) per (model, N, phi, rate) over seeds and its growth x_min = A rate^-a."""
+    run = _flow_archive(a.archives)
+    _, grouped = correlations.correlation_minima(run)
+    print(grouped.to_string(index=False))
+    for key, part in grouped.groupby(["model", "N", "phi"]):
+        g = correlations.fit_minimum_growth(part["rate"], part["x_min"], part["x_min_error"])
+        print(f"{key}: a = {g.a:.3f} +- {g.a_error:.3f}, chi2/dof = {g.chi2 / max(g.dof, 1):.2f}")
+
+
+def cmd_picture(a):
+    """Picture of one replica's final configuration with its contact-force network."""
+    run = open_archives(a.archives)
+    done = run.done()
+    if a.replica not in set(done["replica"]):
+        raise AnalysisError(f"replica {a.replica} is not a finished replica (done: {len(done)})")
+    rep = run.replicas.iloc[a.replica]
+    alpha = float(rep["alpha"]) if "alpha" in rep and np.isfinite(rep["alpha"]) else 2.0
+    net, ratt = pictures.draw_configuration(run.final(a.replica), a.output, alpha)
+    p, s = net.stress(run.final(a.replica).box_side)
+    print(f"{len(net.force)} contacts, {int(ratt.sum())} rattlers, network p = {p:.6g}, sigma = {s:.6g}; {a.output}")
+
+
+def _common(p, observable=True):
+    p.add_argument("archives", nargs="+", help="campaign archives, shards or replica files")
+    if observable:
+        p.add_argument("--observable", default="pressure", choices=["pressure", "shear_stress"])
+    p.add_argument("--N", type=int, help="system size (default: the largest)")
+    p.add_argument("--model", help="only this model")
+
+
+def analyze_parser():
+    ap = argparse.ArgumentParser(prog="jamsim_analyze.py", description=__doc__.splitlines()[0])
+    sub = ap.add_subparsers(dest="command", required=True)
+    p = sub.add_parser("summary", help=cmd_summary.__doc__, description=cmd_summary.__doc__)
+    p.add_argument("archives", nargs="+")
+    p = sub.add_parser("averages", help=cmd_averages.__doc__, description=cmd_averages.__doc__)
+    p.add_argument("archives", nargs="+")
+    p.add_argument("--observable", nargs="+", default=["pressure", "shear_stress"])
+    p.add_argument("--output", help="TSV file of the averages over seeds")
+    for name, func in (("collapse", cmd_collapse), ("compare", cmd_compare)):
+        p = sub.add_parser(name, help=func.__doc__, description=func.__doc__ + " " + scaling.__doc__)
+        _common(p)
+        p.add_argument("--degree", type=int, default=3, help="degree of ln F(x) (default 3)")
+        if name == "collapse":
+            p.add_argument("outdir")
+            p.add_argument("--phi-min", type=float, default=-np.inf)
+            p.add_argument("--phi-max", type=float, default=np.inf)
+            p.add_argument("--rate-max", type=float, default=np.inf)
+            p.add_argument("--correction", action="store_true", help="leading correction to scaling")
+            p.add_argument("--correction-degree", type=int, default=0, help="degree of Q(x) (default 0)")
+            p.add_argument("--bootstrap", type=int, default=0, help="resamples of the bootstrap over seeds")
+            p.add_argument("--start", type=float, nargs=3, default=[0.843, 0.28, 3.5], metavar=("PHI_J", "Q", "ZNU"))
+    for name, func in (("newtonian", cmd_newtonian), ("bagnold", cmd_bagnold)):
+        p = sub.add_parser(name, help=func.__doc__, description=func.__doc__ + " " + rheology.__doc__)
+        _common(p)
+        p.add_argument("outdir")
+        p.add_argument("--phi-j", type=float, help="phi_J (default: fitted)")
+        p.add_argument("--correction", action="store_true", help="factor 1 + c (phi_J - phi)")
+    p = sub.add_parser("jamming", help=cmd_jamming.__doc__, description=cmd_jamming.__doc__ + " " + jamming.__doc__)
+    p.add_argument("archives", nargs="+")
+    p.add_argument("--correction", action="store_true", help="free shift exponent (1/nu + omega)")
+    p = sub.add_parser("correlation", help=cmd_correlation.__doc__,
+                       description=cmd_correlation.__doc__ + " " + correlations.__doc__)
+    p.add_argument("archives", nargs="+")
+    p = sub.add_parser("picture", help=cmd_picture.__doc__, description=cmd_picture.__doc__ + " " + pictures.__doc__)
+    p.add_argument("archives", nargs="+")
+    p.add_argument("--replica", type=int, default=0)
+    p.add_argument("--output", default="configuration.png")
+    return ap
+
+
+def _run(func, a, prog):
+    try:
+        func(a)
+    except AnalysisError as e:
+        print(f"{prog}: {e}", file=sys.stderr)
+        return 2
+    return 0
+
+
+def analyze_main(argv=None):
+    a = analyze_parser().parse_args(argv)
+    return _run(globals()[f"cmd_{a.command}"], a, "jamsim_analyze.py")
+
+
+def report_main(argv=None):
+    ap = argparse.ArgumentParser(prog="jamsim_report.py", description=report.__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("paths", nargs="+", metavar="ARCHIVE... OUTDIR",
+                    help="campaign archives, shards or replica files, then the report directory")
+    ap.add_argument("--degree", type=int, default=3, help="degree of ln F(x) in collapses (default 3)")
+    ap.add_argument("--correction", action="store_true", help="leading correction to scaling in the fits")
+    ap.add_argument("--bootstrap", type=int, default=100, help="bootstrap resamples over seeds (0: none)")
+    ap.add_argument("--N", type=int, help="system size of the fits (default: the largest)")
+    a = ap.parse_args(argv)
+    if len(a.paths) < 2:
+        ap.error("give at least one archive and the output directory")
+
+    def run(a):
+        opts = report.ReportOptions(a.degree, a.correction, a.bootstrap, a.N)
+        rep = report.build_report(a.paths[:-1], a.paths[-1], opts)
+        for s in rep.skipped:
+            print(f"not run: {s['analysis']}: {s['reason']}")
+        print(f"{len(rep.fits)} fitted values; report: {os.path.join(a.paths[-1], 'report.html')} and report.md")
+        if not rep.fits:
+            raise AnalysisError("no analysis could fit this archive (reasons above and in the report)")
+
+    return _run(run, a, "jamsim_report.py")

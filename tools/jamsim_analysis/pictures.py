@@ -1,0 +1,125 @@
+"""Final configurations: the contact network and its forces, rattlers, and the picture of
+the sheared cell in the lab frame (disks to scale, coloured by size; contact forces as lines
+of width proportional to the force; rattlers marked).
+
+Forces: V(r) = k_e/alpha (1 - r/d)^alpha for r < d (d = (d_i + d_j)/2), so the contact
+force is f = -dV/dr = (k_e/d) (1 - r/d)^(alpha - 1) (units k_e/d_s, k_e = 1).
+Lees-Edwards: sheared coordinates (x, y) are periodic in the L x L square; the lab
+separation of images is (dx + gamma dy, dy) with dx, dy the sheared separations.
+"""
+import dataclasses
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.collections import LineCollection, PatchCollection  # noqa: E402
+from matplotlib.patches import Circle, Polygon  # noqa: E402
+
+# Rows of the pair search handled at once (memory ~ CHUNK * N doubles per array).
+CHUNK = 512
+# Disks with fewer contacts are rattlers (d + 1 in d = 2 dimensions), removed repeatedly.
+MIN_CONTACTS = 3
+
+
+@dataclasses.dataclass
+class ContactNetwork:
+    """Contacts of a configuration: i, j [C] (i < j); dx, dy [C]: lab-frame separation
+    r_i - r_j of the touching images (d_s); r [C] its length; force [C] (k_e/d_s, > 0)."""
+    i: np.ndarray
+    j: np.ndarray
+    dx: np.ndarray
+    dy: np.ndarray
+    r: np.ndarray
+    force: np.ndarray
+
+    def stress(self, box_side):
+        """(pressure, shear stress) of the network: p = (1/2A) sum r.f, sigma = -(1/A) sum
+        r_x f_y with f the force on i from j (repulsive: along r_i - r_j)."""
+        area = box_side ** 2
+        fx, fy = self.force * self.dx / self.r, self.force * self.dy / self.r
+        return float(np.sum(self.dx * fx + self.dy * fy) / (2 * area)), float(-np.sum(self.dx * fy) / area)
+
+
+def lab_separation(dx, dy, box_side, box_strain):
+    """Lab-frame minimum-image separation for sheared separations dx, dy (d_s)."""
+    L = box_side
+    dy = dy - L * np.round(dy / L)
+    dx = dx - L * np.round(dx / L)
+    lab = dx + box_strain * dy
+    lab = lab - L * np.round(lab / L)  # the nearest image along x after the shift
+    return lab, dy
+
+
+def contact_network(final, alpha=2.0):
+    """ContactNetwork of a FinalConfiguration (O(N^2) search in chunks of rows)."""
+    x, y, d = (np.asarray(a, float) for a in (final.x, final.y, final.diameter))
+    n = len(x)
+    parts = []
+    for start in range(0, n, CHUNK):
+        rows = np.arange(start, min(start + CHUNK, n))
+        dx, dy = lab_separation(x[rows, None] - x[None, :], y[rows, None] - y[None, :],
+                                final.box_side, final.box_strain)
+        r = np.hypot(dx, dy)
+        reach = 0.5 * (d[rows, None] + d[None, :])
+        touching = (r < reach) & (rows[:, None] < np.arange(n)[None, :])
+        ii, jj = np.nonzero(touching)
+        parts.append((rows[ii], jj, dx[ii, jj], dy[ii, jj], r[ii, jj], reach[ii, jj]))
+    i, j, dx, dy, r, reach = (np.concatenate([p[k] for p in parts]) for k in range(6))
+    force = (1.0 / reach) * (1 - r / reach) ** (alpha - 1)
+    return ContactNetwork(i.astype(int), j.astype(int), dx, dy, r, force)
+
+
+def rattlers(n, network, min_contacts=MIN_CONTACTS):
+    """Boolean mask [n]: disks left with fewer than min_contacts contacts after removing such
+    disks repeatedly (their contacts go with them)."""
+    active = np.ones(n, bool)
+    while True:
+        alive = active[network.i] & active[network.j]
+        z = np.bincount(network.i[alive], minlength=n) + np.bincount(network.j[alive], minlength=n)
+        remove = active & (z < min_contacts)
+        if not remove.any():
+            return ~active
+        active &= ~remove
+
+
+def draw_configuration(final, path, alpha=2.0, title="", max_width=4.0):
+    """PNG of a configuration in the lab frame of the sheared cell: disks to scale (small
+    blue, large orange), images of disks crossing the parallelogram's edges, contact
+    forces as black lines of width proportional to the force (max_width points for the
+    largest), rattlers grey with a cross. Returns (network, rattler mask)."""
+    L, gamma = final.box_side, final.box_strain
+    net = contact_network(final, alpha)
+    rattler = rattlers(len(final.x), net)
+    lab_x, y, d = final.lab_x(), np.asarray(final.y), np.asarray(final.diameter)
+    small = d <= np.median(d) if np.ptp(d) > 0 else np.ones(len(d), bool)
+    fig, ax = plt.subplots(figsize=(6, 6))
+    patches, colours = [], []
+    for sx in (-1, 0, 1):
+        for sy in (-1, 0, 1):
+            cx, cy = lab_x + sx * L + sy * gamma * L, y + sy * L
+            near = (cy > -d) & (cy < L + d) & (cx - gamma * cy > -d) & (cx - gamma * cy < L + d)
+            for k in np.flatnonzero(near):
+                patches.append(Circle((cx[k], cy[k]), d[k] / 2))
+                colours.append("0.75" if rattler[k] else ("tab:blue" if small[k] else "tab:orange"))
+    ax.add_collection(PatchCollection(patches, facecolors=colours, edgecolors="k", linewidths=0.3, alpha=0.8))
+    if len(net.force):
+        start = np.column_stack([lab_x[net.i], y[net.i]])
+        end = start - np.column_stack([net.dx, net.dy])
+        widths = max_width * net.force / net.force.max()
+        ax.add_collection(LineCollection(np.stack([start, end], axis=1), linewidths=widths, colors="k"))
+    ax.plot(lab_x[rattler], y[rattler], "x", color="r", ms=4, label="rattler")
+    corners = [(0, 0), (L, 0), (L + gamma * L, L), (gamma * L, L)]
+    ax.add_patch(Polygon(corners, closed=True, fill=False, ec="g", lw=1))
+    ax.set_aspect("equal")
+    ax.set_xlim(min(0, gamma * L) - 1, max(L, L + gamma * L) + 1)
+    ax.set_ylim(-1, L + 1)
+    ax.set_xlabel(r"lab $x$ ($d_s$)")
+    ax.set_ylabel(r"$y$ ($d_s$)")
+    ax.set_title(title or f"N = {len(d)}, strain {gamma:+.3f}, {len(net.force)} contacts, "
+                 f"{int(rattler.sum())} rattlers", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return net, rattler

@@ -1,0 +1,283 @@
+"""One report per archive: the analyses that fit the campaign's models and sweep, written
+as PNG figures plus report.md and report.html in an output directory.
+
+Dynamics (RD0, CD0, RD0T, RD, CD, CDn, CDt): steady averages per (model, N, phi, rate),
+replicas left out and why, flow curves; per model with >= 3 rates the collapse of p and
+sigma (bootstrap over seeds when every point has >= 3 seeds); the Newtonian divergence
+(overdamped models) or the Bagnold analysis (massive models); RD0 against CD0 when both
+are present; g_y(x) and its minimum; a picture of a final configuration.
+Static (RAND, COOL, COMPRESS, COOL_COMPRESS, SHEARED): P_J(phi, N), thresholds per N,
+finite-size scaling with >= 3 sizes, pressure distributions, a picture of a jammed state.
+QS: averages per (N, phi) and a picture.
+An analysis that cannot run is listed with its reason; no analysis at all is an error.
+"""
+import dataclasses
+import os
+
+import numpy as np
+import pandas as pd
+
+from . import correlations, figures, jamming, pictures, rheology, scaling, stats
+from .archive import open_archives
+from .document import Document
+from .errors import AnalysisError
+
+OVERDAMPED = ("RD0", "CD0", "RD0T")
+MASSIVE = ("RD", "CD", "CDn", "CDt")
+OBSERVABLES = ("pressure", "shear_stress")
+# Largest N drawn in a picture (the pair search is O(N^2)).
+PICTURE_MAX_N = 16384
+
+
+@dataclasses.dataclass
+class ReportOptions:
+    """degree: of ln F; correction: leading correction to scaling in the collapse;
+    n_boot: bootstrap resamples (0: none); N: system size for fits (default: the largest)."""
+    degree: int = 3
+    correction: bool = False
+    n_boot: int = 100
+    N: int = None
+
+
+def fit_rows(name, values, errors, chi2=None, dof=None, extra=""):
+    """Table rows (one per parameter) of a fit."""
+    rows = [dict(analysis=name, parameter=k, value=v, error=errors.get(k, np.nan),
+                 chi2_per_dof=(chi2 / dof if dof else np.nan) if chi2 is not None else np.nan,
+                 dof=dof if dof is not None else "", note=extra) for k, v in values.items()]
+    return rows
+
+
+class Report:
+    """Collects sections, fitted values and skipped analyses, then writes the files."""
+
+    def __init__(self, title, outdir):
+        self.doc = Document(title)
+        self.outdir = outdir
+        self.fits = []
+        self.skipped = []
+        os.makedirs(outdir, exist_ok=True)
+
+    def path(self, name):
+        return os.path.join(self.outdir, name)
+
+    def attempt(self, name, func):
+        """Run one analysis; an AnalysisError becomes a skipped entry."""
+        try:
+            func()
+        except AnalysisError as e:
+            self.skipped.append(dict(analysis=name, reason=str(e)))
+        except Exception as e:  # noqa: BLE001 - one failed analysis must not stop the report
+            self.skipped.append(dict(analysis=name, reason=f"failed: {type(e).__name__}: {e}"))
+
+    def write(self):
+        d = self.doc
+        d.heading("Fitted values")
+        if self.fits:
+            d.table(pd.DataFrame(self.fits))
+        else:
+            d.paragraph("No fit could run on this archive.")
+        d.heading("Analyses not run")
+        d.table(pd.DataFrame(self.skipped or [dict(analysis="-", reason="every analysis ran")]))
+        # the summary first: move the two sections just added to the top
+        d.blocks = d.blocks[-4:] + d.blocks[:-4]
+        with open(self.path("report.md"), "w") as f:
+            f.write(d.markdown())
+        with open(self.path("report.html"), "w") as f:
+            f.write(d.html())
+
+
+def _dynamics(rep, archive, opts):
+    table = stats.replica_averages(archive, list(OBSERVABLES))
+    left = table[table["left_out"] != ""]
+    d = rep.doc
+    d.heading("Steady-state averages")
+    d.paragraph("Each replica's window starts at its declared transient plus an MSER-5 truncation (the "
+                "start that minimises the standard error of the remaining mean); a replica whose first "
+                f"and last thirds then differ by more than {stats.DRIFT_Z} standard errors (from the "
+                "integrated autocorrelation time) drifts and is left out. Averages per (model, N, phi, "
+                "rate): mean over seeds, error = standard error over seeds (the time error with one seed).")
+    d.paragraph(f"Replicas left out: {len(left)} of {len(table)}.")
+    if len(left):
+        d.table(left[["replica", "model", "N", "phi", "rate", "seed", "left_out"]])
+    kept = table[table["left_out"] == ""]
+    if kept.empty:
+        raise AnalysisError("every replica was left out (see the table above): empty steady windows")
+    d.table(kept[["replica", "model", "N", "phi", "rate", "seed", "window_start", "samples",
+                  "pressure", "pressure_error", "pressure_tau", "drift_z"]])
+    groups = stats.group_averages(table, list(OBSERVABLES))
+    d.table(groups[["model", "N", "phi", "rate", "seeds", "pressure", "pressure_error",
+                    "shear_stress", "shear_stress_error"]])
+    for o in OBSERVABLES:
+        figures.flow_curves(groups, o, rep.path(f"flow_{o}.png"))
+        d.figure(f"flow_{o}.png", f"{o}/rate against phi")
+    phi_j = {}
+    for model in sorted(groups["model"].unique()):
+        for o in OBSERVABLES:
+            rep.attempt(f"collapse {model} {o}", lambda m=model, o=o: _collapse(rep, table, groups, m, o, opts, phi_j))
+        if model in OVERDAMPED:
+            rep.attempt(f"Newtonian divergence {model}",
+                        lambda m=model: _divergence(rep, groups, m, 1, phi_j.get(m), opts))
+        elif model in MASSIVE:
+            rep.attempt(f"Bagnold analysis {model}",
+                        lambda m=model: _divergence(rep, groups, m, 2, phi_j.get(m), opts))
+    models = set(groups["model"]) & {"RD0", "CD0"}
+    if len(models) == 2:
+        rep.attempt("RD0 against CD0", lambda: _compare(rep, groups, opts))
+    rep.attempt("velocity correlations", lambda: _correlations(rep, archive, table))
+    rep.attempt("configuration picture", lambda: _picture(rep, archive, kept))
+
+
+def _collapse(rep, table, groups, model, observable, opts, phi_j):
+    pts = scaling.collapse_points(groups, observable, N=opts.N, model=model)
+    pts["group"] = model
+    fit = scaling.fit_collapse(pts, opts.degree, 0 if opts.correction else -1, observable=observable)
+    method = "least squares"
+    n = int(groups.loc[groups["model"] == model, "N"].max()) if opts.N is None else opts.N
+    if opts.n_boot > 0 and pts["seeds"].min() >= 3:
+        rows = table[(table["model"] == model) & (table["N"] == n)]
+        fit = scaling.bootstrap_collapse(rows, observable, fit, opts.n_boot)
+        method = fit.method
+    name = f"collapse {model} {observable}"
+    window = (f"N = {n}, phi {pts['phi'].min():g}..{pts['phi'].max():g}, rate {pts['rate'].min():g}.."
+              f"{pts['rate'].max():g}, {len(pts)} points, degree {opts.degree}"
+              + (", with correction" if opts.correction else ""))
+    rep.fits += fit_rows(name, fit.values, fit.errors, fit.chi2, fit.dof, f"{window}; errors: {method}")
+    if observable == "pressure":
+        phi_j[model] = fit.values["phi_J"]
+    fname = f"collapse_{model}_{observable}.png"
+    figures.collapse_figure(fit, rep.path(fname))
+    rep.doc.heading(f"Scaling collapse: {model}, {observable}")
+    rep.doc.paragraph(f"Window: {window}. Errors: {method}. chi2/dof = {fit.chi2_per_dof:.2f} ({fit.dof} dof).")
+    rep.doc.figure(fname, f"collapse of {observable} ({model})")
+
+
+def _divergence(rep, groups, model, power, phi_j, opts):
+    kind = "Newtonian" if power == 1 else "Bagnold"
+    func = rheology.newtonian_divergence if power == 1 else rheology.bagnold_analysis
+    slopes = rheology.local_slopes(groups[groups["model"] == model], "pressure")
+    rep.doc.heading(f"{kind} rheology: {model}")
+    if len(slopes):
+        rep.doc.paragraph("Local slopes d ln p / d ln rate and their regime:")
+        rep.doc.table(slopes)
+    plateau, fit = func(groups, "pressure", phi_j=phi_j, N=opts.N, model=model,
+                        correction=(power == 2))
+    rep.doc.table(plateau)
+    note = f"phi_J {'from the collapse' if phi_j is not None else 'fitted'}; points: {len(fit.points)}"
+    rep.fits += fit_rows(f"{kind} divergence {model} p/rate^{power}", fit.values, fit.errors, fit.chi2, fit.dof, note)
+    fname = f"{kind.lower()}_{model}.png"
+    figures.divergence_figure(plateau, fit, f"$p/\\dot\\gamma^{power}$ (rate -> 0)", rep.path(fname))
+    rep.doc.figure(fname, f"{kind} coefficient of p against phi_J - phi ({model})")
+
+
+def _compare(rep, groups, opts):
+    pts = pd.concat([scaling.collapse_points(groups, "pressure", N=opts.N, model=m) for m in ("RD0", "CD0")])
+    cmp = scaling.compare_collapses(pts, opts.degree, 0 if opts.correction else -1)
+    rep.doc.heading("RD0 against CD0")
+    rep.doc.paragraph(cmp.statement())
+    rep.fits += fit_rows("joint collapse RD0+CD0 pressure", cmp.joint.values, cmp.joint.errors,
+                         cmp.joint.chi2, cmp.joint.dof, f"F = {cmp.f_statistic:.2f}, p = {cmp.p_value:.3g}")
+    figures.collapse_figure(cmp.joint, rep.path("collapse_joint.png"))
+    rep.doc.figure("collapse_joint.png", "joint collapse of RD0 and CD0")
+
+
+def _correlations(rep, archive, table):
+    per, grouped = correlations.correlation_minima(archive, table)
+    rep.doc.heading("Velocity correlations")
+    rep.doc.table(grouped)
+    curves = {}
+    for (model, n, phi, rate), part in per.groupby(["model", "N", "phi", "rate"]):
+        curves[f"{model} N={int(n)} phi={phi:g} rate={rate:g}"] = correlations.mean_curves(archive, part["replica"])
+    figures.correlation_figure(dict(list(curves.items())[:12]), grouped, rep.path("correlation.png"))
+    rep.doc.figure("correlation.png", "g_y(x) per rate (left) and the position of its minimum (right)")
+    for (model, n, phi), part in grouped.groupby(["model", "N", "phi"]):
+        try:
+            g = correlations.fit_minimum_growth(part["rate"], part["x_min"], part["x_min_error"])
+        except AnalysisError:
+            continue
+        rep.fits += fit_rows(f"x_min growth {model} N={int(n)} phi={phi:g}", {"a": g.a, "A": g.A},
+                             {"a": g.a_error, "A": g.A_error}, g.chi2, g.dof, "x_min = A rate^-a")
+
+
+def _picture(rep, archive, kept):
+    small = kept[kept["N"] <= PICTURE_MAX_N]
+    if small.empty:
+        raise AnalysisError(f"no kept replica with N <= {PICTURE_MAX_N} to draw")
+    order = [c for c in ("N", "phi", "rate") if c in small]
+    pick = small.sort_values(order, ascending=[False, False, True][: len(order)]).iloc[0]
+    r = int(pick["replica"])
+    alpha = float(pick["alpha"]) if "alpha" in pick and np.isfinite(pick["alpha"]) else 2.0
+    net, ratt = pictures.draw_configuration(archive.final(r), rep.path("configuration.png"), alpha)
+    rep.doc.heading("Final configuration")
+    rep.doc.paragraph(f"Replica {r} (N = {int(pick['N'])}, phi = {pick['phi']:g}"
+                      + (f", rate = {pick['rate']:g}" if "rate" in pick and np.isfinite(pick["rate"]) else "")
+                      + f"): {len(net.force)} contacts, {int(ratt.sum())} rattlers.")
+    rep.doc.figure("configuration.png", "final configuration in the lab frame, contact forces as lines")
+
+
+def _static(rep, archive, opts):
+    states = jamming.static_states(archive)
+    d = rep.doc
+    d.heading("Jammed states")
+    pj = jamming.jamming_probability(states)
+    d.table(pj)
+    thr = jamming.thresholds(states)
+    if len(thr):
+        d.paragraph("Threshold per N: mean mu and width s (compression protocols: of phi_J; "
+                    "RAND and COOL: maximum-likelihood normal CDF fitted to P_J).")
+        d.table(thr)
+        for _, t in thr.iterrows():
+            rep.fits += fit_rows(f"threshold {t['model']} N={int(t['N'])}", {"mu": t["mu"], "s": t["s"]},
+                                 {"mu": t["mu_error"], "s": t["s_error"]},
+                                 extra=f"{int(t['configurations'])} configurations")
+    figures.jamming_figure(pj, thr if len(thr) else None, rep.path("pj.png"))
+    d.figure("pj.png", "jamming probability P_J(phi) per N")
+    jammed = states[states["jammed"] == 1]
+    hist = {f"{m} N={int(n)} phi={phi:g}": part["pressure"].to_numpy()
+            for (m, n, phi), part in jammed.groupby(["model", "N", "phi"])}
+    figures.histogram_figure(hist, "p (jammed states)", rep.path("pressure_distribution.png"))
+    d.figure("pressure_distribution.png", "pressure distributions of jammed states at fixed phi")
+    for model in sorted(states["model"].unique()):
+        rep.attempt(f"finite-size scaling {model}", lambda m=model: _fss(rep, thr, m, opts))
+    kept = archive.done().merge(jammed[["replica"]], on="replica")
+    rep.attempt("configuration picture", lambda: _picture(rep, archive, kept))
+
+
+def _fss(rep, thr, model, opts):
+    t = thr[thr["model"] == model] if len(thr) else thr
+    fit = jamming.finite_size_scaling(t, correction=opts.correction)
+    rep.fits += fit_rows(f"finite-size scaling {model}", fit.values, fit.errors, fit.chi2, fit.dof,
+                         f"sizes {', '.join(str(int(n)) for n in t['N'])}")
+
+
+def _quasistatic(rep, archive):
+    table = stats.replica_averages(archive, list(OBSERVABLES))
+    groups = stats.group_averages(table, list(OBSERVABLES), keys=("model", "N", "phi"))
+    rep.doc.heading("Quasistatic shear averages")
+    rep.doc.table(groups)
+    kept = table[table["left_out"] == ""]
+    rep.attempt("configuration picture", lambda: _picture(rep, archive, kept))
+
+
+def build_report(paths, outdir, opts=None):
+    """Write the report of the archive(s) at `paths` into outdir; returns the Report."""
+    opts = opts or ReportOptions()
+    archive = open_archives(paths)
+    if archive.done().empty:
+        raise AnalysisError(f"{', '.join(paths)}: no finished replica (status done) to analyse")
+    attrs = archive.attributes()
+    rep = Report(f"jamsim report: {', '.join(sorted(set(archive.replicas['campaign'])))}", outdir)
+    rep.doc.paragraph(f"Files: {', '.join(paths)}; models: {', '.join(archive.models)}; code version "
+                      f"{attrs.get('code_version', '?')}; layout {attrs.get('layout_version', '?')}; "
+                      f"{len(archive.done())} of {len(archive.replicas)} replicas done.")
+    models = set(archive.models)
+    if models <= set(OVERDAMPED + MASSIVE):
+        _dynamics(rep, archive, opts)
+    elif models <= set(jamming.QUENCHED + jamming.COMPRESSED):
+        _static(rep, archive, opts)
+    elif models == {"QS"}:
+        _quasistatic(rep, archive)
+    else:
+        raise AnalysisError(f"models {', '.join(sorted(models))}: one report covers dynamics, "
+                            "jamming protocols or QS, not a mixture")
+    rep.write()
+    return rep

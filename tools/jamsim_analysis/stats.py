@@ -1,0 +1,259 @@
+"""Statistics of time series: autocorrelation, error bars of correlated means (integrated
+autocorrelation time, blocking, jackknife), steady-state windows, and the averages per
+replica and per (model, N, phi, rate).
+
+Convention: for n samples of a stationary series with variance s^2 and normalised
+autocorrelation rho(t), the integrated autocorrelation time (in samples) is
+    tau_int = 1/2 + sum_{t>=1} rho(t),
+so that var(mean) = 2 tau_int s^2 / n. An AR(1) series x_t = a x_{t-1} + noise has
+rho(t) = a^t and tau_int = (1 + a) / (2 (1 - a)).
+"""
+import dataclasses
+
+import numpy as np
+import pandas as pd
+
+from .errors import AnalysisError
+
+# Sokal's window: sum rho(t) up to the first W with W >= WINDOW_FACTOR * tau_int(W).
+WINDOW_FACTOR = 5.0
+# Fewest samples in a steady window for an error estimate.
+MIN_SAMPLES = 16
+# A replica drifts when the means of the first and last thirds of its window differ by more
+# than this many combined standard errors.
+DRIFT_Z = 3.5
+# Independent samples (n / 2 tau_int) a third of the window needs for the drift test.
+MIN_INDEPENDENT = 3
+
+
+def autocorrelation(x):
+    """Normalised autocorrelation rho(t), t = 0..n-1, of a 1-D series (FFT, the biased
+    estimator sum_{i} dx_i dx_{i+t} / sum_i dx_i^2)."""
+    x = np.asarray(x, float)
+    n = len(x)
+    dx = x - x.mean()
+    size = 1 << (2 * n - 1).bit_length()
+    spectrum = np.fft.rfft(dx, size)
+    acov = np.fft.irfft(spectrum * np.conj(spectrum), size)[:n]
+    if acov[0] <= 0:
+        return np.r_[1.0, np.zeros(n - 1)]
+    return acov / acov[0]
+
+
+def integrated_autocorrelation_time(x, window_factor=WINDOW_FACTOR):
+    """(tau_int in samples, window W) by Sokal's automatic window."""
+    rho = autocorrelation(x)
+    tau = 0.5 + np.cumsum(rho[1:])  # tau[W-1] = 1/2 + sum_{t=1..W} rho(t)
+    windows = np.arange(1, len(rho))
+    ok = windows >= window_factor * tau
+    if not ok.any():
+        return float(max(tau[-1], 0.5)) if len(tau) else 0.5, len(rho) - 1
+    w = int(np.argmax(ok))
+    return float(max(tau[w], 0.5)), int(windows[w])
+
+
+def blocking_levels(x):
+    """Flyvbjerg-Petersen blocking: [(block size, blocks, standard error of the mean,
+    its uncertainty)] as the series is halved until fewer than 4 blocks remain."""
+    x = np.asarray(x, float)
+    levels, size = [], 1
+    while len(x) >= 4:
+        n = len(x)
+        se = np.std(x, ddof=1) / np.sqrt(n)
+        levels.append((size, n, se, se / np.sqrt(2.0 * (n - 1))))
+        x = 0.5 * (x[: n // 2 * 2 : 2] + x[1 : n // 2 * 2 : 2])
+        size *= 2
+    return levels
+
+
+def blocking_error(x):
+    """(standard error of the mean, block size) by blocking, with the optimal block of Lee,
+    Needs and Drummond (2011): the smallest B with B^3 > 2 n (se_B / se_1)^4. When no level
+    qualifies, the largest block with at least 4 blocks is used."""
+    levels = blocking_levels(x)
+    if not levels:
+        return float("nan"), 0
+    n, se1 = levels[0][1], levels[0][2]
+    for size, _, se, _ in levels:
+        if se1 == 0 or size ** 3 > 2 * n * (se / se1) ** 4:
+            return float(se), size
+    return float(levels[-1][2]), levels[-1][0]
+
+
+def jackknife(x, func, n_blocks=20):
+    """Jackknife over contiguous blocks: (estimate, error) of func(mean over rows) for a
+    series x [n] or [n, k]; func takes the mean vector (or scalar). The estimate is
+    bias-corrected: n_b f(all) - (n_b - 1) mean(f(leave one out))."""
+    x = np.asarray(x, float)
+    n = len(x) // n_blocks * n_blocks
+    if n_blocks < 2 or n == 0:
+        raise AnalysisError(f"jackknife needs at least {n_blocks} samples (has {len(x)})")
+    blocks = x[:n].reshape((n_blocks, n // n_blocks) + x.shape[1:]).mean(axis=1)
+    total = blocks.sum(axis=0)
+    full = func(total / n_blocks)
+    leave_out = np.array([func((total - b) / (n_blocks - 1)) for b in blocks])
+    estimate = n_blocks * full - (n_blocks - 1) * leave_out.mean(axis=0)
+    error = np.sqrt((n_blocks - 1) / n_blocks * np.sum((leave_out - leave_out.mean(axis=0)) ** 2, axis=0))
+    return estimate, error
+
+
+@dataclasses.dataclass
+class MeanEstimate:
+    """Mean of a correlated series. error = sqrt(2 tau_int var / n); blocking_error and
+    block_size from blocking; tau_int in samples; n_effective = n / (2 tau_int)."""
+    mean: float
+    error: float
+    tau_int: float
+    n: int
+    blocking_error: float
+    block_size: int
+
+    @property
+    def n_effective(self):
+        return self.n / (2 * self.tau_int)
+
+
+def mean_with_error(x):
+    """MeanEstimate of a 1-D series (error NaN below 2 samples)."""
+    x = np.asarray(x, float)
+    n = len(x)
+    if n == 0:
+        raise AnalysisError("mean of an empty series")
+    if n < 2:
+        return MeanEstimate(float(x[0]), float("nan"), 0.5, 1, float("nan"), 0)
+    tau, _ = integrated_autocorrelation_time(x)
+    error = float(np.sqrt(np.var(x, ddof=1) * 2 * tau / n))
+    block_err, block = blocking_error(x)
+    return MeanEstimate(float(x.mean()), error, tau, n, block_err, block)
+
+
+@dataclasses.dataclass
+class SteadyWindow:
+    """The steady part of a series: samples [start, n). start_time: its strain (or time);
+    drift_z: |mean(first third) - mean(last third)| / combined error (see _drift_z; NaN when
+    the window is too short for the test); drifting: drift_z above the threshold."""
+    start: int
+    start_time: float
+    drift_z: float
+    drifting: bool
+
+
+def _drift_z(values):
+    """|mean(first third) - mean(last third)| in standard errors, NaN when a third holds
+    fewer than MIN_INDEPENDENT independent samples (too short to tell drift from slow
+    fluctuations). Under the hypothesis of a stationary window both thirds share the
+    variance and tau_int of the second half (a transient left in the first third would
+    inflate its own estimate and hide itself)."""
+    third = len(values) // 3
+    if third < 4:
+        return float("nan")
+    half = values[len(values) // 2:]
+    tau, _ = integrated_autocorrelation_time(half)
+    if third < 2 * tau * MIN_INDEPENDENT:
+        return float("nan")
+    err = np.sqrt(2.0 * np.var(half, ddof=1) * 2 * tau / third)
+    diff = abs(np.mean(values[:third]) - np.mean(values[-third:]))
+    return float(diff / err) if err > 0 else (0.0 if diff == 0 else np.inf)
+
+
+def mser_truncation(values, batch=5):
+    """MSER-5 (White 1997): the number of leading samples to drop, d = 5 k with k
+    minimising the squared standard error sum_{i>k} (b_i - mean)^2 / (m - k)^2 of the batch
+    means b (batches of 5), searched over the first half."""
+    m = len(values) // batch
+    if m < 4:
+        return 0
+    b = np.asarray(values[: m * batch], float).reshape(m, batch).mean(axis=1)
+    scores = [np.var(b[k:]) / (m - k) for k in range(m // 2 + 1)]  # var/(m-k) = sum/(m-k)^2
+    return int(np.argmin(scores)) * batch
+
+
+def steady_window(times, values, transient=0.0, z_max=DRIFT_Z):
+    """Steady window of a series: from the first sample with times >= transient (the declared
+    transient), a further MSER-5 truncation (the start that minimises the standard error of
+    the remaining mean: the transient's bias against the noise); then the first and last
+    thirds of the window are compared, and more than z_max standard errors apart flags the
+    replica as drifting (the observable has not settled)."""
+    times, values = np.asarray(times, float), np.asarray(values, float)
+    first = int(np.searchsorted(times, transient, side="left")) if len(times) else 0
+    first = min(first, len(values))
+    start = first + mser_truncation(values[first:])
+    z = _drift_z(values[start:])
+    t0 = float(times[start]) if start < len(times) else float("nan")
+    return SteadyWindow(start, t0, z, bool(z > z_max))
+
+
+KEYS = ("model", "N", "phi", "rate")
+
+
+def replica_averages(archive, observables, time_column="strain", drift_observable=None, detect=True):
+    """Per finished replica: the steady window and the mean, error and tau_int of each
+    observable over it. Returns a DataFrame with the replica's parameters, `<obs>`,
+    `<obs>_error`, `<obs>_tau` (samples), `window_start` (strain or time), `samples`,
+    `drift_z`, `drifting` and `left_out` (a reason, or "" for replicas kept). Replicas not
+    done appear with left_out = their status."""
+    table = archive.replicas
+    drift_observable = drift_observable or observables[0]
+    has_time = time_column in archive.observables()
+    rows = []
+    for _, rep in table.iterrows():
+        row = {k: rep[k] for k in table.columns if k not in ("file",)}
+        row["left_out"] = ""
+        if rep["status"] != 2:
+            row["left_out"] = f"status {rep['status_name']}" + (
+                f" ({rep['failure_reason']})" if rep.get("failure_reason") else "")
+            rows.append(row)
+            continue
+        r = int(rep["replica"])
+        times = archive.series(r, time_column) if has_time else None
+        series = {o: archive.series(r, o) for o in observables}
+        n = len(series[drift_observable])
+        if times is None or not np.all(np.isfinite(times[:n])):
+            times = np.arange(n, dtype=float)
+            transient = 0.0
+        else:
+            transient = rep.get("transient", 0.0)
+            transient = 0.0 if not np.isfinite(transient) else float(transient)
+        if detect and n >= MIN_SAMPLES:
+            window = steady_window(times, series[drift_observable], transient)
+        else:
+            start = int(np.searchsorted(times, transient)) if n > 1 else 0
+            window = SteadyWindow(start, float(times[start]) if start < n else np.nan, 0.0, False)
+        row.update(window_start=window.start_time, samples=n - window.start, drift_z=window.drift_z,
+                   drifting=window.drifting)
+        if n - window.start <= 0:
+            row["left_out"] = "empty steady window"
+        for o in observables:
+            v = series[o][window.start:]
+            if len(v) == 0 or not np.all(np.isfinite(v)):
+                row["left_out"] = row["left_out"] or f"{o} not finite in the window"
+                continue
+            est = mean_with_error(v)
+            row.update({o: est.mean, f"{o}_error": est.error, f"{o}_tau": est.tau_int})
+        if window.drifting and not row["left_out"]:
+            row["left_out"] = f"{drift_observable} drifts (first/last third differ by {window.drift_z:.1f} sigma)"
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def group_averages(replica_table, observables, keys=KEYS):
+    """Averages over seeds per `keys` of the kept replicas (left_out == ""). For each
+    observable: `<obs>` (mean of replica means), `<obs>_error` (standard error over seeds
+    when 2 or more, else the replica's own time error), `<obs>_error_time` (the time errors
+    propagated: sqrt(sum e_i^2)/n) and `seeds`."""
+    kept = replica_table[replica_table["left_out"] == ""] if "left_out" in replica_table else replica_table
+    if kept.empty:
+        raise AnalysisError("no finished replica left to average")
+    keys = [k for k in keys if k in kept.columns]
+    rows = []
+    for key, part in kept.groupby(keys, dropna=False, sort=True):
+        row = dict(zip(keys, key if isinstance(key, tuple) else (key,)))
+        row["seeds"] = len(part)
+        for o in observables:
+            v = part[o].to_numpy(float)
+            e = part[f"{o}_error"].to_numpy(float) if f"{o}_error" in part else np.full(len(v), np.nan)
+            row[o] = v.mean()
+            row[f"{o}_error_time"] = np.sqrt(np.nansum(e ** 2)) / len(v) if np.isfinite(e).any() else np.nan
+            row[f"{o}_error"] = v.std(ddof=1) / np.sqrt(len(v)) if len(v) >= 2 else row[f"{o}_error_time"]
+        rows.append(row)
+    return pd.DataFrame(rows)
