@@ -411,6 +411,23 @@ std::vector<ReplicaStatus> Archive::read_status() const {
 void Archive::stamp(const std::string& attribute) {
     std::string now = utc_now();
     mpi::broadcast(now, 0, comm_);
+    // Metadata changes are collective, and HDF5 needs every rank's metadata cache to take
+    // the same path through them. The independent writes of a run (each rank opens the
+    // datasets of its own replicas) leave the caches different, which deadlocked this very
+    // attribute write with 64 ranks and 10^4 replicas; closing and reopening the file makes
+    // them the same (empty) first.
+    {
+        const ssize_t length = H5Fget_name(file_.get(), nullptr, 0);
+        check(static_cast<herr_t>(length < 0 ? -1 : 0), "name of the archive");
+        std::string path(static_cast<std::size_t>(length) + 1, '\0');
+        check(static_cast<herr_t>(H5Fget_name(file_.get(), path.data(), path.size()) < 0 ? -1 : 0),
+              "name of the archive");
+        path.resize(static_cast<std::size_t>(length));
+        file_.close("archive '" + path + "'");
+        const auto fapl = h5::mpio_file_access(comm_);
+        file_ = Handle(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl.get()), H5Fclose,
+                       "reopen archive '" + path + "'");
+    }
     const hid_t f = file_.get();
     h5::replace_attribute(f, attribute, now);
     h5::replace_attribute(f, "n_ranks", static_cast<std::int64_t>(mpi::size(comm_)));
