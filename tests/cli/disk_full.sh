@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# usage: disk_full.sh JAMSIM WORKDIR
+# On a small tmpfs mounted here (root only; exit 77 = skipped otherwise): a campaign whose
+# archive does not fit is refused before anything is created, with the sizes in the message;
+# the same campaign fits once --output points at a larger filesystem (dry run).
+set -euo pipefail
+jamsim=$1 work=$2
+[[ $(id -u) -eq 0 ]] || { echo "skipped: mounting a tmpfs needs root"; exit 77; }
+mkdir -p "$work/small"
+mountpoint -q "$work/small" && umount "$work/small"
+mount -t tmpfs -o size=4M tmpfs "$work/small"
+# (an MPI singleton's helper process may keep its working directory there for a moment)
+trap 'cd /; for _ in 1 2 3 4 5 6 7 8 9 10; do umount "$work/small" 2>/dev/null && break; sleep 0.5; done; mountpoint -q "$work/small" && umount -l "$work/small"' EXIT
+cat > "$work/small/big.toml" <<'TOML'
+[campaign]
+name = "too-big"
+output = "big.h5"
+[run]
+strain = 2
+sample_interval = 0.002
+[sweep]
+N = [512]
+phi = [0.84]
+rate = [1e-2]
+seeds = 40
+TOML
+cd "$work/small"
+before=$(ls -A)
+rc=0; "$jamsim" run big.toml > "$work/refused.txt" 2>&1 || rc=$?
+cat "$work/refused.txt"
+[[ $rc -eq 2 ]] || { echo "FAIL: exit $rc, expected 2"; exit 1; }
+grep -Eq "big.toml: the archive 'big.h5' needs [0-9.]+ MB more \(.* of archive for 40 replicas, N up to 512, up to 1001 samples each, .* of checkpoints\), but its filesystem has [0-9.]+ MB free" "$work/refused.txt"
+! grep -Eq "MPI_ABORT|HDF5-DIAG" "$work/refused.txt"
+[[ "$(ls -A)" == "$before" ]] || { echo "FAIL: files were created: $(ls -A)"; exit 1; }
+"$jamsim" run big.toml --dry-run --no-calibrate -o "$work/big.h5" | grep -Eq "^archive .*big.h5: [0-9.]+ MB when complete"
+echo "ok: refused on a 4 MB filesystem, nothing created"
