@@ -289,6 +289,12 @@ void print_dry_run(const CampaignSpec& spec, const std::string& output, const Dr
     }
 }
 
+/// The filesystem of `path` has (almost) no space left: a failed write is a full disk.
+bool disk_full(const std::string& path) {
+    const double free = free_bytes(path);
+    return std::isfinite(free) && free < 1e6;
+}
+
 void print_capacity(const CapacityEstimate& e, const std::string& output) {
     std::printf("archive %s: %s when complete (%s on disk now), checkpoints up to %s, %s free on its "
                 "filesystem; memory: about %s per rank, %d ranks on a node of %s available\n",
@@ -375,7 +381,32 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
         }
         int exists = rank == 0 ? std::filesystem::exists(output) : 0;
         mpi::broadcast(exists, 0, comm);
-        Archive archive = exists ? Archive::open(comm, output) : Archive::create(comm, output, spec);
+        std::optional<Archive> created;
+        if (!exists) {
+            // A creation that fails (a filesystem filled since the check) leaves no partial
+            // file behind and says why in words, on every rank together (it is collective).
+            std::string why;
+            try {
+                created.emplace(Archive::create(comm, output, spec));
+            } catch (const h5::Error& e) {
+                why = e.what();
+            }
+            int failed = !why.empty(), any = 0;
+            mpi::check(MPI_Allreduce(&failed, &any, 1, MPI_INT, MPI_MAX, comm), "MPI_Allreduce");
+            if (any) {
+                created.reset();
+                if (rank == 0) {
+                    std::error_code ignored;
+                    std::filesystem::remove(output, ignored);
+                    std::fprintf(stderr, "jamsim run: %s: creating the archive '%s' failed%s; nothing was kept (%s)\n",
+                                 opt.spec_path.c_str(), output.c_str(),
+                                 disk_full(output) ? ": no space left on device" : "", why.c_str());
+                }
+                lock->release();
+                return 2;
+            }
+        }
+        Archive archive = exists ? Archive::open(comm, output) : std::move(*created);
         archive.stamp("run_started");
         std::optional<InitialStates> initial;
         if (!spec.replicas.front().initial.empty()) initial.emplace(spec.replicas.front().initial);
@@ -431,7 +462,13 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
         }
     } catch (const std::exception& e) {
         // One rank cannot leave the others waiting in a collective call: abort the job.
-        std::fprintf(stderr, "jamsim run (rank %d): error: %s\n", rank, e.what());
+        if (dynamic_cast<const h5::Error*>(&e) && disk_full(output))
+            std::fprintf(stderr, "jamsim run (rank %d): no space left on device: writing the archive '%s' "
+                                 "failed (%s); the replicas finished before are safe in it (jamsim status "
+                                 "%s): free space and run the same command again to continue\n",
+                         rank, output.c_str(), e.what(), output.c_str());
+        else
+            std::fprintf(stderr, "jamsim run (rank %d): error: %s\n", rank, e.what());
         MPI_Abort(comm, 1);
     }
     return 0;

@@ -28,7 +28,9 @@ constexpr double kDiskMargin = 0.10;
 /// A rank's share of its node's available memory that one rank may plan to use.
 constexpr double kMemoryMargin = 0.8;
 
-double free_space(const std::string& output) {
+} // namespace
+
+double free_bytes(const std::string& output) {
     namespace fs = std::filesystem;
     const fs::path p(output);
     const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
@@ -36,6 +38,8 @@ double free_space(const std::string& output) {
     if (::statvfs(dir.c_str(), &s) != 0) return kNaN;
     return static_cast<double>(s.f_bavail) * static_cast<double>(s.f_frsize);
 }
+
+namespace {
 
 double occupied(const std::string& path) {
     struct stat s {};
@@ -76,7 +80,7 @@ CapacityEstimate estimate_capacity(const CampaignSpec& spec, const std::string& 
     }
     const double running = std::min<double>(std::max(ranks, 1), static_cast<double>(spec.replicas.size()));
     e.checkpoint_bytes = finals + 2.0 * running * largest_checkpoint;  // a .tmp beside each
-    e.free_bytes = free_space(output);
+    e.free_bytes = free_bytes(output);
     e.ranks_per_node = std::max(ranks_per_node, 1);
     e.rank_memory = kLibraryBytes + static_cast<double>(spec.replicas.size()) * 1024.0 +
                     static_cast<double>(spec.text.size()) + largest_replica;

@@ -34,6 +34,9 @@ struct CapacityLimits {
 std::string check_capacity(const CapacityEstimate& e, const CapacityLimits& limits,
                            const CampaignSpec& spec, const std::string& output);
 
+/// Free bytes for this user on the filesystem that holds (or would hold) `path`; NaN unknown.
+double free_bytes(const std::string& path);
+
 /// "1.5 GB", "830 kB" (decimal units).
 std::string show_bytes(double bytes);
 /// "10G", "1.5T", "500M", "2e12" in bytes; negative when it does not parse.
