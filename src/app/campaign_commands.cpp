@@ -176,27 +176,11 @@ std::string check_petsc_options(const CampaignSpec& spec) {
     return "";
 }
 
-/// Advisory warnings (limits not refused; model_registry.hpp `advisories`), each kind once in
-/// the run log with the number of replicas it concerns.
+/// Advisory warnings (limits not refused), each kind once in the run log; the archive keeps
+/// them too (its root attribute `warnings`).
 void print_advisories(const CampaignSpec& spec) {
-    std::vector<std::pair<std::string, std::string>> first;  // kind, text of its first replica
-    std::vector<std::size_t> count;
-    for (const ReplicaParams& p : spec.replicas)
-        for (auto& [kind, text] : advisories(p)) {
-            std::size_t k = 0;
-            while (k < first.size() && first[k].first != kind) ++k;
-            if (k == first.size()) {
-                first.emplace_back(kind, text);
-                count.push_back(0);
-            }
-            ++count[k];
-        }
-    for (std::size_t k = 0; k < first.size(); ++k)
-        std::fprintf(stderr, "jamsim run: warning: %s: %s%s\n", spec.path.c_str(),
-                     first[k].second.c_str(),
-                     count[k] > 1 ? (" (and " + std::to_string(count[k] - 1) +
-                                     " more replicas alike)").c_str()
-                                  : "");
+    for (const std::string& line : campaign_warnings(spec))
+        std::fprintf(stderr, "jamsim run: warning: %s: %s\n", spec.path.c_str(), line.c_str());
 }
 
 /// Seconds per estimated cost unit for each (model, N) of a campaign, measured on this

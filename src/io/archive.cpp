@@ -117,6 +117,11 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
         if (!is_numeric(*info))
             h5::write_attribute(f, std::string(info->key),
                                 show_value(get_value(spec.replicas.front(), *info)));
+    {
+        std::string warnings;  // advisory limits of the campaign, one per line ("" when none)
+        for (const std::string& line : campaign_warnings(spec)) warnings.append(line).append("\n");
+        h5::write_attribute(f, "warnings", warnings);
+    }
     h5::write_attribute(f, "code_version", std::string(kVersion));
     h5::write_attribute(f, "build_flags", std::string(kBuildFlags));
     h5::write_attribute(f, "created", created);

@@ -407,6 +407,28 @@ CampaignSpec load_campaign(const std::string& path, std::int64_t max_replicas) {
     return parse_campaign(text.str(), path, max_replicas);
 }
 
+std::vector<std::string> campaign_warnings(const CampaignSpec& spec) {
+    std::vector<std::pair<std::string, std::string>> first;  // kind, text of its first replica
+    std::vector<std::size_t> count;
+    for (const ReplicaParams& p : spec.replicas)
+        for (auto& [kind, text] : advisories(p)) {
+            std::size_t k = 0;
+            while (k < first.size() && first[k].first != kind) ++k;
+            if (k == first.size()) {
+                first.emplace_back(kind, text);
+                count.push_back(0);
+            }
+            ++count[k];
+        }
+    std::vector<std::string> out;
+    for (std::size_t k = 0; k < first.size(); ++k) {
+        std::string line = first[k].second;
+        if (count[k] > 1) line.append(" (and ").append(std::to_string(count[k] - 1)).append(" more replicas alike)");
+        out.push_back(line);
+    }
+    return out;
+}
+
 std::string fingerprint(const CampaignSpec& spec) {
     // The version names what the results mean: v5 keyed every random number by the replica's
     // identity (its physical parameters and seed) instead of its position in the sweep, and

@@ -48,6 +48,10 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path,
 /// Read a file and parse it; throws SpecError (also for an unreadable file).
 CampaignSpec load_campaign(const std::string& path, std::int64_t max_replicas = kDefaultMaxReplicas);
 
+/// The advisory warnings of a campaign (limits that are not refused; model_registry.hpp
+/// `advisories`): each kind once, with the number of replicas it concerns.
+std::vector<std::string> campaign_warnings(const CampaignSpec& spec);
+
 /// Canonical description of everything that determines the replicas' output (one line per
 /// replica, its used parameters). Two specs with the same fingerprint produce the same
 /// archive contents.
