@@ -89,7 +89,7 @@ bool redraw_progress(const std::string& mode) {
 
 /// A nominal throughput for time estimates in --dry-run (particle force evaluations/s, one
 /// core; measured RD0 figure, see README "Benchmarks").
-constexpr double kNominalRate = 7e7;
+constexpr double kNominalRate = kNominalEvaluationsPerSecond;
 
 std::string check_output(const std::string& path, const CampaignSpec& spec, int& extend) {
     namespace fs = std::filesystem;

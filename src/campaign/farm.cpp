@@ -206,16 +206,21 @@ class Dispatcher {
         if (!final_line && std::chrono::duration<double>(Clock::now() - last_print_).count() < every)
             return;
         last_print_ = Clock::now();
+        // From the throughput so far; before the first replica ends, from the estimated cost
+        // at the nominal rate (marked "nominal").
+        const bool measured = cost_done_ > 0;
         const double remaining =
-            cost_done_ > 0 ? elapsed * (cost_total_run_ - cost_done_) / cost_done_ : -1;
+            measured ? elapsed * (cost_total_run_ - cost_done_) / cost_done_
+                     : (cost_total_run_ - cost_done_) /
+                           (kNominalEvaluationsPerSecond * static_cast<double>(mpi::size(comm_)));
         const auto total = static_cast<long long>(total_);
         const long long pending = total - done_ - failed_ - running_;
         std::fprintf(stdout, "%s[%s] %lld/%lld done, %lld running, %lld failed, %lld pending | "
-                             "elapsed %s | remaining ~%s%s",
+                             "elapsed %s | remaining ~%s%s%s",
                      progress_.terminal ? "\r" : "", spec_.name.c_str(),
                      static_cast<long long>(done_), total, static_cast<long long>(running_),
                      static_cast<long long>(failed_), pending, hms(elapsed).c_str(),
-                     hms(remaining).c_str(),
+                     hms(remaining).c_str(), measured || final_line ? "" : " (nominal)",
                      progress_.terminal && !final_line ? "   " : "\n");
         std::fflush(stdout);
     }

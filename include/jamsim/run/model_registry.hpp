@@ -89,6 +89,10 @@ std::vector<ParamError> validate(const ReplicaParams& p);
 /// assumes). Each is a (kind, text) pair: a run prints each kind once in its log.
 std::vector<std::pair<std::string, std::string>> advisories(const ReplicaParams& p);
 
+/// A nominal single-core throughput (particle force evaluations per second; the measured
+/// RD0 figure, README "Benchmarks") for time estimates before anything has been measured.
+inline constexpr double kNominalEvaluationsPerSecond = 7e7;
+
 Schedule schedule_of(const ReplicaParams& p);
 /// The steps `checkpoint_steps` counts (ModelInfo::checkpointed_steps, else the schedule's).
 std::int64_t checkpointed_steps(const ReplicaParams& p);
