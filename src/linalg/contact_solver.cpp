@@ -1,5 +1,6 @@
 #include "jamsim/linalg/petsc_contact_solver.hpp"
 #include "jamsim/linalg/eigen_contact_solver.hpp"
+#include "jamsim/linalg/cholmod_contact_solver.hpp"
 
 #include <petscksp.h>
 
@@ -338,12 +339,16 @@ SolveInfo PetscContactSolver::solve(std::span<const ContactPair> pairs,
 std::unique_ptr<ContactSolver> make_contact_solver(std::string_view backend, std::size_t n,
                                                    double delta,
                                                    const std::string& petsc_options) {
-    if (backend == "eigen" || (backend == "auto" && n <= kAutoEigenMaxN))
-        return std::make_unique<EigenContactSolver>(n, delta);
-    if (backend == "petsc" || backend == "auto")
+    backend = resolve_backend(backend, n);
+    if (backend == "eigen") return std::make_unique<EigenContactSolver>(n, delta);
+    if (backend == "cholmod")
+        return std::make_unique<CholmodContactSolver>(n, delta);
+    if (backend == "cholmod-amd")  // the ordering compared in jamsim_bench_cd0
+        return std::make_unique<CholmodContactSolver>(n, delta, CholmodContactSolver::Ordering::amd);
+    if (backend == "petsc")
         return std::make_unique<PetscContactSolver>(n, delta, petsc_options);
     throw std::invalid_argument("unknown CD0 solver '" + std::string(backend) +
-                                "' (known: auto, petsc, eigen)");
+                                "' (known: auto, cholmod, petsc, eigen)");
 }
 
 } // namespace jamsim::linalg

@@ -50,12 +50,12 @@ std::string check_force_tol(const R& p) {
 // (linalg::petsc_options_problem, before a run starts).
 std::string check_petsc_options(const R& p) {
     if (p.petsc_options.empty()) return "";
-    if (p.solver == "eigen")
-        return "none with solver = eigen (the Eigen backend reads no PETSc options; choose "
-               "solver = petsc to use them)";
-    if (p.solver == "auto" && static_cast<std::uint64_t>(p.n) <= linalg::kAutoEigenMaxN)
-        return "none with solver = auto at N = " + std::to_string(p.n) +
-               " (auto uses Eigen up to N = " + std::to_string(linalg::kAutoEigenMaxN) +
+    if (p.solver == "eigen" || p.solver == "cholmod")
+        return "none with solver = " + p.solver + " (the " + p.solver +
+               " backend reads no PETSc options; choose solver = petsc to use them)";
+    if (p.solver == "auto" && linalg::resolve_backend("auto", static_cast<std::size_t>(p.n)) != "petsc")
+        return "none with solver = auto at N = " + std::to_string(p.n) + " (auto uses " +
+               std::string(linalg::resolve_backend("auto", static_cast<std::size_t>(p.n))) +
                ", which reads no PETSc options; choose solver = petsc to use them)";
     std::string prefix = "-";  // appended, not "-" + ...: GCC 12 warns falsely (-Wrestrict)
     prefix.append(linalg::kPetscPrefix);
@@ -134,11 +134,12 @@ const ParamInfo kParameters[] = {
      "CD0 substrate drag k_0/k_d on the non-affine velocity", &R::delta, kPhys,
      JAMSIM_CHECK(positive(p.delta), "delta > 0"), "delta > 0"},
     {"solver", "model", "solver", "--solver", "",
-     "CD0 backend: auto (eigen up to N = 65536, petsc above), petsc (KSP) or eigen (LDLT)",
+     "CD0 backend: auto (cholmod at every N), cholmod (CHOLMOD LDLT updated in place), petsc (KSP) or eigen (LDLT updated in place)",
      &R::solver, kNum,
-     JAMSIM_CHECK(p.solver == "auto" || p.solver == "petsc" || p.solver == "eigen",
-                  "auto, petsc or eigen"),
-     "auto, petsc, eigen"},
+     JAMSIM_CHECK(p.solver == "auto" || p.solver == "cholmod" || p.solver == "petsc" ||
+                      p.solver == "eigen",
+                  "auto, cholmod, petsc or eigen"),
+     "auto, cholmod, petsc, eigen"},
     {"petsc_options", "model", "petsc_options", "--petsc-options", "",
      "CD0 PETSc options with prefix cd0_, e.g. \"-cd0_pc_type icc\"", &R::petsc_options, kNum,
      check_petsc_options, "PETSc options"},

@@ -1,56 +1,130 @@
-// CD0 against RD0 per step at φ = 0.84 (harmonic, Euler, Δt = 0.2, γ̇ = 1e-4): particle-steps
-// per second and the Krylov iterations per solve. Solver options come from the command line
-// through PETSc's options database, e.g.  jamsim_bench_cd0 -cd0_pc_type icc
+// CD0 against RD0 per step (harmonic, Euler, Δt = 0.2, γ̇ = 1e-4) at N = 1024 … 65536 and
+// φ = 0.80 (below φ_J), 0.84, 0.86, for each CD0 backend. Each CD0 benchmark also times RD0
+// steps from the same configuration in the same process right before and after its own timed
+// loop (process CPU time, so that other jobs on a shared machine count less), and reports:
+//   rd0_us          RD0 CPU time per step (mean of the runs before and after)
+//   cd0_us          CD0 CPU time per step
+//   cd0_over_rd0    the ratio: a CD0 step in RD0 steps
+//   refactor_per_step, rank1_updates_per_step, krylov_its_per_solve   the solver's counters
+// Solver options for the PETSc backend come from the command line through PETSc's options
+// database, e.g.  jamsim_bench_cd0 --benchmark_filter=Petsc -cd0_pc_type icc
 #include <benchmark/benchmark.h>
 #include <petscsys.h>
 
+#include <ctime>
+#include <string>
+
 #include "jamsim/dynamics/cd0.hpp"
-#include "jamsim/force/force_field.hpp"
 #include "jamsim/dynamics/rd0.hpp"
+#include "jamsim/force/force_field.hpp"
 #include "jamsim/run/replica.hpp"
 
 using namespace jamsim;
 
-template <class ModelT> static void run_model(benchmark::State& state, const char* solver = "petsc") {
+namespace {
+
+double cpu_seconds() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+ReplicaParams bench_params(const benchmark::State& state) {
     ReplicaParams p;
     p.n = state.range(0);
-    p.phi = 0.84;
+    p.phi = static_cast<double>(state.range(1)) / 100.0;
     p.rate = 1e-4;
+    return p;
+}
+
+template <class ModelT> void step(ModelT& model, System& sys, ForceField& ff, const ReplicaParams& p) {
+    ff.compute(sys, Tally::ForcesOnly);
+    model.prepare(sys, ff, p.rate);
+    model.advance(sys, ff, p.dt, p.rate, 0);
+}
+
+/// CPU seconds per RD0 step from a copy of `start` (enough steps for ~0.2 s).
+double rd0_step_seconds(const System& start, const ReplicaParams& p) {
+    System sys = start;
+    ForceField ff(potential::make_soft_sphere(2.0), p.skin);
+    Rd0 model(p);
+    for (int s = 0; s < 20; ++s) step(model, sys, ff, p);
+    const int steps = std::max(50, static_cast<int>(2e7 / static_cast<double>(p.n) / 4.0));
+    const double t0 = cpu_seconds();
+    for (int s = 0; s < steps; ++s) step(model, sys, ff, p);
+    return (cpu_seconds() - t0) / steps;
+}
+
+void run_cd0(benchmark::State& state, const char* solver) {
+    ReplicaParams p = bench_params(state);
+    p.solver = solver;
     System sys = initial_system(p);
     ForceField ff(potential::make_soft_sphere(2.0), p.skin);
-    ReplicaParams params = p;
-    params.solver = solver;
-    ModelT model(params);
-    for (int s = 0; s < 1000; ++s) {  // untimed: leave the random start behind
-        ff.compute(sys, Tally::ForcesOnly);
-        model.prepare(sys, ff, p.rate);
-        model.advance(sys, ff, p.dt, p.rate, 0);
+    {
+        Cd0 warm(p);  // untimed: leave the random start behind
+        const int warm_steps = p.n >= 65536 ? 300 : 1000;
+        for (int s = 0; s < warm_steps; ++s) step(warm, sys, ff, p);
     }
+    const double rd0_before = rd0_step_seconds(sys, p);
+    Cd0 model(p);
+    step(model, sys, ff, p);  // the first factorisation is not a step's cost
     double iterations = 0, refactored = 0, updates = 0;
+    const double t0 = cpu_seconds();
     for (auto _ : state) {
-        ff.compute(sys, Tally::ForcesOnly);
-        model.prepare(sys, ff, p.rate);
-        model.advance(sys, ff, p.dt, p.rate, 0);
-        if constexpr (std::is_same_v<ModelT, Cd0>)
-        {
-            iterations += model.last_solve().iterations_x + model.last_solve().iterations_y;
-            refactored += model.last_solve().refactored ? 1.0 : 0.0;
-            updates += model.last_solve().factor_updates;
-        }
+        step(model, sys, ff, p);
+        const auto info = model.last_solve();
+        iterations += info.iterations_x + info.iterations_y;
+        refactored += info.refactored ? 1.0 : 0.0;
+        updates += info.factor_updates;
     }
+    const double cd0 = (cpu_seconds() - t0) / static_cast<double>(state.iterations());
+    const double rd0 = 0.5 * (rd0_before + rd0_step_seconds(sys, p));
+    const auto steps = static_cast<double>(state.iterations());
     state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * p.n);
-    state.counters["krylov_its_per_solve"] = iterations / (2.0 * static_cast<double>(state.iterations()));
-    state.counters["refactor_per_step"] = refactored / static_cast<double>(state.iterations());
-    state.counters["rank1_updates_per_step"] = updates / static_cast<double>(state.iterations());
+    state.counters["rd0_us"] = rd0 * 1e6;
+    state.counters["cd0_us"] = cd0 * 1e6;
+    state.counters["cd0_over_rd0"] = cd0 / rd0;
+    state.counters["krylov_its_per_solve"] = iterations / (2.0 * steps);
+    state.counters["refactor_per_step"] = refactored / steps;
+    state.counters["rank1_updates_per_step"] = updates / steps;
 }
-static void BM_Rd0Step(benchmark::State& s) { run_model<Rd0>(s); }
-static void BM_Cd0Step(benchmark::State& s) { run_model<Cd0>(s); }
-static void BM_Cd0EigenStep(benchmark::State& s) { run_model<Cd0>(s, "eigen"); }
-BENCHMARK(BM_Rd0Step)->ArgName("N")->Arg(1024)->Arg(4096)->Arg(16384)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_Cd0Step)->ArgName("N")->Arg(1024)->Arg(4096)->Arg(16384)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_Cd0EigenStep)->ArgName("N")->Arg(1024)->Arg(4096)->Arg(16384)->Arg(65536)->Unit(benchmark::kMicrosecond);
+
+void BM_Rd0Step(benchmark::State& state) {
+    const ReplicaParams p = bench_params(state);
+    System sys = initial_system(p);
+    ForceField ff(potential::make_soft_sphere(2.0), p.skin);
+    Rd0 model(p);
+    for (int s = 0; s < 1000; ++s) step(model, sys, ff, p);
+    for (auto _ : state) step(model, sys, ff, p);
+    state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * p.n);
+}
+} // namespace
 
 int main(int argc, char** argv) {
+    // Fixed step counts (the setup repeats a 1000-step warm-up per run): enough steps to span
+    // several neighbour-list rebuilds, so that the factorisations at rebuilds are averaged in.
+    auto steps = [](long n) { return n <= 1024 ? 3000L : n <= 4096 ? 1500L : n <= 65536 ? 500L : 100L; };
+    const struct {
+        const char* name;
+        const char* solver;
+        long largest;
+    } backends[] = {{"Cd0Cholmod", "cholmod", 262144}, {"Cd0Eigen", "eigen", 65536},
+                    {"Cd0CholmodAmd", "cholmod-amd", 65536}, {"Cd0Petsc", "petsc", 16384}};
+    for (long n = 1024; n <= 262144; n *= 4)
+        for (long phi : {80L, 84L, 86L}) {
+            if (n > 65536 && phi != 84) continue;
+            if (n <= 65536)
+                benchmark::RegisterBenchmark("BM_Rd0Step", BM_Rd0Step)
+                    ->ArgNames({"N", "phi100"})->Args({n, phi})->Iterations(steps(n))->Unit(benchmark::kMicrosecond);
+            for (const auto& b : backends) {
+                if (n > b.largest) continue;
+                const char* solver = b.solver;
+                benchmark::RegisterBenchmark((std::string("BM_") + b.name).c_str(),
+                                             [solver](benchmark::State& st) { run_cd0(st, solver); })
+                    ->ArgNames({"N", "phi100"})->Args({n, phi})->Iterations(steps(n))
+                    ->Unit(benchmark::kMicrosecond);
+            }
+        }
     benchmark::Initialize(&argc, argv);
     // Remaining arguments are PETSc options (-cd0_ksp_type, -cd0_pc_type, -cd0_ksp_rtol, ...).
     PetscInitialize(&argc, &argv, nullptr, nullptr);

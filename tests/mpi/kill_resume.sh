@@ -30,7 +30,7 @@ wait "$leader" 2>/dev/null || true
 echo "killed after $done_count replicas were done"
 "$jamsim" status "$work/killed.h5" | tee "$work/status.txt"
 total=$(/usr/bin/python3 -c "import h5py; print(len(h5py.File('$work/killed.h5','r')['replicas/status']))")
-read -r killed_done <<<"$(grep -oE '[0-9]+/' "$work/status.txt" | head -1 | tr -d /)"
+read -r killed_done <<<"$(grep -oE '[0-9]+/[0-9]+ done' "$work/status.txt" | head -1 | cut -d/ -f1)"
 if [[ $killed_done -lt 3 || $killed_done -ge $total ]]; then
   echo "FAIL: the kill did not land mid-campaign ($killed_done of $total done)"; exit 1
 fi

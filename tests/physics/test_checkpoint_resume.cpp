@@ -101,6 +101,14 @@ TEST(CheckpointResume, Cd0EigenAndPetsc) {
     check_resume(p);
 }
 
+TEST(CheckpointResume, Cd0Cholmod) {  // the default backend: euler and heun
+    ReplicaParams p = replica("CD0");
+    p.solver = "cholmod";
+    check_resume(p);
+    p.integrator = "heun";
+    check_resume(p);
+}
+
 TEST(CheckpointResume, MassiveModels) {
     for (const char* model : {"RD", "CD", "CDn", "CDt"}) check_resume(replica(model));
 }

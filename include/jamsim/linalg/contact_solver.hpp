@@ -32,8 +32,10 @@ class PetscScope {
 };
 
 /// The CD0 contact matrix A (thesis eq. 4.15): A_ii = z_i + δ, A_ij = −1 per contact. One
-/// interface, two backends: PetscContactSolver (KSP) and EigenContactSolver (LDLᵀ updated in
-/// place); make_contact_solver picks one.
+/// interface, three backends: CholmodContactSolver (CHOLMOD LDLᵀ updated in place),
+/// PetscContactSolver (KSP) and EigenContactSolver (Eigen LDLᵀ updated in place);
+/// make_contact_solver picks one. The x and y systems share A (the drag is isotropic per
+/// contact, eqs. 4.17-4.18), so every backend factors once and solves both.
 class ContactSolver {
   public:
     virtual ~ContactSolver() = default;
@@ -47,11 +49,14 @@ class ContactSolver {
                             std::span<double> u_x, std::span<double> u_y) = 0;
 };
 
-/// `backend = "auto"` uses Eigen (factor updated in place) up to this N, the largest size
-/// measured, and PETSc above (jamsim_bench_cd0 at φ = 0.84, per step: Eigen 61 µs against
-/// PETSc 267 µs at N = 1024, 0.35 ms against 3.4 ms at 4096, 3.2 ms against 36 ms at 16384,
-/// Eigen 48 ms at 65536).
-inline constexpr std::size_t kAutoEigenMaxN = 65536;
+/// The backend `solver = "auto"` picks: CHOLMOD (LDLᵀ with METIS ordering, modified in place by
+/// multiple-rank updates) at every N, the fastest per step at every N and φ measured
+/// (jamsim_bench_cd0, N = 1024 … 65536, φ = 0.80, 0.84, 0.86: see the README's CD0 table);
+/// the Eigen backend (AMD ordering, rank-one updates) and PETSc KSP (CG preconditioned by a
+/// Cholesky factor that is kept while it stays effective) stay available by name.
+inline constexpr std::string_view resolve_backend(std::string_view backend, std::size_t /*n*/) {
+    return backend == "auto" ? std::string_view("cholmod") : backend;
+}
 
 /// The options prefix of the CD0 solver's KSP and PC: every PETSc option given to CD0 must
 /// carry it ("-cd0_pc_type icc"); an unprefixed one would configure nothing of CD0.
@@ -69,8 +74,9 @@ std::vector<std::string> petsc_option_names(const std::string& options);
 /// was. Initialises PETSc when needed (PetscScope finalises it).
 std::string petsc_options_problem(const std::string& options);
 
-/// The backend for `n` disks: "auto", "petsc" or "eigen" (the `solver` parameter);
-/// `petsc_options` go to the PETSc backend. Throws std::invalid_argument for another name.
+/// The backend for `n` disks: "auto", "cholmod", "petsc" or "eigen" (the `solver` parameter;
+/// also "cholmod-amd", CHOLMOD with AMD ordering, for benchmarks); `petsc_options` go to the
+/// PETSc backend. Throws std::invalid_argument for another name.
 std::unique_ptr<ContactSolver> make_contact_solver(std::string_view backend, std::size_t n,
                                                    double delta,
                                                    const std::string& petsc_options);
