@@ -11,7 +11,7 @@ packages=(
   g++ cmake make pkg-config git
   libopenmpi-dev openmpi-bin
   libhdf5-openmpi-dev hdf5-tools
-  libeigen3-dev petsc-dev
+  libeigen3-dev petsc-dev libsuitesparse-dev
   libcli11-dev libtomlplusplus-dev
   libgtest-dev libbenchmark-dev
   python3-numpy python3-h5py python3-matplotlib python3-scipy python3-pandas python3-pytest
