@@ -329,6 +329,13 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
         } catch (const SpecError& e) {
             error = e.what();
         }
+        // An archive that another live run writes is refused for that reason, whatever it
+        // looks like now (it may be half created): the holder's name says what to do.
+        if (!opt.dry_run && !output.empty()) try {
+                ArchiveLock::check_free(output);
+            } catch (const ArchiveBusy& e) {
+                error = e.what();
+            }
     }
     mpi::broadcast(error, 0, comm);
     if (!error.empty()) {

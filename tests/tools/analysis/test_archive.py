@@ -33,7 +33,7 @@ def test_replica_table_matches_the_campaign(flow_archive):
     assert (t["status_name"] == "done").all() and (t["model"] == "RD0").all()
     assert (t["force_evaluations"] > 0).all() and (t["wall_seconds"] > 0).all()
     assert (t["transient"] == spec["run"]["transient"]).all()
-    assert run.attributes()["layout_version"] == 3
+    assert run.attributes()["layout_version"] == 4
 
 
 def test_time_series_long_form(flow_archive):
@@ -58,17 +58,20 @@ def test_final_configuration_layout_3_and_4(flow_archive, copy_of):
         assert sorted(np.unique(f.diameter)) == [1.0, 1.4] and np.sum(f.diameter == 1.0) == rep["N"] / 2
         assert np.isclose(np.sum(np.pi * f.diameter ** 2 / 4) / f.box_side ** 2, rep["phi"])
         assert np.all((f.x >= 0) & (f.x < f.box_side) & (f.y >= 0) & (f.y < f.box_side))
-    # the same archive rewritten in layout 4 (1-D /final, /replicas/particle_offset)
-    path = copy_of(flow_archive, "layout4.h5")
+    # the same archive rewritten in layout 3 (one NaN-padded row per replica in /final)
+    path = copy_of(flow_archive, "layout3.h5")
     with h5py.File(path, "r+") as h:
         n = h["replicas/N"][...].astype(int)
-        offsets = np.concatenate([[0], np.cumsum(n)[:-1]]).astype(np.int64)
+        offsets = h["replicas/particle_offset"][...]
         for name in ("x", "y", "diameter"):
-            flat = np.concatenate([h[f"final/{name}"][k, : n[k]] for k in range(len(n))])
+            rows = np.full((len(n), n.max()), np.nan)
+            flat = h[f"final/{name}"][...]
+            for k in range(len(n)):
+                rows[k, : n[k]] = flat[offsets[k]: offsets[k] + n[k]]
             del h[f"final/{name}"]
-            h[f"final/{name}"] = flat
-        h["replicas/particle_offset"] = offsets
-        h.attrs["layout_version"] = np.int64(4)
+            h[f"final/{name}"] = rows
+        del h["replicas/particle_offset"]
+        h.attrs["layout_version"] = np.int64(3)
     v4 = ja.open_archives(path)
     for r in run.replicas["replica"]:
         a, b = run.final(r), v4.final(r)
