@@ -351,4 +351,34 @@ std::unique_ptr<ContactSolver> make_contact_solver(std::string_view backend, std
                                 "' (known: auto, cholmod, petsc, eigen)");
 }
 
+bool contact_residual_within(std::span<const double> bx, std::span<const double> by,
+                             std::span<const double> ux, std::span<const double> uy, double delta,
+                             std::span<const ContactPair> contacts, double rtol,
+                             std::vector<double>& rx, std::vector<double>& ry) {
+    const std::size_t size = bx.size();
+    rx.resize(size);
+    ry.resize(size);
+    for (std::size_t i = 0; i < size; ++i) {
+        rx[i] = bx[i] - delta * ux[i];
+        ry[i] = by[i] - delta * uy[i];
+    }
+    for (const auto& c : contacts) {
+        const auto i = static_cast<std::size_t>(c.i), j = static_cast<std::size_t>(c.j);
+        const double dx = ux[i] - ux[j], dy = uy[i] - uy[j];
+        rx[i] -= dx;
+        rx[j] += dx;
+        ry[i] -= dy;
+        ry[j] += dy;
+    }
+    double r2x = 0, r2y = 0, b2x = 0, b2y = 0;
+    for (std::size_t i = 0; i < size; ++i) {
+        r2x += rx[i] * rx[i];
+        r2y += ry[i] * ry[i];
+        b2x += bx[i] * bx[i];
+        b2y += by[i] * by[i];
+    }
+    const double tol2 = rtol * rtol;
+    return r2x <= tol2 * b2x && r2y <= tol2 * b2y;
+}
+
 } // namespace jamsim::linalg
