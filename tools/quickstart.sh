@@ -21,6 +21,12 @@ if [[ -e out/quickstart.h5 ]] &&
   mv out/quickstart.h5 "$old"
   if [[ -d out/quickstart.h5.checkpoints ]]; then mv out/quickstart.h5.checkpoints "$old.checkpoints"; fi
 fi
+if [[ ! -e out/quickstart.h5 && -d out/quickstart.h5.checkpoints ]]; then
+  # the archive was removed by hand: its (final) checkpoints would be refused without it
+  old=out/quickstart.h5.checkpoints.$(date +%Y%m%dT%H%M%S)
+  echo "quickstart: out/quickstart.h5 is gone; its checkpoint folder moved to $old"
+  mv out/quickstart.h5.checkpoints "$old"
+fi
 mpirun -n "${RANKS:-2}" build/${JAMSIM_PRESET:-release}/jamsim run campaigns/quickstart.toml \
     -o out/quickstart.h5
 build/${JAMSIM_PRESET:-release}/jamsim status out/quickstart.h5
