@@ -87,9 +87,6 @@ bool redraw_progress(const std::string& mode) {
            !std::getenv("PMI_RANK") && !std::getenv("SLURM_JOB_ID") && !std::getenv("CI");
 }
 
-/// A nominal throughput for time estimates in --dry-run (particle force evaluations/s, one
-/// core; measured RD0 figure, see README "Benchmarks").
-constexpr double kNominalRate = kNominalEvaluationsPerSecond;
 
 std::string check_output(const std::string& path, const CampaignSpec& spec, int& extend) {
     namespace fs = std::filesystem;
@@ -193,7 +190,7 @@ std::map<std::pair<std::string, std::int64_t>, double> calibrate(const CampaignS
     for (const ReplicaParams& p : spec.replicas) {
         const auto key = std::pair{p.model, p.n};
         if (seconds_per_cost.count(key)) continue;
-        seconds_per_cost[key] = 1.0 / kNominalRate;
+        seconds_per_cost[key] = 1.0 / kNominalEvaluationsPerSecond;
         ReplicaParams probe = p;
         const bool dynamics = model_of(p).kind == ModelKind::Dynamics;
         if (dynamics) {
@@ -203,7 +200,7 @@ std::map<std::pair<std::string, std::int64_t>, double> calibrate(const CampaignS
             probe.sample_interval = probe.rate > 0 ? probe.strain : probe.time;
             probe.transient = 0.0;  // the probe is shorter than the replica's transient may be
             probe.checkpoint_steps = 1'000'000'000;
-        } else if (estimated_cost(p) / kNominalRate > 10.0) {
+        } else if (estimated_cost(p) / kNominalEvaluationsPerSecond > 10.0) {
             continue;
         }
         try {
@@ -233,7 +230,7 @@ void print_dry_run(const CampaignSpec& spec, const std::string& output, const Dr
     const auto rates = plan.calibrate ? calibrate(spec) : decltype(calibrate(spec)){};
     const auto seconds_of = [&](const ReplicaParams& p) {
         const auto it = rates.find({p.model, p.n});
-        return estimated_cost(p) * (it == rates.end() ? 1.0 / kNominalRate : it->second);
+        return estimated_cost(p) * (it == rates.end() ? 1.0 / kNominalEvaluationsPerSecond : it->second);
     };
     std::printf("%6s %7s %8s %10s %6s %9s %14s %10s\n", "id", "N", "phi", "rate", "seed",
                 "samples", "cost(p-evals)", "est. s");

@@ -267,6 +267,13 @@ std::string Archive::check_existing(const std::string& path, const CampaignSpec&
     }
 }
 
+void Archive::clear_rows(std::int64_t replica) {
+    const std::vector<double> none(layout_.samples, kNaN);
+    for (const auto& c : kSampleColumns)
+        write_block(file_.get(), std::string("/timeseries/") + c.name, H5T_NATIVE_DOUBLE,
+                    {static_cast<hsize_t>(replica), 0}, {1, layout_.samples}, none.data());
+}
+
 void Archive::mark_running(std::int64_t replica, int rank, bool keep_rows) {
     const auto r = static_cast<hsize_t>(replica);
     const std::int32_t who = rank;
@@ -274,10 +281,7 @@ void Archive::mark_running(std::int64_t replica, int rank, bool keep_rows) {
     // Its rows NaN until written (the datasets are not filled): partial rows of a running
     // replica end in NaN, as finished rows do past n_samples.
     if (!keep_rows) {
-        const std::vector<double> none(layout_.samples, kNaN);
-        for (const auto& c : kSampleColumns)
-            write_block(file_.get(), std::string("/timeseries/") + c.name, H5T_NATIVE_DOUBLE, {r, 0},
-                        {1, layout_.samples}, none.data());
+        clear_rows(replica);
     }
     const auto s = static_cast<std::int8_t>(ReplicaStatus::Running);
     write_block(file_.get(), "/replicas/status", H5T_NATIVE_INT8, {r}, {1}, &s);
@@ -349,10 +353,7 @@ void Archive::write_failed(std::int64_t replica, const std::string& reason, doub
     const hid_t f = file_.get();
     const auto r = static_cast<hsize_t>(replica);
     // Its rows: NaN (the datasets are not filled, and a reader may ignore the status).
-    const std::vector<double> none(layout_.samples, kNaN);
-    for (const auto& c : kSampleColumns)
-        write_block(f, std::string("/timeseries/") + c.name, H5T_NATIVE_DOUBLE, {r, 0},
-                    {1, layout_.samples}, none.data());
+    clear_rows(replica);
     char text[kReasonLength] = {};
     reason.copy(text, kReasonLength - 1);
     const Handle rt = h5::fixed_string_type(kReasonLength);

@@ -94,19 +94,17 @@ ArchiveLock ArchiveLock::acquire(MPI_Comm comm, const std::string& archive_path,
     mpi::broadcast(error, 0, comm);
     mpi::broadcast(supported, 0, comm);
     if (!error.empty()) throw ArchiveBusy(error);
+    int e = 0;  // every other rank shares the lock rank 0 holds
     if (rank != 0 && supported) {
         fd = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
-        const int e = fd < 0 ? errno : set_lock(fd, F_RDLCK);
-        int failed = e != 0, any = 0;
-        mpi::check(MPI_Allreduce(&failed, &any, 1, MPI_INT, MPI_MAX, comm), "MPI_Allreduce");
-        if (any) throw ArchiveBusy("rank " + std::to_string(rank) + " cannot share the lock '" + path + "': " + std::strerror(e));
-    } else {
-        int failed = 0, any = 0;
-        mpi::check(MPI_Allreduce(&failed, &any, 1, MPI_INT, MPI_MAX, comm), "MPI_Allreduce");
-        if (any) {
-            if (fd >= 0) ::close(fd);
-            throw ArchiveBusy("another rank cannot share the lock '" + path + "'");
-        }
+        e = fd < 0 ? errno : set_lock(fd, F_RDLCK);
+    }
+    int failed = e != 0, any = 0;
+    mpi::check(MPI_Allreduce(&failed, &any, 1, MPI_INT, MPI_MAX, comm), "MPI_Allreduce");
+    if (any) {
+        if (fd >= 0) ::close(fd);
+        throw ArchiveBusy(failed ? "rank " + std::to_string(rank) + " cannot share the lock '" + path + "': " + std::strerror(e)
+                                 : "another rank cannot share the lock '" + path + "'");
     }
     return ArchiveLock(comm, path, fd);
 }

@@ -87,6 +87,8 @@ class Archive {
   private:
     Archive(h5::Handle file, MPI_Comm comm, ArchiveLayout layout)
         : file_(std::move(file)), comm_(comm), layout_(std::move(layout)) {}
+    /// The replica's rows set to NaN (the bulk datasets are not filled).
+    void clear_rows(std::int64_t replica);
     h5::Handle file_;
     MPI_Comm comm_ = MPI_COMM_NULL;
     ArchiveLayout layout_;
