@@ -134,7 +134,7 @@ const ParamInfo kParameters[] = {
      "CD0 substrate drag k_0/k_d on the non-affine velocity", &R::delta, kPhys,
      JAMSIM_CHECK(positive(p.delta), "delta > 0"), "delta > 0"},
     {"solver", "model", "solver", "--solver", "",
-     "CD0 backend: auto (cholmod at every N), cholmod (CHOLMOD LDLT updated in place), petsc (KSP) or eigen (LDLT updated in place)",
+     "CD0 backend: auto (petsc at every N), petsc (KSP preconditioned by a CHOLMOD LDLT updated in place; PETSc options choose others), cholmod (that LDLT alone) or eigen (Eigen LDLT updated in place)",
      &R::solver, kNum,
      JAMSIM_CHECK(p.solver == "auto" || p.solver == "cholmod" || p.solver == "petsc" ||
                       p.solver == "eigen",

@@ -55,9 +55,10 @@ double rd0_step_seconds(const System& start, const ReplicaParams& p) {
     return (cpu_seconds() - t0) / steps;
 }
 
-void run_cd0(benchmark::State& state, const char* solver) {
+void run_cd0(benchmark::State& state, const char* solver, const char* options) {
     ReplicaParams p = bench_params(state);
     p.solver = solver;
+    p.petsc_options = options;
     System sys = initial_system(p);
     ForceField ff(potential::make_soft_sphere(2.0), p.skin);
     {
@@ -107,9 +108,18 @@ int main(int argc, char** argv) {
     const struct {
         const char* name;
         const char* solver;
+        const char* options;  // PETSc options of this option set
         long largest;
-    } backends[] = {{"Cd0Cholmod", "cholmod", 262144}, {"Cd0Eigen", "eigen", 65536},
-                    {"Cd0CholmodAmd", "cholmod-amd", 65536}, {"Cd0Petsc", "petsc", 16384}};
+    } backends[] = {
+        {"Cd0Petsc", "petsc", "", 262144},  // the default: KSP + the updated CHOLMOD factor
+        {"Cd0Cholmod", "cholmod", "", 262144},
+        {"Cd0Eigen", "eigen", "", 65536},
+        {"Cd0CholmodAmd", "cholmod-amd", "", 65536},
+        // PETSc's own preconditioners (CG, kept while <= 2 iterations):
+        {"Cd0PetscCholeskyCholmod", "petsc", "-cd0_pc_type cholesky -cd0_pc_factor_mat_solver_type cholmod", 16384},
+        {"Cd0PetscCholeskyMumps", "petsc", "-cd0_pc_type cholesky -cd0_pc_factor_mat_solver_type mumps", 16384},
+        {"Cd0PetscHypre", "petsc", "-cd0_pc_type hypre", 16384},
+    };
     for (long n = 1024; n <= 262144; n *= 4)
         for (long phi : {80L, 84L, 86L}) {
             if (n > 65536 && phi != 84) continue;
@@ -118,9 +128,9 @@ int main(int argc, char** argv) {
                     ->ArgNames({"N", "phi100"})->Args({n, phi})->Iterations(steps(n))->Unit(benchmark::kMicrosecond);
             for (const auto& b : backends) {
                 if (n > b.largest) continue;
-                const char* solver = b.solver;
+                const char *solver = b.solver, *options = b.options;
                 benchmark::RegisterBenchmark((std::string("BM_") + b.name).c_str(),
-                                             [solver](benchmark::State& st) { run_cd0(st, solver); })
+                                             [solver, options](benchmark::State& st) { run_cd0(st, solver, options); })
                     ->ArgNames({"N", "phi100"})->Args({n, phi})->Iterations(steps(n))
                     ->Unit(benchmark::kMicrosecond);
             }

@@ -40,8 +40,8 @@ class PetscScope {
 };
 
 /// The CD0 contact matrix A (thesis eq. 4.15): A_ii = z_i + δ, A_ij = −1 per contact. One
-/// interface, three backends: CholmodContactSolver (CHOLMOD LDLᵀ updated in place),
-/// PetscContactSolver (KSP) and EigenContactSolver (Eigen LDLᵀ updated in place);
+/// interface, three backends: PetscContactSolver (KSP; by default preconditioned by the
+/// updated CHOLMOD factor), CholmodContactSolver (that factor alone) and EigenContactSolver (Eigen LDLᵀ updated in place);
 /// make_contact_solver picks one. The x and y systems share A (the drag is isotropic per
 /// contact, eqs. 4.17-4.18), so every backend factors once and solves both.
 class ContactSolver {
@@ -57,13 +57,12 @@ class ContactSolver {
                             std::span<double> u_x, std::span<double> u_y) = 0;
 };
 
-/// The backend `solver = "auto"` picks: CHOLMOD (LDLᵀ with METIS ordering, modified in place by
-/// multiple-rank updates) at every N, the fastest per step at every N and φ measured
-/// (jamsim_bench_cd0, N = 1024 … 65536, φ = 0.80, 0.84, 0.86: see the README's CD0 table);
-/// the Eigen backend (AMD ordering, rank-one updates) and PETSc KSP (CG preconditioned by a
-/// Cholesky factor that is kept while it stays effective) stay available by name.
+/// The backend `solver = "auto"` picks: PETSc KSP with its default preconditioner, the
+/// CHOLMOD LDLᵀ factor updated in place (PetscContactSolver), at every N. The "cholmod"
+/// backend is the same factor without PETSc (its own residual check), "eigen" an Eigen LDLᵀ
+/// updated by rank-one changes; jamsim_bench_cd0 compares them (README, CD0 table).
 inline constexpr std::string_view resolve_backend(std::string_view backend, std::size_t /*n*/) {
-    return backend == "auto" ? std::string_view("cholmod") : backend;
+    return backend == "auto" ? std::string_view("petsc") : backend;
 }
 
 /// The options prefix of the CD0 solver's KSP and PC: every PETSc option given to CD0 must
@@ -77,8 +76,7 @@ std::vector<std::string> petsc_option_names(const std::string& options);
 
 /// "" when PETSc accepts `options` and the CD0 solver's KSP uses every one of them, else what
 /// is wrong ("-cd0_pc_typo is not used by the CD0 solver", or PETSc's own error). Checked by
-/// configuring the very KSP of PetscContactSolver on a 2×2 contact matrix and solving it
-/// once (output of view or monitor options discarded); the options database is left as it
+/// a PetscContactSolver on the contact matrix of two disks, solved twice (touching, apart) (output of view or monitor options discarded); the options database is left as it
 /// was. Initialises PETSc when needed (PetscScope finalises it).
 std::string petsc_options_problem(const std::string& options);
 

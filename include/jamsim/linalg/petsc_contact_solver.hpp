@@ -5,23 +5,35 @@
 
 namespace jamsim::linalg {
 
-/// Solves A u = b for the CD0 contact matrix A (thesis eq. 4.15): A_ii = z_i + δ,
-/// A_ij = −1 per contact, with PETSc KSP on PETSC_COMM_SELF.
+/// Solves the CD0 contact matrix (thesis eq. 4.15: A_ii = z_i + δ, A_ij = −1 per contact) with
+/// PETSc KSP on PETSC_COMM_SELF (each rank runs its own replicas).
 ///
-/// The Mat (SeqAIJ) has the sparsity pattern of the *neighbour list* (every pair that may
-/// touch before the next list rebuild), with explicit zeros for pairs not in contact, so its
-/// pattern changes only when the list is rebuilt; the values are refilled every step. The
-/// KSP is reused, warm-started from the previous solution, and keeps its preconditioner
-/// while it stays effective: it is recomputed when the pattern changes or when a solve
-/// needed more than `refresh_iterations` Krylov iterations.
-/// Defaults: CG preconditioned by a sparse Cholesky factorisation (nested-dissection
-/// ordering), rtol 1e-10. PETSc options with prefix "cd0_" override them, e.g.
-/// -cd0_pc_type icc, -cd0_pc_type jacobi, -cd0_ksp_rtol 1e-8.
+/// The KSP solves both right-hand sides at once, as one system of 2n unknowns with the matrix
+/// diag(A, A) (SeqAIJ), each half of the right-hand side scaled to unit norm. The Mat has the
+/// pattern of the *neighbour list* (every pair that may touch before the next rebuild, explicit
+/// zeros for pairs not touching); a step writes only the entries of contacts that formed or
+/// broke, in place.
+///
+/// Default (no options): Richardson iteration (iterative refinement) preconditioned by a
+/// PCSHELL that applies a CHOLMOD LDLᵀ factor of A (METIS ordering of the neighbour list's
+/// pattern) kept equal to A by multiple-rank updates and downdates as contacts change
+/// (CholmodUpdatedFactor). After changes the KSP checks the true residual, ‖b − A u‖ ≤ rtol
+/// ‖b‖ for u_x and u_y (rtol = 1e-10), and refines where round-off of the updates left more;
+/// a solve that needed more than one refinement step refactorises afresh for the next one.
+/// While the contacts and so A are unchanged since a factor was verified (or made), a solve is
+/// one application of the factor.
+///
+/// PETSc options with prefix "cd0_" override this: e.g. -cd0_ksp_rtol 1e-12, -cd0_ksp_type cg,
+/// or another preconditioner (-cd0_pc_type cholesky / icc / hypre / gamg, with
+/// -cd0_pc_factor_mat_solver_type cholmod / mumps / superlu ...), which is then used with CG
+/// (unless -cd0_ksp_type names another KSP), warm-started from the last velocities, and kept
+/// until a solve needs more than `refresh_iterations` iterations.
 class PetscContactSolver final : public ContactSolver {
   public:
-    /// `options`: extra PETSc options (e.g. "-cd0_pc_type icc"), inserted into the options
+    /// `options`: extra PETSc options (e.g. "-cd0_ksp_rtol 1e-12"), inserted into the options
     /// database before the KSP reads it.
-    PetscContactSolver(std::size_t n, double delta, const std::string& options = "");
+    PetscContactSolver(std::size_t n, double delta, const std::string& options = "",
+                       double rtol = 1e-10);
     ~PetscContactSolver() override;
     PetscContactSolver(const PetscContactSolver&) = delete;
     PetscContactSolver& operator=(const PetscContactSolver&) = delete;
@@ -31,7 +43,8 @@ class PetscContactSolver final : public ContactSolver {
                     std::span<const double> b_y, std::span<double> u_x,
                     std::span<double> u_y) override;
 
-    /// Iterations above which the preconditioner is recomputed for the next solve.
+    /// With a PETSc preconditioner other than the default: iterations above which it is
+    /// recomputed for the next solve.
     static constexpr int refresh_iterations = 2;
 
   private:
