@@ -116,9 +116,9 @@ int main(int argc, char** argv) {
         {"Cd0Eigen", "eigen", "", 65536},
         {"Cd0CholmodAmd", "cholmod-amd", "", 65536},
         // PETSc's own preconditioners (CG, kept while <= 2 iterations):
-        {"Cd0PetscCholeskyCholmod", "petsc", "-cd0_pc_type cholesky -cd0_pc_factor_mat_solver_type cholmod", 16384},
-        {"Cd0PetscCholeskyMumps", "petsc", "-cd0_pc_type cholesky -cd0_pc_factor_mat_solver_type mumps", 16384},
-        {"Cd0PetscHypre", "petsc", "-cd0_pc_type hypre", 16384},
+        {"Cd0PetscCholeskyCholmod", "petsc", "-cd0_pc_type cholesky -cd0_pc_factor_mat_solver_type cholmod", 4096},
+        {"Cd0PetscCholeskyMumps", "petsc", "-cd0_pc_type cholesky -cd0_pc_factor_mat_solver_type mumps", 4096},
+        {"Cd0PetscHypre", "petsc", "-cd0_pc_type hypre", 4096},
     };
     for (long n = 1024; n <= 262144; n *= 4)
         for (long phi : {80L, 84L, 86L}) {
