@@ -88,7 +88,14 @@ bool redraw_progress(const std::string& mode) {
 }
 
 
-std::string check_output(const std::string& path, const CampaignSpec& spec, int& extend) {
+/// What a run does with an existing archive of its campaign.
+enum class OutputMode : int { Fresh = 0, Extend = 1, Grow = 2 };
+
+/// "" when the run may write `path`; `mode` says how (a new or resumed archive, one extended
+/// to longer runs, one grown by more replicas: then `source` maps spec's replicas to the
+/// archive's, Archive::check_growth).
+std::string check_output(const std::string& path, const CampaignSpec& spec, OutputMode& mode,
+                         std::vector<std::int64_t>& source) {
     namespace fs = std::filesystem;
     std::error_code ec;
     if (fs::exists(path, ec)) {
@@ -100,16 +107,25 @@ std::string check_output(const std::string& path, const CampaignSpec& spec, int&
                    " (choose another [campaign] output or -o, or remove the file)";
         const std::string why = Archive::check_existing(path, spec);
         if (why.empty()) return "";
+        if (why.find("another version of jamsim") != std::string::npos)
+            return spec.path + ": refusing to use the archive: " + why +
+                   " (choose another [campaign] output or -o)";
         const std::string not_longer = Archive::check_extension(path, spec);
         if (not_longer.empty()) {  // the same campaign, run longer
-            extend = 1;
+            mode = OutputMode::Extend;
             return "";
         }
         if (not_longer.find("would run shorter") != std::string::npos)  // the one near miss
             return spec.path + ": refusing to use the archive '" + path + "': " + not_longer +
                    " than in it: a campaign can be extended to a larger strain (or time), not "
                    "shortened (choose another [campaign] output or -o)";
-        return spec.path + ": refusing to use the archive: " + why +
+        const std::string not_grown = Archive::check_growth(path, spec, source);
+        if (not_grown.empty()) {  // the same campaign with more replicas
+            mode = OutputMode::Grow;
+            return "";
+        }
+        return spec.path + ": refusing to use the archive: '" + path +
+               "' belongs to a different campaign: " + not_grown +
                " (choose another [campaign] output or -o)";
     }
     // Checkpoints without their archive belong to a run whose archive was removed or moved:
@@ -293,6 +309,9 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
     // Rank 0 reads and checks everything before any rank starts work.
     std::string text, error, output = opt.output;
     int extend = 0;  // the archive holds this campaign with shorter runs: extend it
+    int grow = 0;    // the archive holds this campaign with fewer replicas: grow it
+    std::vector<std::int64_t> grow_source;  // rank 0: the archive's id of each replica (−1: new)
+    std::int64_t grow_kept = 0;
     const int node_ranks = opt.dry_run ? opt.plan.ranks : mpi::ranks_on_node(comm);
     const int ranks = opt.dry_run ? opt.plan.ranks : mpi::size(comm);
     if (rank == 0) {
@@ -309,9 +328,26 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
                 error.clear();
             }
             if (!error.empty()) throw SpecError(error);
+            // A growth that a kill interrupted is completed (after its rename) or undone
+            // (before it) first, unless another live run holds the archive (refused below).
+            if (!opt.dry_run) try {
+                    ArchiveLock::check_free(output);
+                    if (const std::string done = Archive::finish_growth(output); !done.empty())
+                        std::printf("jamsim run: %s\n", done.c_str());
+                } catch (const ArchiveBusy&) {
+                } catch (const h5::Error& e) {
+                    throw SpecError(spec.path + ": " + e.what());
+                }
             // A dry run writes nothing, but an existing archive it names must fit the campaign.
-            if (!opt.dry_run || std::filesystem::exists(output)) error = check_output(output, spec, extend);
-            if (error.empty()) error = check_checkpoints(output, spec);
+            OutputMode mode = OutputMode::Fresh;
+            if (!opt.dry_run || std::filesystem::exists(output)) error = check_output(output, spec, mode, grow_source);
+            extend = mode == OutputMode::Extend;
+            grow = mode == OutputMode::Grow;
+            for (const std::int64_t from : grow_source) grow_kept += from >= 0;
+            // The checkpoints beside the archive are keyed by its replica ids (before a growth,
+            // those of the archive's campaign).
+            if (error.empty())
+                error = check_checkpoints(output, grow ? read_stored_campaign(output).spec : spec);
             if (error.empty()) error = check_petsc_options(spec);
             if (error.empty()) print_advisories(spec);
             if (error.empty() && !spec.replicas.front().initial.empty()) {
@@ -342,12 +378,18 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
     mpi::broadcast(text, 0, comm);
     mpi::broadcast(output, 0, comm);
     mpi::broadcast(extend, 0, comm);
+    mpi::broadcast(grow, 0, comm);
     const CampaignSpec spec = parse_campaign(text, opt.spec_path, opt.max_replicas);
     if (opt.dry_run) {
         if (rank == 0) {
             if (extend)
                 std::printf("(%s holds this campaign with shorter runs: the run would extend it, each "
                             "replica continuing from its final checkpoint)\n", output.c_str());
+            if (grow)
+                std::printf("(%s holds this campaign with fewer replicas: the run would grow it, keeping "
+                            "%lld replicas and running %lld new ones)\n", output.c_str(),
+                            static_cast<long long>(grow_kept),
+                            static_cast<long long>(spec.replicas.size()) - static_cast<long long>(grow_kept));
             print_dry_run(spec, output, opt.plan);
         }
         return 0;
@@ -366,6 +408,13 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
                 std::printf("extending %s to the longer runs of %s: finished replicas continue from "
                             "their final checkpoints\n", output.c_str(), opt.spec_path.c_str());
             Archive::extend(comm, output, spec);
+        }
+        if (grow) {
+            if (rank == 0)
+                std::printf("growing archive %s: %lld replicas kept, %lld new\n", output.c_str(),
+                            static_cast<long long>(grow_kept),
+                            static_cast<long long>(spec.replicas.size()) - static_cast<long long>(grow_kept));
+            Archive::grow(comm, output, spec, grow_source);
         }
         int exists = rank == 0 ? std::filesystem::exists(output) : 0;
         mpi::broadcast(exists, 0, comm);
@@ -436,6 +485,8 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
         }
         long long resumed = 0, local_resumed = s.resumed;
         mpi::check(MPI_Reduce(&local_resumed, &resumed, 1, MPI_LONG_LONG, MPI_SUM, 0, comm), "MPI_Reduce");
+        long long ran = 0, local_ran = s.ran;
+        mpi::check(MPI_Reduce(&local_ran, &ran, 1, MPI_LONG_LONG, MPI_SUM, 0, comm), "MPI_Reduce");
         long long failed = 0, local_failed = s.failed;
         mpi::check(MPI_Reduce(&local_io, &io, 1, MPI_DOUBLE, MPI_SUM, 0, comm), "MPI_Reduce");
         mpi::check(MPI_Reduce(&local_wall, &wall, 1, MPI_DOUBLE, MPI_SUM, 0, comm), "MPI_Reduce");
@@ -446,6 +497,8 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
                         "continued from checkpoints; archive writes took %.2f%% of rank time)\n",
                         spec.name.c_str(), s.wall_seconds, output.c_str(), failed, resumed,
                         wall > 0 ? 100.0 * io / wall : 0.0);
+            std::printf("%lld replicas ran in this run, %lld finished before were kept\n", ran,
+                        static_cast<long long>(s.skipped));
             std::printf("inspect with: jamsim status %s\n", output.c_str());
         }
     } catch (const std::exception& e) {

@@ -429,6 +429,35 @@ std::vector<std::string> campaign_warnings(const CampaignSpec& spec) {
     return out;
 }
 
+std::string settings_difference(const CampaignSpec& a, const CampaignSpec& b,
+                                const std::string& a_label, const std::string& b_label) {
+    std::vector<std::string> out;
+    const auto quoted = [](const ParamValue& v) {
+        std::string text = show_value(v);
+        if (std::holds_alternative<std::string>(v)) {
+            text.insert(text.begin(), '"');
+            text.push_back('"');
+        }
+        return text;
+    };
+    if (a.name != b.name)
+        out.push_back("[campaign] name: " + a_label + " " + quoted(a.name) + ", " + b_label + " " + quoted(b.name));
+    // Every replica of a campaign has its settings (its first one stands for all); the
+    // sweep's axes and the derived ladder_from are what may differ.
+    const ReplicaParams& pa = a.replicas.front();
+    const ReplicaParams& pb = b.replicas.front();
+    for (const auto& info : parameters()) {
+        if (info.table.empty() || info.key == "N" || info.key == "phi" || info.key == "rate" || info.key == "seed")
+            continue;
+        const ParamValue va = get_value(pa, info), vb = get_value(pb, info);
+        if (va == vb) continue;
+        out.push_back(location(info) + ": " + a_label + " " + quoted(va) + ", " + b_label + " " + quoted(vb));
+    }
+    std::string joined;
+    for (const auto& line : out) joined += (joined.empty() ? "" : "; ") + line;
+    return joined;
+}
+
 std::string fingerprint(const CampaignSpec& spec) {
     // The version names what the results mean: v5 keyed every random number by the replica's
     // identity (its physical parameters and seed) instead of its position in the sweep, and

@@ -52,6 +52,14 @@ CampaignSpec load_campaign(const std::string& path, std::int64_t max_replicas = 
 /// `advisories`): each kind once, with the number of replicas it concerns.
 std::vector<std::string> campaign_warnings(const CampaignSpec& spec);
 
+/// The campaign settings in which two campaigns differ: everything but the sweep's replicas
+/// ([campaign] name and each parameter of [model], [potential], [system], [run] and [sweep]
+/// rate_ladder), one "[potential] alpha: archive 2, file 2.5" per setting, joined by "; ",
+/// with `a_label` and `b_label` naming the two sides; "" when they agree (the campaigns then
+/// differ at most in their sweeps: N, phi, rate, seeds, points).
+std::string settings_difference(const CampaignSpec& a, const CampaignSpec& b,
+                                const std::string& a_label, const std::string& b_label);
+
 /// Canonical description of everything that determines the replicas' output (one line per
 /// replica, its used parameters). Two specs with the same fingerprint produce the same
 /// archive contents.
