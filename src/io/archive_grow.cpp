@@ -1,6 +1,9 @@
 // Growing a campaign archive in place: more replicas in its sweep (Archive::check_growth,
-// Archive::grow, Archive::finish_growth).
+// Archive::grow, Archive::finish_growth); the same replica in two archives compared
+// (Archive::replica_difference, for jamsim merge).
+#include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <string_view>
@@ -11,6 +14,8 @@
 #include "jamsim/run/model_registry.hpp"
 
 namespace jamsim {
+
+using h5::Handle;
 
 namespace {
 
@@ -168,6 +173,51 @@ std::string Archive::finish_growth(const std::string& path) {
     fs::rename(next_folder, folder, ec);
     if (ec) throw h5::Error("cannot rename '" + next_folder.string() + "' to '" + folder.string() + "': " + ec.message());
     return "completed the growth of '" + path + "' (its checkpoints under the new replica ids)";
+}
+
+std::string Archive::replica_difference(const std::string& a, std::int64_t a_replica,
+                                        const std::string& b, std::int64_t b_replica) {
+    const Handle fa = h5::open_unlocked_readonly(a), fb = h5::open_unlocked_readonly(b);
+    const auto ra = static_cast<hsize_t>(a_replica), rb = static_cast<hsize_t>(b_replica);
+    // Bitwise, NaN equal to NaN (a row's padding).
+    const auto same = [](const std::vector<double>& x, const std::vector<double>& y) {
+        const std::size_t m = std::min(x.size(), y.size());
+        for (std::size_t k = 0; k < std::max(x.size(), y.size()); ++k) {
+            const double u = k < x.size() ? x[k] : std::nan(""), v = k < y.size() ? y[k] : std::nan("");
+            if (std::isnan(u) && std::isnan(v)) continue;
+            if (k >= m || std::memcmp(&u, &v, sizeof u) != 0) return false;
+        }
+        return true;
+    };
+    const auto row = [](hid_t f, const std::string& path, hsize_t r) {
+        const std::vector<hsize_t> dims = h5::dataset_shape(f, path);
+        const hsize_t length = dims.size() == 2 ? dims[1] : 1;
+        std::vector<double> out(length);
+        if (dims.size() == 2) h5::read_block(f, path, H5T_NATIVE_DOUBLE, {r, 0}, {1, length}, out.data());
+        else h5::read_block(f, path, H5T_NATIVE_DOUBLE, {r}, {1}, out.data());
+        return out;
+    };
+    std::vector<std::string> paths;
+    for (const auto& c : kSampleColumns) paths.push_back(std::string("/timeseries/") + c.name);
+    for (const char* p : {"/correlation/x", "/correlation/g_y", "/final/box_side", "/final/box_strain"}) paths.emplace_back(p);
+    for (const auto& path : paths)
+        if (!same(row(fa.get(), path, ra), row(fb.get(), path, rb))) return path;
+    const auto disks = [](hid_t f, hsize_t r, const char* path) {
+        std::int64_t first = 0;
+        h5::read_block(f, "/replicas/particle_offset", H5T_NATIVE_INT64, {r}, {1}, &first);
+        double n = 0;
+        h5::read_block(f, "/replicas/N", H5T_NATIVE_DOUBLE, {r}, {1}, &n);
+        std::vector<double> out(static_cast<std::size_t>(n));
+        h5::read_block(f, path, H5T_NATIVE_DOUBLE, {static_cast<hsize_t>(first)}, {out.size()}, out.data());
+        return out;
+    };
+    for (const char* path : {"/final/x", "/final/y", "/final/diameter"})
+        if (!same(disks(fa.get(), ra, path), disks(fb.get(), rb, path))) return path;
+    std::int64_t ea = 0, eb = 0;
+    h5::read_block(fa.get(), "/replicas/force_evaluations", H5T_NATIVE_INT64, {ra}, {1}, &ea);
+    h5::read_block(fb.get(), "/replicas/force_evaluations", H5T_NATIVE_INT64, {rb}, {1}, &eb);
+    if (ea != eb) return "/replicas/force_evaluations";
+    return "";
 }
 
 } // namespace jamsim

@@ -99,6 +99,13 @@ class Archive {
     void import_replica(const std::string& source_path, std::int64_t source_replica,
                         std::int64_t replica);
 
+    /// Serial, read-only: "" when replica `a_replica` of the archive `a` and `b_replica` of `b`
+    /// (the same replica: the same identity) hold bitwise the same data (rows, g_y, final
+    /// configuration, force evaluations; NaN padding past the shorter row), otherwise the
+    /// first dataset that differs.
+    static std::string replica_difference(const std::string& a, std::int64_t a_replica,
+                                          const std::string& b, std::int64_t b_replica);
+
     /// Independent read of every replica's status.
     std::vector<ReplicaStatus> read_status() const;
 

@@ -20,7 +20,8 @@ struct SpecError : std::runtime_error {
 /// relative to the working directory), [model] (name plus the model's parameters),
 /// [potential] (name = "harmonic" | "hertzian", or alpha), [system], [run] and [sweep]
 /// (N, phi, rate lists expanded as a Cartesian product; seeds = a count or a list; points =
-/// [{N = .., phi = .., rate = ..}, ...] for non-grid points, each with every seed). The keys
+/// [{N = .., phi = .., rate = ..}, ...] for non-grid points, each with every seed, or with its
+/// own list: {N = .., phi = .., rate = .., seeds = [4, 9]}). The keys
 /// of [model], [potential], [system], [run] and the sweep's parameters come from the
 /// parameter table (jamsim/params/parameters.hpp); a key the campaign's model does not use is
 /// refused. Replicas are the grid (N outermost, then phi, rate, seed) followed by the points;
@@ -59,6 +60,13 @@ std::vector<std::string> campaign_warnings(const CampaignSpec& spec);
 /// differ at most in their sweeps: N, phi, rate, seeds, points).
 std::string settings_difference(const CampaignSpec& a, const CampaignSpec& b,
                                 const std::string& a_label, const std::string& b_label);
+
+/// A campaign file (TOML) whose replicas are `replicas` (which share their settings: those of
+/// the first), sorted by N, phi, rate and seed, as points with their own seeds; the settings
+/// that differ from the defaults are written out. `comment` opens it (# lines). What jamsim
+/// merge stores for campaigns that differ in their sweeps.
+std::string campaign_text(const std::string& name, const std::string& output,
+                          const std::vector<ReplicaParams>& replicas, const std::string& comment);
 
 /// Canonical description of everything that determines the replicas' output (one line per
 /// replica, its used parameters). Two specs with the same fingerprint produce the same
