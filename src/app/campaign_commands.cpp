@@ -11,6 +11,10 @@
 #include <optional>
 #include <memory>
 #include <set>
+#include <queue>
+#include <tuple>
+#include <algorithm>
+#include <functional>
 #include <sstream>
 #include <limits>
 
@@ -198,39 +202,111 @@ void print_advisories(const CampaignSpec& spec) {
         std::fprintf(stderr, "jamsim run: warning: %s: %s\n", spec.path.c_str(), line.c_str());
 }
 
-/// Seconds per estimated cost unit for each (model, N) of a campaign, measured on this
-/// machine: a dynamics replica runs a probe of about 2e7 particle force evaluations (at least
-/// 20 steps); a minimisation protocol runs its first replica whole when its nominal time is
-/// under 10 s (its cost estimate counts evaluations only roughly). Groups that cannot be
-/// probed keep the nominal rate.
-std::map<std::pair<std::string, std::int64_t>, double> calibrate(const CampaignSpec& spec) {
-    std::map<std::pair<std::string, std::int64_t>, double> seconds_per_cost;
+/// Replicas that run at one throughput (seconds per estimated cost unit): model, N and phi.
+using CostGroup = std::tuple<std::string, std::int64_t, double>;
+CostGroup cost_group(const ReplicaParams& p) { return {p.model, p.n, p.phi}; }
+
+/// Seconds per estimated cost unit on this machine, per group, and where they come from.
+struct Calibration {
+    std::map<CostGroup, double> measured;  ///< groups measured (recorded or probed)
+    int recorded = 0, probed = 0;          ///< groups from an earlier run's archive, from probes
+
+    /// A group measured, else the model's measured groups (the same N first), else nominal.
+    double seconds_per_cost(const ReplicaParams& p) const {
+        if (const auto it = measured.find(cost_group(p)); it != measured.end()) return it->second;
+        double same_n = 0, same_model = 0;
+        int n_count = 0, model_count = 0;
+        for (const auto& [group, rate] : measured) {
+            if (std::get<0>(group) != p.model) continue;
+            same_model += rate;
+            ++model_count;
+            if (std::get<1>(group) == p.n) {
+                same_n += rate;
+                ++n_count;
+            }
+        }
+        if (n_count > 0) return same_n / n_count;
+        if (model_count > 0) return same_model / model_count;
+        return 1.0 / kNominalEvaluationsPerSecond;
+    }
+};
+
+/// Seconds of probes a dry run may spend calibrating (the groups left use measured neighbours).
+constexpr double kProbeBudgetSeconds = 30.0;
+
+/// The throughput of each group of a campaign on this machine: from the replicas an earlier
+/// run finished in the campaign's archive (wall time over estimated cost), else from a probe
+/// of the group's first replica: dynamics run about 2e7 particle force evaluations of it (at
+/// least 20 steps; the replica whole when shorter), a minimisation protocol up to three of
+/// its replicas whole, each when it takes under 10 s by the best estimate so far (a
+/// minimisation's cost depends on N, phi and the seed in ways its estimate counts only
+/// roughly). Probes stop after kProbeBudgetSeconds.
+Calibration calibrate(const CampaignSpec& spec, const std::string& archive) {
+    Calibration out;
+    // Rates recorded by earlier runs of this campaign (or of the archive's campaign, grown).
+    std::map<CostGroup, std::pair<double, double>> recorded;  // group -> (seconds, cost)
+    std::error_code ec;
+    if (!archive.empty() && std::filesystem::exists(archive, ec) && diagnose_archive_file(archive).empty()) try {
+            const StoredCampaign stored = read_stored_campaign(archive);
+            const h5::Handle file = h5::open_unlocked_readonly(archive);
+            const auto wall = h5::read_all<double>(file.get(), "/replicas/wall_seconds", H5T_NATIVE_DOUBLE);
+            for (std::size_t r = 0; r < stored.status.size() && r < wall.size(); ++r) {
+                const ReplicaParams& p = stored.spec.replicas[r];
+                if (stored.status[r] != ReplicaStatus::Done || !(wall[r] > 0) || !(estimated_cost(p) > 0)) continue;
+                auto& [seconds, cost] = recorded[cost_group(p)];
+                seconds += wall[r];
+                cost += estimated_cost(p);
+            }
+        } catch (const std::exception&) {
+            recorded.clear();  // an archive that cannot be read: probes instead
+        }
+    for (const auto& [group, sums] : recorded) {
+        out.measured[group] = sums.first / sums.second;
+        ++out.recorded;
+    }
+    double spent = 0;
+    // Minimisations: up to kMinimisationProbes replicas (seeds) per group, their mean, since
+    // a minimisation's cost varies from seed to seed (near phi_J by an order of magnitude).
+    constexpr int kMinimisationProbes = 3;
+    std::map<CostGroup, std::pair<double, double>> probed;  // group -> (seconds, cost)
+    std::map<CostGroup, int> probes;
     for (const ReplicaParams& p : spec.replicas) {
-        const auto key = std::pair{p.model, p.n};
-        if (seconds_per_cost.count(key)) continue;
-        seconds_per_cost[key] = 1.0 / kNominalEvaluationsPerSecond;
+        const CostGroup key = cost_group(p);
+        const bool minimisation = model_of(p).kind != ModelKind::Dynamics;
+        if (recorded.count(key) || spent >= kProbeBudgetSeconds ||
+            probes[key] >= (minimisation ? kMinimisationProbes : 1))
+            continue;
         ReplicaParams probe = p;
         const bool dynamics = model_of(p).kind == ModelKind::Dynamics;
         if (dynamics) {
             const double steps = std::max(20.0, 2e7 / (static_cast<double>(p.n) * evaluations_per_step(p)));
-            if (steps >= static_cast<double>(schedule_of(p).steps)) continue;  // as long as the replica
-            (p.rate > 0 ? probe.strain : probe.time) = steps * p.dt * (p.rate > 0 ? p.rate : 1.0);
-            probe.sample_interval = probe.rate > 0 ? probe.strain : probe.time;
-            probe.transient = 0.0;  // the probe is shorter than the replica's transient may be
-            probe.checkpoint_steps = 1'000'000'000;
-        } else if (estimated_cost(p) / kNominalEvaluationsPerSecond > 10.0) {
+            if (steps < static_cast<double>(schedule_of(p).steps)) {  // else the replica whole
+                (p.rate > 0 ? probe.strain : probe.time) = steps * p.dt * (p.rate > 0 ? p.rate : 1.0);
+                probe.sample_interval = probe.rate > 0 ? probe.strain : probe.time;
+                probe.transient = 0.0;  // the probe is shorter than the replica's transient may be
+                probe.checkpoint_steps = 1'000'000'000;
+            }
+        } else if (estimated_cost(p) * out.seconds_per_cost(p) > std::min(10.0, kProbeBudgetSeconds - spent)) {
             continue;
         }
         try {
             const ReplicaResult r = run_replica(probe);
+            spent += r.wall_seconds;
             const double cost = dynamics ? static_cast<double>(r.force_evaluations) * static_cast<double>(p.n)
                                          : estimated_cost(p);
-            if (cost > 0 && r.wall_seconds > 0) seconds_per_cost[key] = r.wall_seconds / cost;
+            if (cost > 0 && r.wall_seconds > 0) {
+                auto& [seconds, costs] = probed[key];
+                seconds += r.wall_seconds;
+                costs += cost;
+                out.measured[key] = seconds / costs;
+                ++probes[key];
+            }
         } catch (const std::exception&) {
-            // a probe that fails (a replica that would fail) keeps the nominal rate
+            // a probe that fails (a replica that would fail) leaves its group to the others
         }
     }
-    return seconds_per_cost;
+    out.probed = static_cast<int>(probed.size());
+    return out;
 }
 
 /// "42 s", "12.5 min", "3.20 h".
@@ -245,11 +321,8 @@ std::string duration(double seconds) {
 void print_dry_run(const CampaignSpec& spec, const std::string& output, const DryRunPlan& plan) {
     std::printf("campaign %s: %zu replicas -> %s (dry run: nothing written)\n", spec.name.c_str(),
                 spec.replicas.size(), output.c_str());
-    const auto rates = plan.calibrate ? calibrate(spec) : decltype(calibrate(spec)){};
-    const auto seconds_of = [&](const ReplicaParams& p) {
-        const auto it = rates.find({p.model, p.n});
-        return estimated_cost(p) * (it == rates.end() ? 1.0 / kNominalEvaluationsPerSecond : it->second);
-    };
+    const Calibration rates = plan.calibrate ? calibrate(spec, output) : Calibration{};
+    const auto seconds_of = [&](const ReplicaParams& p) { return estimated_cost(p) * rates.seconds_per_cost(p); };
     std::printf("%6s %7s %8s %10s %6s %9s %14s %10s\n", "id", "N", "phi", "rate", "seed",
                 "samples", "cost(p-evals)", "est. s");
     double total = 0, largest = 0;
@@ -265,11 +338,28 @@ void print_dry_run(const CampaignSpec& spec, const std::string& output, const Dr
                     static_cast<unsigned long long>(p.seed),
                     static_cast<long long>(sample_count(p)), estimated_cost(p), seconds);
     }
-    std::printf("total: %.3g core-hours (%s); on %d ranks about %s of wall time (the longest "
+    // The wall time on P ranks: the farm's schedule, longest estimated cost first, each replica
+    // to the rank that becomes free first.
+    std::vector<double> by_cost;
+    for (const ReplicaParams& p : spec.replicas) by_cost.push_back(seconds_of(p));
+    std::sort(by_cost.begin(), by_cost.end(), std::greater<>());
+    std::priority_queue<double, std::vector<double>, std::greater<>> free_at;
+    for (int r = 0; r < plan.ranks; ++r) free_at.push(0.0);
+    double wall = 0;
+    for (const double seconds : by_cost) {
+        const double start = free_at.top();
+        free_at.pop();
+        free_at.push(start + seconds);
+        wall = std::max(wall, start + seconds);
+    }
+    const std::string source =
+        !plan.calibrate ? "nominal 7e7 particle force evaluations/s"
+                        : "throughput measured on this machine per model, N and phi: " + std::to_string(rates.recorded) +
+                              " groups from the archive's finished replicas, " + std::to_string(rates.probed) +
+                              " by a short probe, the rest from those";
+    std::printf("total: %.3g core-hours, %.3g core-seconds (%s); on %d ranks about %s of wall time (the longest "
                 "replica: %s)\n",
-                total / 3600.0, plan.calibrate ? "throughput measured on this machine by a short probe per model and N"
-                                                : "nominal 7e7 particle force evaluations/s",
-                plan.ranks, duration(std::max(total / plan.ranks, largest)).c_str(), duration(largest).c_str());
+                total / 3600.0, total, source.c_str(), plan.ranks, duration(wall).c_str(), duration(largest).c_str());
     if (plan.time_limit > 0) {
         const char* lead_env = std::getenv("JAMSIM_SIGNAL_LEAD");
         const double lead = lead_env ? std::atof(lead_env) : 300.0;
