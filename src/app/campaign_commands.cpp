@@ -360,6 +360,22 @@ void print_dry_run(const CampaignSpec& spec, const std::string& output, const Dr
     std::printf("total: %.3g core-hours, %.3g core-seconds (%s); on %d ranks about %s of wall time (the longest "
                 "replica: %s)\n",
                 total / 3600.0, total, source.c_str(), plan.ranks, duration(wall).c_str(), duration(largest).c_str());
+    // A resumed or grown archive: what its finished replicas leave to run.
+    std::error_code ec;
+    if (std::filesystem::exists(output, ec) && diagnose_archive_file(output).empty()) try {
+            const StoredCampaign stored = read_stored_campaign(output);
+            std::set<std::string> finished;
+            for (std::size_t r = 0; r < stored.status.size(); ++r)
+                if (stored.status[r] == ReplicaStatus::Done || stored.status[r] == ReplicaStatus::Failed)
+                    finished.insert(describe(stored.spec.replicas[r]));
+            double left = 0;
+            for (const ReplicaParams& p : spec.replicas)
+                if (!finished.count(describe(p))) left += seconds_of(p);
+            std::printf("left to run: %.3g core-seconds (the archive's %zu finished replicas are kept)\n", left,
+                        finished.size());
+        } catch (const std::exception&) {
+            // an archive that cannot be read was refused before a dry run lists anything
+        }
     if (plan.time_limit > 0) {
         const char* lead_env = std::getenv("JAMSIM_SIGNAL_LEAD");
         const double lead = lead_env ? std::atof(lead_env) : 300.0;
