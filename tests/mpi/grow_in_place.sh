@@ -15,6 +15,8 @@ cd "$work"
 rm -rf grow*.h5* grow-ck* step*.h5 old*
 fail() { echo "FAIL: $*"; exit 1; }
 run() { timeout 300 "$mpirun" -n 2 "$jamsim" run "$@"; }
+# Until FILE exists (a run's first checkpoint: its signal handler is in place), at most 60 s.
+wait_for() { for _ in $(seq 1200); do [[ -e $1 ]] && return 0; sleep 0.05; done; fail "no $1 after 60 s"; }
 
 # (1) Three steps against one run of the final campaign.
 run "$campaigns/grow_step3.toml" -o grow_ref.h5 > ref.log 2>&1 || { cat ref.log; fail "reference run"; }
@@ -45,7 +47,7 @@ run "$campaigns/grow_checkpointed_more.toml" -o grow_ck_ref.h5 > ck_ref.log 2>&1
 # (mpiexec itself in the background, so that SIGUSR1 reaches it)
 "$mpirun" -n 2 "$jamsim" run "$campaigns/grow_checkpointed.toml" --checkpoint-every 0 > ck0.log 2>&1 &
 pid=$!
-sleep 2
+wait_for grow-ck.h5.checkpoints/replica_0.h5
 kill -USR1 "$pid" 2>/dev/null || true
 rc=0; wait "$pid" || rc=$?
 [[ $rc -eq 75 ]] || { cat ck0.log; fail "the first run was not interrupted (exit $rc)"; }
@@ -59,7 +61,7 @@ mkdir grow-ck.h5.growing.checkpoints
 cp old.checkpoints/replica_0.h5 grow-ck.h5.growing.checkpoints/replica_7.h5
 "$mpirun" -n 2 "$jamsim" run "$campaigns/grow_checkpointed_more.toml" --checkpoint-every 0 > ck1.log 2>&1 &
 pid=$!
-sleep 2
+wait_for grow-ck.h5.checkpoints/replica_1.h5  # seed 2's checkpoint under its new id: grown
 kill -USR1 "$pid" 2>/dev/null || true
 rc=0; wait "$pid" || rc=$?
 cat ck1.log | grep -v '^\['
