@@ -7,13 +7,13 @@
 #   tools/cost_accuracy.sh [JAMSIM] [CAMPAIGN.toml ...]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
-jamsim=${1:-$root/build/release/jamsim}
-[[ $# -gt 0 ]] && shift
-if [[ ${1:-} == -h || ${1:-} == --help || ! -x $jamsim ]]; then
+if [[ ${1:-} == -h || ${1:-} == --help ]]; then
   sed -n '2,7p' "$0" | sed 's/^# \{0,1\}//'
-  [[ -x $jamsim ]] || { echo "cost_accuracy.sh: no jamsim at '$jamsim' (build it: tools/build.sh)" >&2; exit 2; }
   exit 0
 fi
+jamsim=${1:-$root/build/release/jamsim}
+[[ $# -gt 0 ]] && shift
+[[ -x $jamsim ]] || { echo "cost_accuracy.sh: JAMSIM = '$jamsim' is not allowed: an executable jamsim (build it: tools/build.sh)" >&2; exit 2; }
 campaigns=("$@")
 [[ ${#campaigns[@]} -gt 0 ]] || campaigns=("$root"/tests/bench/campaigns/cost_*.toml)
 work=$(mktemp -d)
