@@ -113,7 +113,7 @@ std::string check_output(const std::string& path, const CampaignSpec& spec, Outp
                    " (choose another [campaign] output or -o, or remove the file)";
         const std::string why = Archive::check_existing(path, spec);
         if (why.empty()) return "";
-        if (why.find("another version of jamsim") != std::string::npos)
+        if (why.find("belongs to a different campaign") == std::string::npos)  // another version, unreadable
             return spec.path + ": refusing to use the archive: " + why +
                    " (choose another [campaign] output or -o)";
         const std::string not_longer = Archive::check_extension(path, spec);
