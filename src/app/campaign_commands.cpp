@@ -10,7 +10,13 @@
 #include <map>
 #include <optional>
 #include <memory>
+#include <set>
+#include <queue>
+#include <tuple>
+#include <algorithm>
+#include <functional>
 #include <sstream>
+#include <limits>
 
 #include "jamsim/campaign/stop_request.hpp"
 #include "jamsim/io/archive.hpp"
@@ -88,7 +94,14 @@ bool redraw_progress(const std::string& mode) {
 }
 
 
-std::string check_output(const std::string& path, const CampaignSpec& spec, int& extend) {
+/// What a run does with an existing archive of its campaign.
+enum class OutputMode : int { Fresh = 0, Extend = 1, Grow = 2 };
+
+/// "" when the run may write `path`; `mode` says how (a new or resumed archive, one extended
+/// to longer runs, one grown by more replicas: then `source` maps spec's replicas to the
+/// archive's, Archive::check_growth).
+std::string check_output(const std::string& path, const CampaignSpec& spec, OutputMode& mode,
+                         std::vector<std::int64_t>& source) {
     namespace fs = std::filesystem;
     std::error_code ec;
     if (fs::exists(path, ec)) {
@@ -100,16 +113,25 @@ std::string check_output(const std::string& path, const CampaignSpec& spec, int&
                    " (choose another [campaign] output or -o, or remove the file)";
         const std::string why = Archive::check_existing(path, spec);
         if (why.empty()) return "";
+        if (why.find("belongs to a different campaign") == std::string::npos)  // another version, unreadable
+            return spec.path + ": refusing to use the archive: " + why +
+                   " (choose another [campaign] output or -o)";
         const std::string not_longer = Archive::check_extension(path, spec);
         if (not_longer.empty()) {  // the same campaign, run longer
-            extend = 1;
+            mode = OutputMode::Extend;
             return "";
         }
         if (not_longer.find("would run shorter") != std::string::npos)  // the one near miss
             return spec.path + ": refusing to use the archive '" + path + "': " + not_longer +
                    " than in it: a campaign can be extended to a larger strain (or time), not "
                    "shortened (choose another [campaign] output or -o)";
-        return spec.path + ": refusing to use the archive: " + why +
+        const std::string not_grown = Archive::check_growth(path, spec, source);
+        if (not_grown.empty()) {  // the same campaign with more replicas
+            mode = OutputMode::Grow;
+            return "";
+        }
+        return spec.path + ": refusing to use the archive: '" + path +
+               "' belongs to a different campaign: " + not_grown +
                " (choose another [campaign] output or -o)";
     }
     // Checkpoints without their archive belong to a run whose archive was removed or moved:
@@ -180,39 +202,111 @@ void print_advisories(const CampaignSpec& spec) {
         std::fprintf(stderr, "jamsim run: warning: %s: %s\n", spec.path.c_str(), line.c_str());
 }
 
-/// Seconds per estimated cost unit for each (model, N) of a campaign, measured on this
-/// machine: a dynamics replica runs a probe of about 2e7 particle force evaluations (at least
-/// 20 steps); a minimisation protocol runs its first replica whole when its nominal time is
-/// under 10 s (its cost estimate counts evaluations only roughly). Groups that cannot be
-/// probed keep the nominal rate.
-std::map<std::pair<std::string, std::int64_t>, double> calibrate(const CampaignSpec& spec) {
-    std::map<std::pair<std::string, std::int64_t>, double> seconds_per_cost;
+/// Replicas that run at one throughput (seconds per estimated cost unit): model, N and phi.
+using CostGroup = std::tuple<std::string, std::int64_t, double>;
+CostGroup cost_group(const ReplicaParams& p) { return {p.model, p.n, p.phi}; }
+
+/// Seconds per estimated cost unit on this machine, per group, and where they come from.
+struct Calibration {
+    std::map<CostGroup, double> measured;  ///< groups measured (recorded or probed)
+    int recorded = 0, probed = 0;          ///< groups from an earlier run's archive, from probes
+
+    /// A group measured, else the model's measured groups (the same N first), else nominal.
+    double seconds_per_cost(const ReplicaParams& p) const {
+        if (const auto it = measured.find(cost_group(p)); it != measured.end()) return it->second;
+        double same_n = 0, same_model = 0;
+        int n_count = 0, model_count = 0;
+        for (const auto& [group, rate] : measured) {
+            if (std::get<0>(group) != p.model) continue;
+            same_model += rate;
+            ++model_count;
+            if (std::get<1>(group) == p.n) {
+                same_n += rate;
+                ++n_count;
+            }
+        }
+        if (n_count > 0) return same_n / n_count;
+        if (model_count > 0) return same_model / model_count;
+        return 1.0 / kNominalEvaluationsPerSecond;
+    }
+};
+
+/// Seconds of probes a dry run may spend calibrating (the groups left use measured neighbours).
+constexpr double kProbeBudgetSeconds = 30.0;
+
+/// The throughput of each group of a campaign on this machine: from the replicas an earlier
+/// run finished in the campaign's archive (wall time over estimated cost), else from a probe
+/// of the group's first replica: dynamics run about 2e7 particle force evaluations of it (at
+/// least 20 steps; the replica whole when shorter), a minimisation protocol up to three of
+/// its replicas whole, each when it takes under 10 s by the best estimate so far (a
+/// minimisation's cost depends on N, phi and the seed in ways its estimate counts only
+/// roughly). Probes stop after kProbeBudgetSeconds.
+Calibration calibrate(const CampaignSpec& spec, const std::string& archive) {
+    Calibration out;
+    // Rates recorded by earlier runs of this campaign (or of the archive's campaign, grown).
+    std::map<CostGroup, std::pair<double, double>> recorded;  // group -> (seconds, cost)
+    std::error_code ec;
+    if (!archive.empty() && std::filesystem::exists(archive, ec) && diagnose_archive_file(archive).empty()) try {
+            const StoredCampaign stored = read_stored_campaign(archive);
+            const h5::Handle file = h5::open_unlocked_readonly(archive);
+            const auto wall = h5::read_all<double>(file.get(), "/replicas/wall_seconds", H5T_NATIVE_DOUBLE);
+            for (std::size_t r = 0; r < stored.status.size() && r < wall.size(); ++r) {
+                const ReplicaParams& p = stored.spec.replicas[r];
+                if (stored.status[r] != ReplicaStatus::Done || !(wall[r] > 0) || !(estimated_cost(p) > 0)) continue;
+                auto& [seconds, cost] = recorded[cost_group(p)];
+                seconds += wall[r];
+                cost += estimated_cost(p);
+            }
+        } catch (const std::exception&) {
+            recorded.clear();  // an archive that cannot be read: probes instead
+        }
+    for (const auto& [group, sums] : recorded) {
+        out.measured[group] = sums.first / sums.second;
+        ++out.recorded;
+    }
+    double spent = 0;
+    // Minimisations: up to kMinimisationProbes replicas (seeds) per group, their mean, since
+    // a minimisation's cost varies from seed to seed (near phi_J by an order of magnitude).
+    constexpr int kMinimisationProbes = 3;
+    std::map<CostGroup, std::pair<double, double>> probed;  // group -> (seconds, cost)
+    std::map<CostGroup, int> probes;
     for (const ReplicaParams& p : spec.replicas) {
-        const auto key = std::pair{p.model, p.n};
-        if (seconds_per_cost.count(key)) continue;
-        seconds_per_cost[key] = 1.0 / kNominalEvaluationsPerSecond;
+        const CostGroup key = cost_group(p);
+        const bool minimisation = model_of(p).kind != ModelKind::Dynamics;
+        if (recorded.count(key) || spent >= kProbeBudgetSeconds ||
+            probes[key] >= (minimisation ? kMinimisationProbes : 1))
+            continue;
         ReplicaParams probe = p;
         const bool dynamics = model_of(p).kind == ModelKind::Dynamics;
         if (dynamics) {
             const double steps = std::max(20.0, 2e7 / (static_cast<double>(p.n) * evaluations_per_step(p)));
-            if (steps >= static_cast<double>(schedule_of(p).steps)) continue;  // as long as the replica
-            (p.rate > 0 ? probe.strain : probe.time) = steps * p.dt * (p.rate > 0 ? p.rate : 1.0);
-            probe.sample_interval = probe.rate > 0 ? probe.strain : probe.time;
-            probe.transient = 0.0;  // the probe is shorter than the replica's transient may be
-            probe.checkpoint_steps = 1'000'000'000;
-        } else if (estimated_cost(p) / kNominalEvaluationsPerSecond > 10.0) {
+            if (steps < static_cast<double>(schedule_of(p).steps)) {  // else the replica whole
+                (p.rate > 0 ? probe.strain : probe.time) = steps * p.dt * (p.rate > 0 ? p.rate : 1.0);
+                probe.sample_interval = probe.rate > 0 ? probe.strain : probe.time;
+                probe.transient = 0.0;  // the probe is shorter than the replica's transient may be
+                probe.checkpoint_steps = 1'000'000'000;
+            }
+        } else if (estimated_cost(p) * out.seconds_per_cost(p) > std::min(10.0, kProbeBudgetSeconds - spent)) {
             continue;
         }
         try {
             const ReplicaResult r = run_replica(probe);
+            spent += r.wall_seconds;
             const double cost = dynamics ? static_cast<double>(r.force_evaluations) * static_cast<double>(p.n)
                                          : estimated_cost(p);
-            if (cost > 0 && r.wall_seconds > 0) seconds_per_cost[key] = r.wall_seconds / cost;
+            if (cost > 0 && r.wall_seconds > 0) {
+                auto& [seconds, costs] = probed[key];
+                seconds += r.wall_seconds;
+                costs += cost;
+                out.measured[key] = seconds / costs;
+                ++probes[key];
+            }
         } catch (const std::exception&) {
-            // a probe that fails (a replica that would fail) keeps the nominal rate
+            // a probe that fails (a replica that would fail) leaves its group to the others
         }
     }
-    return seconds_per_cost;
+    out.probed = static_cast<int>(probed.size());
+    return out;
 }
 
 /// "42 s", "12.5 min", "3.20 h".
@@ -227,11 +321,8 @@ std::string duration(double seconds) {
 void print_dry_run(const CampaignSpec& spec, const std::string& output, const DryRunPlan& plan) {
     std::printf("campaign %s: %zu replicas -> %s (dry run: nothing written)\n", spec.name.c_str(),
                 spec.replicas.size(), output.c_str());
-    const auto rates = plan.calibrate ? calibrate(spec) : decltype(calibrate(spec)){};
-    const auto seconds_of = [&](const ReplicaParams& p) {
-        const auto it = rates.find({p.model, p.n});
-        return estimated_cost(p) * (it == rates.end() ? 1.0 / kNominalEvaluationsPerSecond : it->second);
-    };
+    const Calibration rates = plan.calibrate ? calibrate(spec, output) : Calibration{};
+    const auto seconds_of = [&](const ReplicaParams& p) { return estimated_cost(p) * rates.seconds_per_cost(p); };
     std::printf("%6s %7s %8s %10s %6s %9s %14s %10s\n", "id", "N", "phi", "rate", "seed",
                 "samples", "cost(p-evals)", "est. s");
     double total = 0, largest = 0;
@@ -247,11 +338,44 @@ void print_dry_run(const CampaignSpec& spec, const std::string& output, const Dr
                     static_cast<unsigned long long>(p.seed),
                     static_cast<long long>(sample_count(p)), estimated_cost(p), seconds);
     }
-    std::printf("total: %.3g core-hours (%s); on %d ranks about %s of wall time (the longest "
+    // The wall time on P ranks: the farm's schedule, longest estimated cost first, each replica
+    // to the rank that becomes free first.
+    std::vector<double> by_cost;
+    for (const ReplicaParams& p : spec.replicas) by_cost.push_back(seconds_of(p));
+    std::sort(by_cost.begin(), by_cost.end(), std::greater<>());
+    std::priority_queue<double, std::vector<double>, std::greater<>> free_at;
+    for (int r = 0; r < plan.ranks; ++r) free_at.push(0.0);
+    double wall = 0;
+    for (const double seconds : by_cost) {
+        const double start = free_at.top();
+        free_at.pop();
+        free_at.push(start + seconds);
+        wall = std::max(wall, start + seconds);
+    }
+    const std::string source =
+        !plan.calibrate ? "nominal 7e7 particle force evaluations/s"
+                        : "throughput measured on this machine per model, N and phi: " + std::to_string(rates.recorded) +
+                              " groups from the archive's finished replicas, " + std::to_string(rates.probed) +
+                              " by a short probe, the rest from those";
+    std::printf("total: %.3g core-hours, %.3g core-seconds (%s); on %d ranks about %s of wall time (the longest "
                 "replica: %s)\n",
-                total / 3600.0, plan.calibrate ? "throughput measured on this machine by a short probe per model and N"
-                                                : "nominal 7e7 particle force evaluations/s",
-                plan.ranks, duration(std::max(total / plan.ranks, largest)).c_str(), duration(largest).c_str());
+                total / 3600.0, total, source.c_str(), plan.ranks, duration(wall).c_str(), duration(largest).c_str());
+    // A resumed or grown archive: what its finished replicas leave to run.
+    std::error_code ec;
+    if (std::filesystem::exists(output, ec) && diagnose_archive_file(output).empty()) try {
+            const StoredCampaign stored = read_stored_campaign(output);
+            std::set<std::string> finished;
+            for (std::size_t r = 0; r < stored.status.size(); ++r)
+                if (stored.status[r] == ReplicaStatus::Done || stored.status[r] == ReplicaStatus::Failed)
+                    finished.insert(describe(stored.spec.replicas[r]));
+            double left = 0;
+            for (const ReplicaParams& p : spec.replicas)
+                if (!finished.count(describe(p))) left += seconds_of(p);
+            std::printf("left to run: %.3g core-seconds (the archive's %zu finished replicas are kept)\n", left,
+                        finished.size());
+        } catch (const std::exception&) {
+            // an archive that cannot be read was refused before a dry run lists anything
+        }
     if (plan.time_limit > 0) {
         const char* lead_env = std::getenv("JAMSIM_SIGNAL_LEAD");
         const double lead = lead_env ? std::atof(lead_env) : 300.0;
@@ -293,6 +417,9 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
     // Rank 0 reads and checks everything before any rank starts work.
     std::string text, error, output = opt.output;
     int extend = 0;  // the archive holds this campaign with shorter runs: extend it
+    int grow = 0;    // the archive holds this campaign with fewer replicas: grow it
+    std::vector<std::int64_t> grow_source;  // rank 0: the archive's id of each replica (−1: new)
+    std::int64_t grow_kept = 0;
     const int node_ranks = opt.dry_run ? opt.plan.ranks : mpi::ranks_on_node(comm);
     const int ranks = opt.dry_run ? opt.plan.ranks : mpi::size(comm);
     if (rank == 0) {
@@ -309,9 +436,26 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
                 error.clear();
             }
             if (!error.empty()) throw SpecError(error);
+            // A growth that a kill interrupted is completed (after its rename) or undone
+            // (before it) first, unless another live run holds the archive (refused below).
+            if (!opt.dry_run) try {
+                    ArchiveLock::check_free(output);
+                    if (const std::string done = Archive::finish_growth(output); !done.empty())
+                        std::printf("jamsim run: %s\n", done.c_str());
+                } catch (const ArchiveBusy&) {
+                } catch (const h5::Error& e) {
+                    throw SpecError(spec.path + ": " + e.what());
+                }
             // A dry run writes nothing, but an existing archive it names must fit the campaign.
-            if (!opt.dry_run || std::filesystem::exists(output)) error = check_output(output, spec, extend);
-            if (error.empty()) error = check_checkpoints(output, spec);
+            OutputMode mode = OutputMode::Fresh;
+            if (!opt.dry_run || std::filesystem::exists(output)) error = check_output(output, spec, mode, grow_source);
+            extend = mode == OutputMode::Extend;
+            grow = mode == OutputMode::Grow;
+            for (const std::int64_t from : grow_source) grow_kept += from >= 0;
+            // The checkpoints beside the archive are keyed by its replica ids (before a growth,
+            // those of the archive's campaign).
+            if (error.empty())
+                error = check_checkpoints(output, grow ? read_stored_campaign(output).spec : spec);
             if (error.empty()) error = check_petsc_options(spec);
             if (error.empty()) print_advisories(spec);
             if (error.empty() && !spec.replicas.front().initial.empty()) {
@@ -342,12 +486,18 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
     mpi::broadcast(text, 0, comm);
     mpi::broadcast(output, 0, comm);
     mpi::broadcast(extend, 0, comm);
+    mpi::broadcast(grow, 0, comm);
     const CampaignSpec spec = parse_campaign(text, opt.spec_path, opt.max_replicas);
     if (opt.dry_run) {
         if (rank == 0) {
             if (extend)
                 std::printf("(%s holds this campaign with shorter runs: the run would extend it, each "
                             "replica continuing from its final checkpoint)\n", output.c_str());
+            if (grow)
+                std::printf("(%s holds this campaign with fewer replicas: the run would grow it, keeping "
+                            "%lld replicas and running %lld new ones)\n", output.c_str(),
+                            static_cast<long long>(grow_kept),
+                            static_cast<long long>(spec.replicas.size()) - static_cast<long long>(grow_kept));
             print_dry_run(spec, output, opt.plan);
         }
         return 0;
@@ -366,6 +516,13 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
                 std::printf("extending %s to the longer runs of %s: finished replicas continue from "
                             "their final checkpoints\n", output.c_str(), opt.spec_path.c_str());
             Archive::extend(comm, output, spec);
+        }
+        if (grow) {
+            if (rank == 0)
+                std::printf("growing archive %s: %lld replicas kept, %lld new\n", output.c_str(),
+                            static_cast<long long>(grow_kept),
+                            static_cast<long long>(spec.replicas.size()) - static_cast<long long>(grow_kept));
+            Archive::grow(comm, output, spec, grow_source);
         }
         int exists = rank == 0 ? std::filesystem::exists(output) : 0;
         mpi::broadcast(exists, 0, comm);
@@ -436,6 +593,8 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
         }
         long long resumed = 0, local_resumed = s.resumed;
         mpi::check(MPI_Reduce(&local_resumed, &resumed, 1, MPI_LONG_LONG, MPI_SUM, 0, comm), "MPI_Reduce");
+        long long ran = 0, local_ran = s.ran;
+        mpi::check(MPI_Reduce(&local_ran, &ran, 1, MPI_LONG_LONG, MPI_SUM, 0, comm), "MPI_Reduce");
         long long failed = 0, local_failed = s.failed;
         mpi::check(MPI_Reduce(&local_io, &io, 1, MPI_DOUBLE, MPI_SUM, 0, comm), "MPI_Reduce");
         mpi::check(MPI_Reduce(&local_wall, &wall, 1, MPI_DOUBLE, MPI_SUM, 0, comm), "MPI_Reduce");
@@ -446,6 +605,8 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
                         "continued from checkpoints; archive writes took %.2f%% of rank time)\n",
                         spec.name.c_str(), s.wall_seconds, output.c_str(), failed, resumed,
                         wall > 0 ? 100.0 * io / wall : 0.0);
+            std::printf("%lld replicas ran in this run, %lld finished before were kept\n", ran,
+                        static_cast<long long>(s.skipped));
             std::printf("inspect with: jamsim status %s\n", output.c_str());
         }
     } catch (const std::exception& e) {
@@ -501,7 +662,16 @@ int status(const std::string& path) {
     return 0;
 }
 
-int merge(const std::string& output, const std::vector<std::string>& shards, int& argc,
+/// "N = 64, phi = 0.84, rate = 0.003, seed = 2": a replica for a person (sweep parameters).
+std::string replica_label(const ReplicaParams& p) {
+    return "N = " + std::to_string(p.n) + ", phi = " + show_value(p.phi) + ", rate = " + show_value(p.rate) +
+           ", seed = " + std::to_string(p.seed);
+}
+
+/// Shards of one campaign, or archives of campaigns that differ only in their sweeps: the
+/// output's campaign is then the union of their replicas (matched by identity: parameters and
+/// seed), as a campaign file of points with their own seeds (campaign_text).
+int merge(const std::string& output, const std::vector<std::string>& inputs, int& argc,
           char**& argv) {
     mpi::Session session(argc, argv);
     if (mpi::size(MPI_COMM_WORLD) != 1) {
@@ -509,7 +679,12 @@ int merge(const std::string& output, const std::vector<std::string>& shards, int
         return 2;
     }
     std::vector<StoredCampaign> stored;
-    for (const auto& path : shards) {
+    for (const auto& path : inputs) {
+        if (path == output) {
+            std::fprintf(stderr, "jamsim merge: '%s' is both the output and an input: name a new output\n",
+                         path.c_str());
+            return 2;
+        }
         if (const std::string bad = diagnose_archive_file(path); !bad.empty()) {
             std::fprintf(stderr, "jamsim merge: shard %s\n", bad.c_str());
             return kExitRefused;
@@ -520,29 +695,107 @@ int merge(const std::string& output, const std::vector<std::string>& shards, int
             std::fprintf(stderr, "jamsim merge: shard '%s': %s\n", path.c_str(), e.what());
             return 2;
         }
-        if (fingerprint(stored.back().spec) != fingerprint(stored.front().spec)) {
-            std::fprintf(stderr, "jamsim merge: shard '%s' belongs to a different campaign than "
-                         "'%s'\n", path.c_str(), shards.front().c_str());
-            return 2;
-        }
         // The stored fingerprint must be this version's: a shard written by a version whose
         // results mean something else (an older fingerprint) is not merged with new ones.
         if (const std::string why = Archive::check_existing(path, stored.back().spec); !why.empty()) {
             std::fprintf(stderr, "jamsim merge: shard '%s': %s\n", path.c_str(), why.c_str());
             return 2;
         }
+        // Campaigns may differ in their sweeps, in nothing else.
+        if (const std::string differs = settings_difference(stored.front().spec, stored.back().spec,
+                                                            "'" + inputs.front() + "'", "'" + path + "'");
+            !differs.empty()) {
+            std::fprintf(stderr, "jamsim merge: '%s' belongs to a different campaign than '%s': %s "
+                         "(archives merge when they differ only in their sweeps)\n",
+                         path.c_str(), inputs.front().c_str(), differs.c_str());
+            return 2;
+        }
     }
-    const CampaignSpec& spec = stored.front().spec;
+    // The union of the replicas, each once (by its identity: its fingerprint line).
+    std::map<std::string, std::size_t> in_union;
+    std::vector<ReplicaParams> all;
+    for (const auto& s : stored)
+        for (const ReplicaParams& p : s.spec.replicas)
+            if (in_union.emplace(describe(p), all.size()).second) all.push_back(p);
+    // An input's own campaign when it holds them all (shards of one campaign), else one written
+    // for the union.
+    std::optional<CampaignSpec> merged;
+    for (const auto& s : stored) {
+        std::set<std::string> own;
+        for (const ReplicaParams& p : s.spec.replicas) own.insert(describe(p));
+        if (own.size() == all.size() && s.spec.replicas.size() == all.size()) {
+            merged = s.spec;
+            break;
+        }
+    }
+    if (!merged) {
+        std::string from;
+        for (const auto& path : inputs) from += (from.empty() ? "" : ", ") + path;
+        try {
+            merged = parse_campaign(campaign_text(stored.front().spec.name, output, all,
+                                                  "The campaign of jamsim merge " + from +
+                                                      ":\nthe union of their replicas, points with their own seeds."),
+                                    output + " (merged campaign)", std::numeric_limits<std::int64_t>::max());
+        } catch (const SpecError& e) {
+            std::fprintf(stderr, "jamsim merge: cannot describe the merged campaign: %s\n", e.what());
+            return 2;
+        }
+        bool same = merged->replicas.size() == all.size();
+        for (const ReplicaParams& p : merged->replicas) same = same && in_union.count(describe(p));
+        if (!same) {
+            std::fprintf(stderr, "jamsim merge: the merged campaign does not hold the replicas of its "
+                                 "inputs (a rate ladder whose chains differ between them?): refusing\n");
+            return 2;
+        }
+    }
+    const CampaignSpec& spec = *merged;
+    // Each input replica's id in the output: the same id for shards of the output's campaign.
+    const std::string merged_fingerprint = fingerprint(spec);
+    std::map<std::string, std::int64_t> position;
+    for (std::size_t id = spec.replicas.size(); id-- > 0;)
+        position[describe(spec.replicas[id])] = static_cast<std::int64_t>(id);
+    std::vector<std::vector<std::int64_t>> target(stored.size());
+    for (std::size_t k = 0; k < stored.size(); ++k) {
+        const bool same_campaign = fingerprint(stored[k].spec) == merged_fingerprint;
+        for (std::size_t r = 0; r < stored[k].spec.replicas.size(); ++r)
+            target[k].push_back(same_campaign ? static_cast<std::int64_t>(r)
+                                              : position.at(describe(stored[k].spec.replicas[r])));
+    }
+    // A replica finished in two inputs must be the same, bitwise.
+    {
+        std::map<std::int64_t, std::pair<std::size_t, std::size_t>> first_done;  // output id -> (input, id)
+        for (std::size_t k = 0; k < stored.size(); ++k)
+            for (std::size_t r = 0; r < stored[k].status.size(); ++r) {
+                if (stored[k].status[r] != ReplicaStatus::Done) continue;
+                const auto [it, fresh] = first_done.emplace(target[k][r], std::pair{k, r});
+                if (fresh) continue;
+                const auto [j, q] = it->second;
+                std::string differs;
+                try {
+                    differs = Archive::replica_difference(inputs[j], static_cast<std::int64_t>(q), inputs[k],
+                                                          static_cast<std::int64_t>(r));
+                } catch (const std::exception& e) {
+                    differs = std::string("cannot be compared: ") + e.what();
+                }
+                if (!differs.empty()) {
+                    std::fprintf(stderr, "jamsim merge: the replica %s is in '%s' (replica %zu) and '%s' "
+                                 "(replica %zu) with different data (%s): refusing to merge them\n",
+                                 replica_label(stored[k].spec.replicas[r]).c_str(), inputs[j].c_str(), q,
+                                 inputs[k].c_str(), r, differs.c_str());
+                    return 2;
+                }
+            }
+    }
     const bool exists = std::filesystem::exists(output);
     if (const std::string too_large = check_capacity(estimate_capacity(spec, output, 1, 1), {}, spec, output);
         !too_large.empty()) {
         std::fprintf(stderr, "jamsim merge: %s\n", too_large.c_str());
         return 2;
     }
-    // The output is written by this process alone, and no shard may still be written.
+    // The output is written by this process alone, and no input may still be written.
     std::optional<ArchiveLock> lock;
     try {
-        for (const auto& path : shards) ArchiveLock::check_free(path);
+        for (const auto& path : inputs) ArchiveLock::check_free(path);
         lock.emplace(ArchiveLock::acquire(MPI_COMM_SELF, output, "jamsim merge"));
     } catch (const ArchiveBusy& e) {
         std::fprintf(stderr, "jamsim merge: %s\n", e.what());
@@ -563,21 +816,24 @@ int merge(const std::string& output, const std::vector<std::string>& shards, int
                          : Archive::create(MPI_COMM_SELF, output, spec);
     std::vector<ReplicaStatus> have = out.read_status();
     long long copied = 0;
-    for (std::size_t k = 0; k < shards.size(); ++k)
-        for (std::size_t r = 0; r < have.size(); ++r) {
+    for (std::size_t k = 0; k < inputs.size(); ++k)
+        for (std::size_t r = 0; r < stored[k].status.size(); ++r) {
             const ReplicaStatus s = stored[k].status[r];
+            const auto t = static_cast<std::size_t>(target[k][r]);
             const bool finished = s == ReplicaStatus::Done || s == ReplicaStatus::Failed;
-            if (!finished || have[r] == ReplicaStatus::Done) continue;
-            if (have[r] == ReplicaStatus::Failed && s == ReplicaStatus::Failed) continue;
-            out.import_replica(shards[k], static_cast<std::int64_t>(r));
-            have[r] = s;
+            if (!finished || have[t] == ReplicaStatus::Done) continue;
+            if (have[t] == ReplicaStatus::Failed && s == ReplicaStatus::Failed) continue;
+            out.import_replica(inputs[k], static_cast<std::int64_t>(r), static_cast<std::int64_t>(t));
+            have[t] = s;
             ++copied;
         }
     out.stamp("merged");
     out.close();
     lock->release();
-    std::printf("merged %lld replicas from %zu shards into %s\n", copied, shards.size(),
-                output.c_str());
+    std::printf("merged %lld replicas from %zu archives into %s", copied, inputs.size(), output.c_str());
+    if (merged_fingerprint != fingerprint(stored.front().spec))
+        std::printf(" (a campaign of %zu replicas: the union of their sweeps)", spec.replicas.size());
+    std::printf("\n");
     return status(output);
 }
 
@@ -586,14 +842,28 @@ int merge(const std::string& output, const std::vector<std::string>& shards, int
 CLI::App* add_merge_command(CLI::App& app, int& argc, char**& argv) {
     auto output = std::make_shared<std::string>();
     auto shards = std::make_shared<std::vector<std::string>>();
-    auto* cmd = app.add_subcommand("merge", "Merge shard archives of one campaign into one");
-    cmd->add_option("output", *output, "Merged archive (created, or completed if it exists)")
-        ->required();
-    cmd->add_option("shards", *shards, "Shard archives (jamsim run --shard K/N)")->required();
+    auto* cmd = app.add_subcommand(
+        "merge", "Merge archives into one: shards of one campaign (jamsim run --shard K/N), or "
+                 "campaigns that differ only in their sweeps (the output holds the union of their replicas)");
+    cmd->add_option("-o,--output", *output,
+                    "Merged archive (created, or completed if it exists); without -o the first "
+                    "archive named is the output");
+    cmd->add_option("archives", *shards, "[OUTPUT] then the archives to merge")->required();
     cmd->callback([output, shards, &argc, &argv] {
         int rc = 1;
         try {
-            rc = merge(*output, *shards, argc, argv);
+            std::vector<std::string> inputs = *shards;
+            std::string out = *output;
+            if (out.empty()) {  // jamsim merge OUTPUT A.h5 B.h5 ...
+                out = inputs.front();
+                inputs.erase(inputs.begin());
+            }
+            if (inputs.empty()) {
+                std::fprintf(stderr, "jamsim merge: no archives to merge (jamsim merge -o OUT A.h5 B.h5 ...)\n");
+                rc = 2;
+            } else {
+                rc = merge(out, inputs, argc, argv);
+            }
         } catch (const std::exception& e) {
             std::fprintf(stderr, "jamsim merge: %s\n", e.what());
         }

@@ -96,7 +96,7 @@ void print_template() {
             }
         }
     }
-    std::printf("# points = [{N = 4096, phi = 0.843, rate = 1e-5}]  # extra non-grid points, each with every seed\n");
+    std::printf("# points = [{N = 4096, phi = 0.843, rate = 1e-5}]  # extra non-grid points, each with every seed (or its own: seeds = [4, 9])\n");
 }
 
 void print_models() {

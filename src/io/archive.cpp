@@ -366,9 +366,15 @@ void Archive::write_failed(std::int64_t replica, const std::string& reason, doub
 }
 
 void Archive::import_replica(const std::string& source_path, std::int64_t replica) {
+    import_replica(source_path, replica, replica);
+}
+
+void Archive::import_replica(const std::string& source_path, std::int64_t source_replica,
+                             std::int64_t replica) {
     const Handle src = h5::open_unlocked_readonly(source_path);
+    const auto from = static_cast<hsize_t>(source_replica);
     const auto r = static_cast<hsize_t>(replica);
-    // Everything that belongs to one replica; the parameters are equal by the fingerprint.
+    // Everything that belongs to one replica; its parameters are the same by its identity.
     std::vector<std::string> paths;
     for (const auto& c : kSampleColumns) paths.push_back(std::string("/timeseries/") + c.name);
     for (const char* p : {"/correlation/x", "/correlation/g_y", "/final/box_side", "/final/box_strain",
@@ -376,32 +382,39 @@ void Archive::import_replica(const std::string& source_path, std::int64_t replic
                           "/replicas/rows_written", "/replicas/progress",
                           "/replicas/failure_reason", "/replicas/status"})  // status last: it validates the rest
         paths.emplace_back(p);
-    // The final configuration: N disks at the replica's offset (the same in both archives,
-    // which hold the same replicas).
+    // The final configuration: its N disks, at the replica's offset in each archive.
     {
         const auto first = static_cast<hsize_t>(layout_.particle_offset.at(r));
         const hsize_t n = (r + 1 < layout_.particle_offset.size()
                                ? static_cast<hsize_t>(layout_.particle_offset[r + 1])
                                : layout_.particles) - first;
+        std::int64_t source_first = 0;
+        h5::read_block(src.get(), "/replicas/particle_offset", H5T_NATIVE_INT64, {from}, {1}, &source_first);
         std::vector<double> buffer(n);
         for (const char* path : {"/final/x", "/final/y", "/final/diameter"}) {
-            h5::read_block(src.get(), path, H5T_NATIVE_DOUBLE, {first}, {n}, buffer.data());
+            h5::read_block(src.get(), path, H5T_NATIVE_DOUBLE, {static_cast<hsize_t>(source_first)}, {n},
+                           buffer.data());
             write_block(file_.get(), path, H5T_NATIVE_DOUBLE, {first}, {n}, buffer.data());
         }
     }
     for (const auto& path : paths) {
         const std::vector<hsize_t> dims = h5::dataset_shape(src.get(), path);
+        if (dims.size() == 2) {  // a row (doubles): its length follows each campaign's longest replica
+            const hsize_t length = path.rfind("/timeseries/", 0) == 0 ? layout_.samples : layout_.bins;
+            const hsize_t common = std::min(length, dims[1]);
+            std::vector<double> row(std::max(length, dims[1]), kNaN);
+            h5::read_block(src.get(), path, H5T_NATIVE_DOUBLE, {from, 0}, {1, dims[1]}, row.data());
+            // Past this replica's own length both archives hold NaN; a longer source row ends in it.
+            std::fill(row.begin() + static_cast<std::ptrdiff_t>(common), row.end(), kNaN);
+            write_block(file_.get(), path, H5T_NATIVE_DOUBLE, {r, 0}, {1, length}, row.data());
+            continue;
+        }
         Handle set(H5Dopen2(src.get(), path.c_str(), H5P_DEFAULT), H5Dclose, "open " + path);
         Handle stored(H5Dget_type(set.get()), H5Tclose, "type of " + path);
         Handle type(H5Tget_native_type(stored.get(), H5T_DIR_DEFAULT), H5Tclose, "native type");
-        std::vector<hsize_t> start{r}, count{1};
-        if (dims.size() == 2) {
-            start.push_back(0);
-            count.push_back(dims[1]);
-        }
-        std::vector<unsigned char> buffer(H5Tget_size(type.get()) * (dims.size() == 2 ? dims[1] : 1));
-        h5::read_block(src.get(), path, type.get(), start, count, buffer.data());
-        write_block(file_.get(), path, type.get(), start, count, buffer.data());
+        std::vector<unsigned char> buffer(H5Tget_size(type.get()));
+        h5::read_block(src.get(), path, type.get(), {from}, {1}, buffer.data());
+        write_block(file_.get(), path, type.get(), {r}, {1}, buffer.data());
     }
 }
 

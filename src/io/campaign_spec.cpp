@@ -13,6 +13,7 @@
 #include <tuple>
 #include <set>
 #include <sstream>
+#include <cstdio>
 
 namespace jamsim {
 
@@ -133,6 +134,7 @@ class Reader {
 struct Point {
     std::int64_t n;
     double phi, rate;
+    std::vector<std::uint64_t> seeds;  ///< its own seeds (a point's `seeds`); empty: the sweep's
 };
 
 /// Named potentials of [potential] name: presets of the exponent alpha.
@@ -330,7 +332,7 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
                    "at most " + std::to_string(max_replicas) + " replicas (jamsim run --max-replicas raises the cap)");
         for (auto n : ns)
             for (double phi : phis)
-                for (double rate : rates) points.push_back({n, phi, rate});
+                for (double rate : rates) points.push_back({n, phi, rate, {}});
     }
     if (const toml::node* p = sweep->get("points")) {
         const toml::array* arr = p->as_array();
@@ -339,14 +341,27 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
             const std::string where = "[sweep] points[" + std::to_string(k) + "]";
             const toml::table* t = arr->get(k)->as_table();
             if (!t) r.fail(where, show(*arr->get(k)), "a table {N = .., phi = .., rate = ..}");
-            r.only_keys(*t, where, {"N", "phi", "rate"});
+            r.only_keys(*t, where, {"N", "phi", "rate", "seeds"});
             for (const char* key : {"N", "phi", "rate"})
                 if (!t->get(key) && (uses_rate || std::string(key) != "rate"))
                     r.fail(where + " " + key, "(missing)", "required in a point");
             const toml::node* rate = t->get("rate");
             points.push_back({r.integer(*t->get("N"), where + " N"),
                               sweep_number(*t->get("phi"), where + " phi", "phi"),
-                              rate ? sweep_number(*rate, where + " rate", "rate") : 0.0});
+                              rate ? sweep_number(*rate, where + " rate", "rate") : 0.0, {}});
+            // A point's own seeds (a list; e.g. a merged campaign's replicas), instead of the
+            // sweep's.
+            if (const toml::node* own = t->get("seeds")) {
+                const toml::array* list = own->as_array();
+                if (!list || list->empty() || list->size() > static_cast<std::size_t>(max_replicas))
+                    r.fail(where + " seeds", show(*own), "a non-empty list of seeds, e.g. [1, 4]");
+                for (std::size_t j = 0; j < list->size(); ++j) {
+                    const std::string at = where + " seeds[" + std::to_string(j) + "]";
+                    const auto v = r.integer(*list->get(j), at);
+                    if (v < 0) r.fail(at, show(*list->get(j)), "a seed >= 0");
+                    points.back().seeds.push_back(static_cast<std::uint64_t>(v));
+                }
+            }
         }
     }
     if (points.empty())
@@ -354,7 +369,9 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
     // The sweep's size, before a replica is made: a typo (seeds = 10000000) must not fill
     // the memory of every rank.
     const double seeds_per_point = seed_count > 0 ? static_cast<double>(seed_count) : static_cast<double>(seeds.size());
-    const double replica_count = static_cast<double>(points.size()) * seeds_per_point;
+    double replica_count = 0.0;
+    for (const Point& pt : points)
+        replica_count += pt.seeds.empty() ? seeds_per_point : static_cast<double>(pt.seeds.size());
     if (replica_count > static_cast<double>(max_replicas))
         r.fail("[sweep]", show_value(replica_count) + " replicas (" + std::to_string(points.size()) +
                               " points x " + show_value(seeds_per_point) + " seeds)",
@@ -364,7 +381,7 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
     for (std::int64_t k = 1; k <= seed_count; ++k) seeds.push_back(static_cast<std::uint64_t>(k));
 
     for (const Point& pt : points)
-        for (std::uint64_t seed : seeds) {
+        for (std::uint64_t seed : pt.seeds.empty() ? seeds : pt.seeds) {
             ReplicaParams p = base;
             p.n = pt.n;
             p.phi = pt.phi;
@@ -427,6 +444,95 @@ std::vector<std::string> campaign_warnings(const CampaignSpec& spec) {
         out.push_back(line);
     }
     return out;
+}
+
+std::string settings_difference(const CampaignSpec& a, const CampaignSpec& b,
+                                const std::string& a_label, const std::string& b_label) {
+    std::vector<std::string> out;
+    const auto quoted = [](const ParamValue& v) {
+        std::string text = show_value(v);
+        if (std::holds_alternative<std::string>(v)) {
+            text.insert(text.begin(), '"');
+            text.push_back('"');
+        }
+        return text;
+    };
+    if (a.name != b.name)
+        out.push_back("[campaign] name: " + a_label + " " + quoted(a.name) + ", " + b_label + " " + quoted(b.name));
+    // Every replica of a campaign has its settings (its first one stands for all); the
+    // sweep's axes and the derived ladder_from are what may differ.
+    const ReplicaParams& pa = a.replicas.front();
+    const ReplicaParams& pb = b.replicas.front();
+    for (const auto& info : parameters()) {
+        if (info.table.empty() || info.key == "N" || info.key == "phi" || info.key == "rate" || info.key == "seed")
+            continue;
+        const ParamValue va = get_value(pa, info), vb = get_value(pb, info);
+        if (va == vb) continue;
+        out.push_back(location(info) + ": " + a_label + " " + quoted(va) + ", " + b_label + " " + quoted(vb));
+    }
+    std::string joined;
+    for (const auto& line : out) joined += (joined.empty() ? "" : "; ") + line;
+    return joined;
+}
+
+namespace {
+/// A TOML basic string.
+std::string toml_string(const std::string& text) {
+    std::string out = "\"";
+    for (const char c : text) {
+        if (c == '"' || c == '\\') out.push_back('\\');
+        if (static_cast<unsigned char>(c) < 0x20) {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned>(c));
+            out += buf;
+            continue;
+        }
+        out.push_back(c);
+    }
+    return out + "\"";
+}
+
+std::string toml_value(const ParamValue& v) {
+    if (const auto* text = std::get_if<std::string>(&v)) return toml_string(*text);
+    return show_value(v);
+}
+} // namespace
+
+std::string campaign_text(const std::string& name, const std::string& output,
+                          const std::vector<ReplicaParams>& replicas, const std::string& comment) {
+    std::string out;
+    std::istringstream lines(comment);
+    for (std::string line; std::getline(lines, line);) out += "# " + line + "\n";
+    out += "[campaign]\nname = " + toml_string(name) + "\noutput = " + toml_string(output) + "\n";
+    const ReplicaParams& base = replicas.front();
+    const ReplicaParams defaults;
+    for (const std::string table : {"model", "potential", "system", "run", "sweep"}) {
+        out += "[" + table + "]\n";
+        for (const auto& info : parameters()) {
+            if (info.table != table || info.key == "N" || info.key == "phi" || info.key == "rate" || info.key == "seed")
+                continue;
+            const ParamValue value = get_value(base, info);
+            if (info.key != "model" && value == get_value(defaults, info)) continue;
+            if (std::none_of(replicas.begin(), replicas.end(),
+                             [&](const ReplicaParams& p) { return uses_parameter(p, info.key); }))
+                continue;
+            out += std::string(info.toml_key) + " = " + toml_value(value) + "\n";
+        }
+    }
+    std::map<std::tuple<std::int64_t, double, double>, std::set<std::uint64_t>> points;
+    for (const ReplicaParams& p : replicas) points[{p.n, p.phi, p.rate}].insert(p.seed);
+    out += "points = [\n";
+    for (const auto& [point, seeds] : points) {
+        const auto& [n, phi, rate] = point;
+        out += "  {N = " + std::to_string(n) + ", phi = " + show_value(phi) + ", rate = " + show_value(rate) + ", seeds = [";
+        bool first = true;
+        for (const std::uint64_t seed : seeds) {
+            out += (first ? "" : ", ") + std::to_string(seed);
+            first = false;
+        }
+        out += "]},\n";
+    }
+    return out + "]\n";
 }
 
 std::string fingerprint(const CampaignSpec& spec) {

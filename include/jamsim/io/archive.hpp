@@ -58,6 +58,26 @@ class Archive {
     /// partial rows of running replicas, which continue from their final checkpoints.
     static void extend(MPI_Comm comm, const std::string& path, const CampaignSpec& spec);
 
+    /// Serial, read-only: "" when `spec` is the archive's campaign with a sweep that differs
+    /// (grown: more seeds, rates, phi or N values, points; every replica of the archive still
+    /// in it), and then `source[k]` is the archive's id of spec's replica k (−1: new);
+    /// otherwise why not, naming the setting that differs ("[potential] alpha: archive 2,
+    /// file 2.5") or the replica the file lost.
+    static std::string check_growth(const std::string& path, const CampaignSpec& spec,
+                                    std::vector<std::int64_t>& source);
+    /// Collective: rewrite the archive at `path` for the grown campaign `spec` (`source` from
+    /// check_growth, needed on rank 0): a new archive beside it (PATH.growing) that holds every
+    /// replica of the old one that has started, at its new position, and its checkpoints
+    /// under their new ids (PATH.growing.checkpoints); then renamed over it, so a kill before
+    /// the rename leaves the old archive and its checkpoints whole, and finish_growth completes
+    /// one after it.
+    static void grow(MPI_Comm comm, const std::string& path, const CampaignSpec& spec,
+                     const std::vector<std::int64_t>& source);
+    /// Serial, before anything else uses the archive at `path` (its lock free): complete a
+    /// growth that a kill interrupted after its rename (the new checkpoint folder replaces the
+    /// old), or remove what one left before it. Returns what it did ("" when nothing).
+    static std::string finish_growth(const std::string& path);
+
     /// Independent writes, by the rank that runs the replica.
     /// Status running; its rows are set to NaN unless `keep_rows` (a replica continued from a
     /// checkpoint, whose rows so far are in the archive).
@@ -74,6 +94,17 @@ class Archive {
     /// Copy replica `replica` (its rows, final configuration, bookkeeping and, last, its
     /// status) from another archive of the same campaign, opened serially read-only.
     void import_replica(const std::string& source_path, std::int64_t replica);
+    /// The same for the replica `source_replica` of another archive that holds it (the same
+    /// identity: parameters and seed) at another position, as this archive's `replica`.
+    void import_replica(const std::string& source_path, std::int64_t source_replica,
+                        std::int64_t replica);
+
+    /// Serial, read-only: "" when replica `a_replica` of the archive `a` and `b_replica` of `b`
+    /// (the same replica: the same identity) hold bitwise the same data (rows, g_y, final
+    /// configuration, force evaluations; NaN padding past the shorter row), otherwise the
+    /// first dataset that differs.
+    static std::string replica_difference(const std::string& a, std::int64_t a_replica,
+                                          const std::string& b, std::int64_t b_replica);
 
     /// Independent read of every replica's status.
     std::vector<ReplicaStatus> read_status() const;

@@ -20,7 +20,8 @@ struct SpecError : std::runtime_error {
 /// relative to the working directory), [model] (name plus the model's parameters),
 /// [potential] (name = "harmonic" | "hertzian", or alpha), [system], [run] and [sweep]
 /// (N, phi, rate lists expanded as a Cartesian product; seeds = a count or a list; points =
-/// [{N = .., phi = .., rate = ..}, ...] for non-grid points, each with every seed). The keys
+/// [{N = .., phi = .., rate = ..}, ...] for non-grid points, each with every seed, or with its
+/// own list: {N = .., phi = .., rate = .., seeds = [4, 9]}). The keys
 /// of [model], [potential], [system], [run] and the sweep's parameters come from the
 /// parameter table (jamsim/params/parameters.hpp); a key the campaign's model does not use is
 /// refused. Replicas are the grid (N outermost, then phi, rate, seed) followed by the points;
@@ -51,6 +52,21 @@ CampaignSpec load_campaign(const std::string& path, std::int64_t max_replicas = 
 /// The advisory warnings of a campaign (limits that are not refused; model_registry.hpp
 /// `advisories`): each kind once, with the number of replicas it concerns.
 std::vector<std::string> campaign_warnings(const CampaignSpec& spec);
+
+/// The campaign settings in which two campaigns differ: everything but the sweep's replicas
+/// ([campaign] name and each parameter of [model], [potential], [system], [run] and [sweep]
+/// rate_ladder), one "[potential] alpha: archive 2, file 2.5" per setting, joined by "; ",
+/// with `a_label` and `b_label` naming the two sides; "" when they agree (the campaigns then
+/// differ at most in their sweeps: N, phi, rate, seeds, points).
+std::string settings_difference(const CampaignSpec& a, const CampaignSpec& b,
+                                const std::string& a_label, const std::string& b_label);
+
+/// A campaign file (TOML) whose replicas are `replicas` (which share their settings: those of
+/// the first), sorted by N, phi, rate and seed, as points with their own seeds; the settings
+/// that differ from the defaults are written out. `comment` opens it (# lines). What jamsim
+/// merge stores for campaigns that differ in their sweeps.
+std::string campaign_text(const std::string& name, const std::string& output,
+                          const std::vector<ReplicaParams>& replicas, const std::string& comment);
 
 /// Canonical description of everything that determines the replicas' output (one line per
 /// replica, its used parameters). Two specs with the same fingerprint produce the same
