@@ -16,7 +16,8 @@ using petsc::check;
 struct PetscContactSolver::Impl {
     PetscInt n = 0;  // disks: the KSP's system has 2n unknowns, u_x then u_y
     double delta = 0, rtol = 0;
-    Mat A = nullptr;            // diag(A_c, A_c), A_c the n × n contact matrix
+    Mat A = nullptr;            // diag(A_c, A_c), A_c the n × n contact matrix: SeqAIJ, or
+                                // with the default PC a MATSHELL over the current contacts
     Vec b = nullptr, x = nullptr;
     KSP ksp = nullptr;
     bool shell = false;         // the PC is the default one: the CHOLMOD factor below
@@ -96,6 +97,39 @@ struct PetscContactSolver::Impl {
         check(KSPGetNormType(ksp, &norm_type), "KSPGetNormType");
     }
 
+    /// y = diag(A_c, A_c) x from the factor's current contact list (the default PC's Mat: the
+    /// factor needs no assembled matrix, and the contacts are fewer than the candidate pairs).
+    static PetscErrorCode mult(Mat a, Vec in, Vec out) {
+        void* ctx = nullptr;
+        PetscErrorCode rc = MatShellGetContext(a, &ctx);
+        if (rc) return rc;
+        const auto* m = static_cast<const Impl*>(ctx);
+        const PetscScalar* x = nullptr;
+        PetscScalar* y = nullptr;
+        if ((rc = VecGetArrayRead(in, &x))) return rc;
+        if ((rc = VecGetArrayWrite(out, &y))) return rc;
+        const auto nn = static_cast<std::size_t>(m->n);
+        for (std::size_t i = 0; i < 2 * nn; ++i) y[i] = m->delta * x[i];
+        for (const ContactPair& c : m->factor->contacts()) {
+            const auto i = static_cast<std::size_t>(c.i), j = static_cast<std::size_t>(c.j);
+            const double dx = x[i] - x[j], dy = x[nn + i] - x[nn + j];
+            y[i] += dx;
+            y[j] -= dx;
+            y[nn + i] += dy;
+            y[nn + j] -= dy;
+        }
+        if ((rc = VecRestoreArrayWrite(out, &y))) return rc;
+        return VecRestoreArrayRead(in, &x);
+    }
+
+    /// The default PC's operator: a MATSHELL (made once; it reads the factor's contacts).
+    void make_shell_operator() {
+        check(MatCreateShell(PETSC_COMM_SELF, 2 * n, 2 * n, 2 * n, 2 * n, this, &A), "MatCreateShell");
+        check(MatShellSetOperation(A, MATOP_MULT, reinterpret_cast<void (*)(void)>(&Impl::mult)),
+              "MatShellSetOperation");
+        check(KSPSetOperators(ksp, A, A), "KSPSetOperators");
+    }
+
     /// The 2n × 2n SeqAIJ pattern: the diagonal and every candidate pair in each half.
     void build_pattern(std::span<const ContactPair> pairs) {
         const auto nn = static_cast<std::size_t>(n);
@@ -138,7 +172,6 @@ struct PetscContactSolver::Impl {
         contacts_of.assign(nn, 0);
         write_values(pairs, {}, true);
         refresh = true;
-        if (shell) factor->analyse(pairs);
     }
 
     /// Writes the Mat's values for `in_contact` (all of them when `all`, else the pairs that
@@ -239,28 +272,36 @@ SolveInfo PetscContactSolver::solve(std::span<const ContactPair> pairs,
                                     std::span<double> u_y) {
     Impl& m = *impl_;
     const auto nn = static_cast<std::size_t>(m.n);
-    if (pattern_version != m.version) {
-        m.build_pattern(pairs);
-        m.version = pattern_version;
-    }
-    const int changes = m.write_values(pairs, in_contact, false);
     SolveInfo info;
     if (m.shell) {
+        if (!m.A) m.make_shell_operator();
+        if (pattern_version != m.version) {
+            m.factor->analyse(pairs);
+            m.version = pattern_version;
+            m.refresh = true;
+        }
         if (m.refresh || !m.factor->has_factor()) {
             m.factor->factorize(pairs, in_contact);
             (void)m.factor->follow(pairs, in_contact);  // records the contact set (no change)
             m.factor_exact = true;
             m.refresh = false;
             info.refactored = true;
-        } else if (changes > 0) {
+        } else {
             info.factor_updates = m.factor->follow(pairs, in_contact);
-            m.factor_exact = false;
+            if (info.factor_updates > 0) m.factor_exact = false;
         }
-    } else if (changes > 0 || m.refresh) {
-        check(KSPSetReusePreconditioner(m.ksp, m.refresh ? PETSC_FALSE : PETSC_TRUE),
-              "KSPSetReusePreconditioner");
-        info.refactored = m.refresh;
-        m.refresh = false;
+    } else {
+        if (pattern_version != m.version) {
+            m.build_pattern(pairs);
+            m.version = pattern_version;
+        }
+        const int changes = m.write_values(pairs, in_contact, false);
+        if (changes > 0 || m.refresh) {
+            check(KSPSetReusePreconditioner(m.ksp, m.refresh ? PETSC_FALSE : PETSC_TRUE),
+                  "KSPSetReusePreconditioner");
+            info.refactored = m.refresh;
+            m.refresh = false;
+        }
     }
     // Each right-hand side scaled to unit norm (a zero one stays zero).
     double norm_x = 0, norm_y = 0;
