@@ -17,7 +17,7 @@ case "$size" in
 esac
 names=("$@")
 if [[ ${#names[@]} -eq 0 ]]; then
-  names=(collapse_rd0 rd0_cd0 bagnold_rd jamming_fss sheared_fss)
+  names=(collapse_rd0 rd0_cd0 bagnold_cdn jamming_fss sheared_fss)
 fi
 jamsim=build/${JAMSIM_PRESET:-release}/jamsim
 [[ -x $jamsim ]] || { echo "reproduce.sh: $jamsim not built (run tools/build.sh)" >&2; exit 2; }

@@ -14,6 +14,7 @@
 #include <queue>
 #include <tuple>
 #include <algorithm>
+#include <ctime>
 #include <functional>
 #include <sstream>
 #include <limits>
@@ -231,13 +232,21 @@ struct Calibration {
     }
 };
 
+/// CPU seconds this process has used.
+double process_cpu_seconds() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
 /// Seconds of probes a dry run may spend calibrating (the groups left use measured neighbours).
 constexpr double kProbeBudgetSeconds = 30.0;
 
 /// The throughput of each group of a campaign on this machine: from the replicas an earlier
 /// run finished in the campaign's archive (wall time over estimated cost), else from a probe
-/// of the group's first replica: dynamics run about 2e7 particle force evaluations of it (at
-/// least 20 steps; the replica whole when shorter), a minimisation protocol up to three of
+/// of the group's first replica (process CPU time): dynamics run it for about 1e7 and 3e7
+/// particle force evaluations and take the difference (at least 20 steps; the replica whole
+/// when shorter), a minimisation protocol up to three of
 /// its replicas whole, each when it takes under 10 s by the best estimate so far (a
 /// minimisation's cost depends on N, phi and the seed in ways its estimate counts only
 /// roughly). Probes stop after kProbeBudgetSeconds.
@@ -276,29 +285,48 @@ Calibration calibrate(const CampaignSpec& spec, const std::string& archive) {
         if (recorded.count(key) || spent >= kProbeBudgetSeconds ||
             probes[key] >= (minimisation ? kMinimisationProbes : 1))
             continue;
-        ReplicaParams probe = p;
         const bool dynamics = model_of(p).kind == ModelKind::Dynamics;
+        // A dynamics probe runs the replica for `steps` and for 3 × `steps` and takes the
+        // difference, so that the set-up (initial state, first list, first factorisation)
+        // is not spread over a few hundred steps; a replica shorter than that runs whole.
+        auto shortened = [&](double steps) {
+            ReplicaParams probe = p;
+            (p.rate > 0 ? probe.strain : probe.time) = steps * p.dt * (p.rate > 0 ? p.rate : 1.0);
+            probe.sample_interval = probe.rate > 0 ? probe.strain : probe.time;
+            probe.transient = 0.0;  // the probe is shorter than the replica's transient may be
+            probe.checkpoint_steps = 1'000'000'000;
+            return probe;
+        };
+        std::vector<ReplicaParams> runs{p};
         if (dynamics) {
-            const double steps = std::max(20.0, 2e7 / (static_cast<double>(p.n) * evaluations_per_step(p)));
-            if (steps < static_cast<double>(schedule_of(p).steps)) {  // else the replica whole
-                (p.rate > 0 ? probe.strain : probe.time) = steps * p.dt * (p.rate > 0 ? p.rate : 1.0);
-                probe.sample_interval = probe.rate > 0 ? probe.strain : probe.time;
-                probe.transient = 0.0;  // the probe is shorter than the replica's transient may be
-                probe.checkpoint_steps = 1'000'000'000;
-            }
+            const double steps = std::max(20.0, 1e7 / (static_cast<double>(p.n) * evaluations_per_step(p)));
+            if (3 * steps < static_cast<double>(schedule_of(p).steps)) runs = {shortened(steps), shortened(3 * steps)};
         } else if (estimated_cost(p) * out.seconds_per_cost(p) > std::min(10.0, kProbeBudgetSeconds - spent)) {
             continue;
         }
         try {
-            const ReplicaResult r = run_replica(probe);
-            spent += r.wall_seconds;
-            const double cost = dynamics ? static_cast<double>(r.force_evaluations) * static_cast<double>(p.n)
-                                         : estimated_cost(p);
-            if (cost > 0 && r.wall_seconds > 0) {
-                auto& [seconds, costs] = probed[key];
-                seconds += r.wall_seconds;
-                costs += cost;
-                out.measured[key] = seconds / costs;
+            // Process CPU time, not wall time: other jobs on a shared machine (a login node,
+            // a laptop) would otherwise inflate the estimate for the cluster node it is for.
+            std::vector<std::pair<double, double>> measured;  // (CPU seconds, cost) per run
+            for (const ReplicaParams& run : runs) {
+                const double t0 = process_cpu_seconds();
+                const ReplicaResult r = run_replica(run);
+                const double seconds = process_cpu_seconds() - t0;
+                spent += r.wall_seconds;
+                const double cost = dynamics ? static_cast<double>(r.force_evaluations) * static_cast<double>(p.n)
+                                             : estimated_cost(p);
+                measured.emplace_back(seconds, cost);
+            }
+            double seconds = measured.back().first, cost = measured.back().second;
+            if (measured.size() == 2 && measured[1].first > measured[0].first && measured[1].second > measured[0].second) {
+                seconds = measured[1].first - measured[0].first;
+                cost = measured[1].second - measured[0].second;
+            }
+            if (cost > 0 && seconds > 0) {
+                auto& [sum_seconds, sum_costs] = probed[key];
+                sum_seconds += seconds;
+                sum_costs += cost;
+                out.measured[key] = sum_seconds / sum_costs;
                 ++probes[key];
             }
         } catch (const std::exception&) {
