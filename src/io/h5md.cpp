@@ -25,14 +25,15 @@ void write_array(hid_t parent, const std::string& name, hid_t type, std::vector<
 }
 
 /// An H5MD time-dependent element with one frame: group `name` with value [1, dims...],
-/// step [1] and time [1] (time left out when not finite, as for minimised states).
+/// step [1] and time [1] (0 for a minimised state, which has no time: MDAnalysis needs one).
 void write_element(hid_t parent, const std::string& name, std::vector<hsize_t> dims, const double* values,
                    std::int64_t step, double time) {
     Handle g = h5::create_group(parent, name);
     dims.insert(dims.begin(), 1);
     write_array(g.get(), "value", H5T_NATIVE_DOUBLE, dims, values);
     write_array(g.get(), "step", H5T_NATIVE_INT64, {1}, &step);
-    if (std::isfinite(time)) write_array(g.get(), "time", H5T_NATIVE_DOUBLE, {1}, &time);
+    const double t = std::isfinite(time) ? time : 0.0;
+    write_array(g.get(), "time", H5T_NATIVE_DOUBLE, {1}, &t);
     g.close("group '" + name + "'");
 }
 
