@@ -11,8 +11,9 @@ namespace {
 /// A column of /replicas, or NaN for every replica when the campaign's model reads no such
 /// parameter (rate at a minimisation protocol).
 std::vector<double> column_or_nan(hid_t f, const std::string& name, std::size_t replicas) {
-    if (H5Lexists(f, ("/replicas/" + name).c_str(), H5P_DEFAULT) > 0)
-        return h5::read_dataset(f, "/replicas/" + name);
+    const htri_t exists = H5Lexists(f, ("/replicas/" + name).c_str(), H5P_DEFAULT);
+    h5::check(static_cast<hid_t>(exists), "look up /replicas/" + name);
+    if (exists > 0) return h5::read_dataset(f, "/replicas/" + name);
     return std::vector<double>(replicas, std::nan(""));
 }
 } // namespace
