@@ -19,8 +19,8 @@
 # existing archive. Refused before anything is queued: a campaign file with an error, an
 # existing archive (merged or shard 0) of another campaign or jamsim version, another SHARDS
 # than the shards were made with, and an array of this campaign still in the queue.
-# JAMSIM (default: build/release/jamsim of this checkout, else `jamsim` on PATH) is the
-# executable every job runs. Time limits: the tasks ask for a warning JAMSIM_SIGNAL_LEAD
+# JAMSIM (default: the installed jamsim for an installed copy of this script, else
+# build/release/jamsim of this checkout, else `jamsim` on PATH) is the executable every job runs. Time limits: the tasks ask for a warning JAMSIM_SIGNAL_LEAD
 # seconds (default 300) before their limit (--signal=B:USR1@lead), save their replicas'
 # state and requeue themselves (--requeue), at most JAMSIM_MAX_REQUEUES times (default 20).
 # Choose the lead longer than one checkpoint interval of the slowest replica plus 60 s
@@ -54,9 +54,11 @@ if [[ -n $throttle && ! $throttle =~ ^[1-9][0-9]*$ ]]; then
   exit 2
 fi
 [[ -f $campaign ]] || { echo "submit_campaign.sh: campaign file '$campaign' does not exist" >&2; exit 2; }
+installed_jamsim=""  # an installed copy of this script names its jamsim here (cmake --install)
 jamsim=${JAMSIM:-}
 if [[ -z $jamsim ]]; then
-  if [[ -x $here/../build/release/jamsim ]]; then jamsim=$here/../build/release/jamsim
+  if [[ -n $installed_jamsim ]]; then jamsim=$installed_jamsim
+  elif [[ -x $here/../build/release/jamsim ]]; then jamsim=$here/../build/release/jamsim
   else jamsim=$(command -v jamsim || true); fi
 fi
 [[ -n $jamsim && -x $jamsim ]] || { echo "submit_campaign.sh: no jamsim executable (set JAMSIM or build first)" >&2; exit 2; }

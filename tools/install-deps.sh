@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Install the Debian packages jamsim needs, and only those that are missing.
 #
-#   tools/install-deps.sh            build + run + test dependencies
-#   tools/install-deps.sh --bench    also Debian's lammps (reference for benchmarks)
+#   tools/install-deps.sh            build + run + test dependencies (lammps and MDAnalysis
+#                                    read jamsim export's files back in the tests)
+#   tools/install-deps.sh --bench    the same (lammps is also the benchmarks' reference)
 #
 # Idempotent: when everything is present it makes no apt call at all.
 set -euo pipefail
@@ -15,9 +16,10 @@ packages=(
   libcli11-dev libtomlplusplus-dev
   libgtest-dev libbenchmark-dev
   python3-numpy python3-h5py python3-matplotlib python3-scipy python3-pandas python3-pytest
+  python3-xarray python3-mdanalysis lammps tcl
 )
 if [[ "${1:-}" == "--bench" ]]; then
-  packages+=(lammps)
+  :  # lammps is in the list above
 elif [[ $# -gt 0 ]]; then
   echo "install-deps.sh: unknown argument '$1' (allowed: --bench)" >&2
   exit 2

@@ -11,7 +11,33 @@ namespace {
 std::string show(double v) { return show_value(v); }
 } // namespace
 
+namespace {
+/// The cell scaled affinely to phi (positions and side) when it is at another packing
+/// fraction (more than round-off away).
+void scale_to_phi(Particles& q, double& side, double phi) {
+    const double target = box_side_for(q, phi);
+    if (std::abs(target / side - 1.0) > 1e-12) {
+        const double s = target / side;
+        for (std::size_t i = 0; i < q.size(); ++i) {
+            q.x[i] *= s;
+            q.y[i] *= s;
+        }
+        side = target;
+    }
+}
+} // namespace
+
 InitialStates::InitialStates(const std::string& source) : source_(source) {
+    const std::string allowed = "[run] initial = \"" + source + "\" is not allowed: a jamsim campaign archive or a "
+                                "LAMMPS data file (";
+    try {
+        if (!is_hdf5_file(source)) {
+            lammps_ = read_lammps_data(source);
+            return;
+        }
+    } catch (const LammpsDataError& e) {
+        throw InitialStateError(allowed + e.what() + ")");
+    }
     h5::quiet_errors();
     try {
         const h5::Handle f = h5::open_unlocked_readonly(source);
@@ -20,13 +46,20 @@ InitialStates::InitialStates(const std::string& source) : source_(source) {
         phi_ = h5::read_dataset(f.get(), "/replicas/phi");
         seed_ = h5::read_dataset(f.get(), "/replicas/seed");
     } catch (const h5::Error& e) {
-        throw InitialStateError("[run] initial = \"" + source + "\" is not allowed: a jamsim campaign archive (" +
-                                e.what() + ")");
+        throw InitialStateError(allowed + e.what() + ")");
     }
 }
 
 std::int64_t InitialStates::match(const ReplicaParams& p, std::int64_t id) const {
     const std::string where = "[run] initial = \"" + source_ + "\": ";
+    if (lammps_) {
+        try {
+            (void)system_from_lammps_data(*lammps_, source_, p.n, p.size_ratio);
+        } catch (const LammpsDataError& e) {
+            throw InitialStateError(where + e.what());
+        }
+        return 0;
+    }
     if (p.initial_match == "id") {
         if (id < 0 || id >= static_cast<std::int64_t>(status_.size()))
             throw InitialStateError(where + "no replica " + std::to_string(id) + " (it has " +
@@ -55,6 +88,16 @@ std::int64_t InitialStates::match(const ReplicaParams& p, std::int64_t id) const
 }
 
 System InitialStates::load(const ReplicaParams& p, std::int64_t id) const {
+    if (lammps_) {
+        try {
+            System sys = system_from_lammps_data(*lammps_, source_, p.n, p.size_ratio);
+            double side = sys.box.side();
+            scale_to_phi(sys.particles, side, p.phi);
+            return System{std::move(sys.particles), Box(side, sys.box.strain())};
+        } catch (const LammpsDataError& e) {
+            throw InitialStateError("[run] initial = \"" + source_ + "\": " + e.what());
+        }
+    }
     const auto k = static_cast<hsize_t>(match(p, id));
     const auto n = static_cast<hsize_t>(p.n);
     h5::quiet_errors();
@@ -85,15 +128,7 @@ System InitialStates::load(const ReplicaParams& p, std::int64_t id) const {
                                         ", this campaign's size_ratio = " + show(p.size_ratio) + " gives " +
                                         show(expected));
         }
-        const double target = box_side_for(q, p.phi);
-        if (std::abs(target / side - 1.0) > 1e-12) {  // another phi: scale the cell affinely
-            const double s = target / side;
-            for (std::size_t i = 0; i < q.size(); ++i) {
-                q.x[i] *= s;
-                q.y[i] *= s;
-            }
-            side = target;
-        }
+        scale_to_phi(q, side, p.phi);  // another phi: scale the cell affinely
         return System{std::move(q), Box(side, strain)};
     } catch (const h5::Error& e) {
         throw InitialStateError("[run] initial = \"" + source_ + "\": replica " + std::to_string(k) +

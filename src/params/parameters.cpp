@@ -109,9 +109,10 @@ const ParamInfo kParameters[] = {
      "rate ladders: the rate of the replica whose end state starts this one (0: random start)",
      &R::ladder_from, kPhys, nullptr, "derived from the sweep"},
     {"initial", "run", "initial", "--initial", "",
-     "campaign archive whose finished replicas' final states are the initial configurations "
-     "(relative to the working directory; \"\": random positions)",
-     &R::initial, kPhys, nullptr, "a campaign archive"},
+     "campaign archive whose finished replicas' final states are the initial configurations, "
+     "or a LAMMPS data file (as jamsim export writes) that starts every replica (relative to "
+     "the working directory; \"\": random positions)",
+     &R::initial, kPhys, nullptr, "a campaign archive or a LAMMPS data file"},
     {"initial_match", "run", "initial_match", "--initial-match", "",
      "which replica of the initial archive starts each replica: parameters (the same N, phi "
      "and seed) or id (the same replica id; positions scaled affinely to phi)",

@@ -9,6 +9,7 @@ jamming, velocity correlations, configuration pictures) and one report per archi
     table = ja.replica_averages(run, ["pressure"])
     groups = ja.group_averages(table, ["pressure"])
     fit = ja.fit_collapse(ja.collapse_points(groups, "pressure"))
+    ds = ja.replica_dataset(run, ["pressure"])    # xarray over (N, phi, rate, seed)
 
 Every raw read of an HDF5 file happens in archive.py; everything else takes DataFrames and
 numpy arrays.
@@ -22,5 +23,6 @@ from .rheology import fit_divergence, newtonian_divergence, bagnold_analysis, lo
 from .jamming import jamming_probability, phi_j_samples, finite_size_scaling
 from .correlations import correlation_minima, fit_minimum_growth
 from .pictures import contact_network, rattlers
+from .tables import to_dataset, replica_dataset, group_dataset, means_table, write_means_csv
 
 __all__ = [name for name in dir() if not name.startswith("_")]

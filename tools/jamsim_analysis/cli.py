@@ -8,7 +8,7 @@ import sys
 import numpy as np
 import pandas as pd
 
-from . import correlations, figures, jamming, pictures, report, rheology, scaling, stats
+from . import correlations, figures, jamming, pictures, report, rheology, scaling, stats, tables
 from .archive import open_archives
 from .errors import AnalysisError
 
@@ -51,6 +51,19 @@ def cmd_averages(a):
     print(groups.to_string(index=False))
     if a.output:
         groups.to_csv(a.output, sep="\t", index=False)
+
+
+def cmd_csv(a):
+    """Per-replica steady means with errors and tau_int as a flat CSV (one row per replica)."""
+    run = open_archives(a.archives)
+    observables = a.observable or [o for o in ("pressure", "shear_stress", "energy_per_particle",
+                                                "contact_number", "packing_fraction") if o in run.observables()]
+    unknown = sorted(set(observables) - set(run.observables()))
+    if unknown:
+        raise AnalysisError(f"--observable {', '.join(unknown)} is not allowed: the archives have "
+                            f"{', '.join(run.observables())}")
+    out = tables.write_means_csv(stats.replica_averages(run, observables), a.output, observables)
+    print(f"{len(out)} replicas, {len(out.columns)} columns: {a.output}")
 
 
 def cmd_collapse(a):
@@ -165,6 +178,12 @@ def analyze_parser():
     p.add_argument("archives", nargs="+")
     p.add_argument("--observable", nargs="+", default=["pressure", "shear_stress"])
     p.add_argument("--output", help="TSV file of the averages over seeds")
+    p = sub.add_parser("csv", help=cmd_csv.__doc__, description=cmd_csv.__doc__ + " " + tables.__doc__,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("archives", nargs="+")
+    p.add_argument("-o", "--output", required=True, help="CSV file to write (must not exist)")
+    p.add_argument("--observable", nargs="+", help="time-series columns (default: pressure, shear_stress, "
+                   "energy_per_particle, contact_number, packing_fraction where present)")
     for name, func in (("collapse", cmd_collapse), ("compare", cmd_compare)):
         p = sub.add_parser(name, help=func.__doc__, description=func.__doc__ + " " + scaling.__doc__)
         _common(p)

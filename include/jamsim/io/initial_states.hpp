@@ -1,12 +1,15 @@
 #pragma once
 // Initial configurations from another campaign archive ([run] initial): each replica starts
-// from the final state of a finished replica there, matched by (N, phi, seed) or by id.
+// from the final state of a finished replica there, matched by (N, phi, seed) or by id; or
+// from a LAMMPS data file (io/lammps_data.hpp): every replica starts from its configuration.
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "jamsim/core/system.hpp"
+#include "jamsim/io/lammps_data.hpp"
 #include "jamsim/params/parameters.hpp"
 
 namespace jamsim {
@@ -18,19 +21,23 @@ struct InitialStateError : std::runtime_error {
 
 class InitialStates {
   public:
-    /// Reads the source's replica table (serial, read-only); throws InitialStateError.
+    /// Reads the source's replica table (serial, read-only), or the whole LAMMPS data file
+    /// (a source that is not HDF5); throws InitialStateError.
     explicit InitialStates(const std::string& source);
 
-    /// The source replica that starts replica `id` with parameters `p`; throws
+    /// The source replica that starts replica `id` with parameters `p` (0 for a LAMMPS data
+    /// file, after checking that it fits p: N, types, diameters, cell); throws
     /// InitialStateError when none (or, matching by parameters, more than one) fits.
     std::int64_t match(const ReplicaParams& p, std::int64_t id) const;
 
-    /// That replica's final configuration (disks in creation order, velocities zero), its
-    /// cell scaled affinely to p.phi when the source was at another packing fraction.
+    /// That replica's final configuration (or the data file's; disks in creation order,
+    /// velocities zero), its cell scaled affinely to p.phi when the source was at another
+    /// packing fraction.
     System load(const ReplicaParams& p, std::int64_t id) const;
 
   private:
     std::string source_;
+    std::optional<LammpsData> lammps_;  ///< set when the source is a LAMMPS data file
     std::vector<std::int8_t> status_;
     std::vector<double> n_, phi_, seed_;
 };

@@ -1,0 +1,293 @@
+#include "jamsim/io/lammps_data.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <memory>
+#include <numeric>
+#include <set>
+#include <sstream>
+#include <string_view>
+
+namespace jamsim {
+
+namespace {
+
+/// The first eight bytes of an HDF5 file (superblock at offset 0, as jamsim writes them).
+constexpr char kSignature[8] = {'\x89', 'H', 'D', 'F', '\r', '\n', '\x1a', '\n'};
+
+/// The shortest of 15 or 17 significant digits that reads back to the same double.
+std::string show(double v) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.15g", v);
+    if (std::strtod(buf, nullptr) != v) std::snprintf(buf, sizeof buf, "%.17g", v);
+    return buf;
+}
+
+/// A double within a few ulps of `near` whose image under `recover` is `target`, so that
+/// the reader's arithmetic gives back the writer's value bitwise; `near` when none does.
+template <class Recover> double recoverable(double near, double target, Recover recover) {
+    if (recover(near) == target) return near;
+    double up = near, down = near;
+    for (int k = 0; k < 4; ++k) {
+        up = std::nextafter(up, std::numeric_limits<double>::infinity());
+        if (recover(up) == target) return up;
+        down = std::nextafter(down, -std::numeric_limits<double>::infinity());
+        if (recover(down) == target) return down;
+    }
+    return near;
+}
+
+std::string_view trim(std::string_view s) {
+    const auto b = s.find_first_not_of(" \t\r");
+    if (b == std::string_view::npos) return {};
+    const auto e = s.find_last_not_of(" \t\r");
+    return s.substr(b, e - b + 1);
+}
+
+std::vector<std::string_view> fields(std::string_view s) {
+    std::vector<std::string_view> out;
+    std::size_t i = 0;
+    while (i < s.size()) {
+        while (i < s.size() && (s[i] == ' ' || s[i] == '\t' || s[i] == '\r')) ++i;
+        const std::size_t b = i;
+        while (i < s.size() && s[i] != ' ' && s[i] != '\t' && s[i] != '\r') ++i;
+        if (i > b) out.push_back(s.substr(b, i - b));
+    }
+    return out;
+}
+
+bool to_double(std::string_view s, double& out) {
+    const auto r = std::from_chars(s.data(), s.data() + s.size(), out);
+    return r.ec == std::errc() && r.ptr == s.data() + s.size() && std::isfinite(out);
+}
+
+bool to_int(std::string_view s, std::int64_t& out) {
+    const auto r = std::from_chars(s.data(), s.data() + s.size(), out);
+    return r.ec == std::errc() && r.ptr == s.data() + s.size();
+}
+
+bool starts_numeric(std::string_view s) {
+    return !s.empty() && (std::isdigit(static_cast<unsigned char>(s[0])) || s[0] == '-' || s[0] == '+' || s[0] == '.');
+}
+
+} // namespace
+
+void write_lammps_data(const std::string& path, const FinalConfiguration& c, const std::string& title) {
+    std::FILE* raw = std::fopen(path.c_str(), "w");
+    if (!raw) throw std::runtime_error("cannot create '" + path + "'");
+    const std::unique_ptr<std::FILE, int (*)(std::FILE*)> out(raw, std::fclose);
+    std::string head = title;
+    std::replace(head.begin(), head.end(), '\n', ' ');
+    const std::size_t n = c.x.size();
+    const double L = c.box_side, gamma = c.box_strain;
+    // xy such that the reader's xy / L is γ bitwise (where a double does it).
+    const double xy = recoverable(gamma * L, gamma, [L](double v) { return v / L; });
+    bool ok = std::fprintf(out.get(), "%s\n\n%zu atoms\n2 atom types\n\n", head.c_str(), n) > 0;
+    ok = ok && std::fprintf(out.get(), "0 %.17g xlo xhi\n0 %.17g ylo yhi\n-0.5 0.5 zlo zhi\n%.17g 0 0 xy xz yz\n\n",
+                            L, L, xy) > 0;
+    ok = ok && std::fprintf(out.get(), "Atoms # sphere\n\n") > 0;
+    const double small = n > 0 ? *std::min_element(c.diameter.begin(), c.diameter.end()) : 1.0;
+    for (std::size_t i = 0; i < n && ok; ++i) {
+        const double shift = gamma * c.y[i];  // the reader subtracts exactly this
+        const double lab_x = recoverable(c.x[i] + shift, c.x[i], [shift](double v) { return v - shift; });
+        ok = std::fprintf(out.get(), "%zu %d %s 1 %.17g %.17g 0\n", i + 1, c.diameter[i] > small ? 2 : 1,
+                          show(c.diameter[i]).c_str(), lab_x, c.y[i]) > 0;
+    }
+    if (!ok || std::fflush(out.get()) != 0 || std::ferror(out.get()))
+        throw std::runtime_error("writing '" + path + "' failed");
+}
+
+LammpsData read_lammps_data(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw LammpsDataError("'" + path + "' cannot be read");
+    LammpsData d;
+    const auto where = [&](std::size_t line) { return "'" + path + "' line " + std::to_string(line) + ": "; };
+    std::string raw;
+    std::size_t line_no = 0;
+    std::getline(in, raw);  // the title
+    ++line_no;
+    bool have_x = false, have_y = false, have_atoms = false, have_types = false;
+    std::string section;
+    std::string style_hint;
+    std::set<std::string> sections_seen;
+    while (std::getline(in, raw)) {
+        ++line_no;
+        const std::string_view full(raw);
+        const auto hash = full.find('#');
+        const std::string_view text = trim(full.substr(0, hash));
+        if (text.empty()) continue;
+        const auto f = fields(text);
+        if (!starts_numeric(f[0])) {  // a section keyword
+            section = std::string(text);
+            if (sections_seen.count(section))
+                throw LammpsDataError(where(line_no) + "a second '" + section + "' section");
+            sections_seen.insert(section);
+            if (section == "Atoms" && hash != std::string_view::npos)
+                style_hint = std::string(trim(full.substr(hash + 1)));
+            continue;
+        }
+        if (section.empty()) {  // header
+            const auto keyword = [&](std::size_t k) {
+                std::string s;
+                for (std::size_t i = k; i < f.size(); ++i) {
+                    if (i > k) s.push_back(' ');
+                    s.append(f[i]);
+                }
+                return s;
+            };
+            std::int64_t count = 0;
+            if (f.size() >= 2 && keyword(1) == "atoms") {
+                if (!to_int(f[0], count) || count < 0)
+                    throw LammpsDataError(where(line_no) + "atoms = " + std::string(f[0]) + ": a count >= 0");
+                d.atoms = count;
+                have_atoms = true;
+            } else if (f.size() >= 3 && keyword(1) == "atom types") {
+                if (!to_int(f[0], count) || count < 1)
+                    throw LammpsDataError(where(line_no) + "atom types = " + std::string(f[0]) + ": a count >= 1");
+                d.atom_types = count;
+                have_types = true;
+            } else if (f.size() == 4 && (keyword(2) == "xlo xhi" || keyword(2) == "ylo yhi" || keyword(2) == "zlo zhi")) {
+                double lo = 0, hi = 0;
+                if (!to_double(f[0], lo) || !to_double(f[1], hi) || !(hi > lo))
+                    throw LammpsDataError(where(line_no) + "'" + std::string(text) + "': two numbers lo < hi");
+                if (f[2] == "xlo") { d.xlo = lo; d.xhi = hi; have_x = true; }
+                else if (f[2] == "ylo") { d.ylo = lo; d.yhi = hi; have_y = true; }
+                else { d.zlo = lo; d.zhi = hi; }
+            } else if (f.size() == 6 && keyword(3) == "xy xz yz") {
+                if (!to_double(f[0], d.xy) || !to_double(f[1], d.xz) || !to_double(f[2], d.yz))
+                    throw LammpsDataError(where(line_no) + "'" + std::string(text) + "': three numbers");
+            }
+            // other header lines (bonds, extra/atom, ellipsoids, ...) say nothing about disks
+            continue;
+        }
+        if (section != "Atoms") continue;  // Masses, Velocities, Pair Coeffs, ...: not needed
+        if (d.atom_style.empty()) {
+            const std::string hint = fields(style_hint).empty() ? "" : std::string(fields(style_hint)[0]);
+            if (hint == "sphere" || hint == "atomic") d.atom_style = hint;
+            else if (!hint.empty())
+                throw LammpsDataError(where(line_no) + "Atoms # " + hint +
+                                      ": atom_style sphere (id type diameter density x y z) or atomic (id type x y z)");
+            else if (f.size() == 5 || f.size() == 8) d.atom_style = "atomic";
+            else d.atom_style = "sphere";
+        }
+        const bool sphere = d.atom_style == "sphere";
+        const std::size_t columns = sphere ? 7 : 5;
+        if (f.size() != columns && f.size() != columns + 3)
+            throw LammpsDataError(where(line_no) + "an Atoms line of " + std::to_string(f.size()) +
+                                  " fields: atom_style " + d.atom_style + " has " +
+                                  (sphere ? "id type diameter density x y z" : "id type x y z") + " (" +
+                                  std::to_string(columns) + ", or " + std::to_string(columns + 3) +
+                                  " with image flags)");
+        std::int64_t id = 0, type = 0;
+        double diameter = 0, density = 0, x = 0, y = 0, z = 0;
+        const std::size_t p = sphere ? 4 : 2;
+        if (!to_int(f[0], id) || !to_int(f[1], type) ||
+            (sphere && (!to_double(f[2], diameter) || !to_double(f[3], density))) || !to_double(f[p], x) ||
+            !to_double(f[p + 1], y) || !to_double(f[p + 2], z))
+            throw LammpsDataError(where(line_no) + "'" + std::string(text) + "': integer id and type, finite numbers");
+        d.id.push_back(id);
+        d.type.push_back(static_cast<int>(std::clamp<std::int64_t>(type, -1, 1000000)));
+        if (sphere) d.diameter.push_back(diameter);
+        d.x.push_back(x);
+        d.y.push_back(y);
+        d.z.push_back(z);
+    }
+    if (in.bad()) throw LammpsDataError("'" + path + "' cannot be read");
+    if (!have_atoms || !have_types || !have_x || !have_y)
+        throw LammpsDataError("'" + path + "' is not a LAMMPS data file: its header needs 'N atoms', 'N atom types', "
+                              "'xlo xhi' and 'ylo yhi'");
+    if (!sections_seen.count("Atoms"))
+        throw LammpsDataError("'" + path + "' has no Atoms section");
+    if (static_cast<std::int64_t>(d.id.size()) != d.atoms)
+        throw LammpsDataError("'" + path + "': the header says " + std::to_string(d.atoms) +
+                              " atoms, the Atoms section has " + std::to_string(d.id.size()));
+    return d;
+}
+
+System system_from_lammps_data(const LammpsData& d, const std::string& path, std::int64_t n, double size_ratio) {
+    const std::string file = "'" + path + "'";
+    if (d.atoms != n)
+        throw LammpsDataError(file + " has " + std::to_string(d.atoms) + " atoms: the replica has N = " +
+                              std::to_string(n) + " (a file of N atoms)");
+    {
+        std::vector<std::int64_t> ids = d.id;
+        std::sort(ids.begin(), ids.end());
+        const auto dup = std::adjacent_find(ids.begin(), ids.end());
+        if (dup != ids.end())
+            throw LammpsDataError(file + ": atom id " + std::to_string(*dup) + " appears twice (ids are unique)");
+    }
+    std::int64_t small_count = 0;
+    for (std::size_t i = 0; i < d.id.size(); ++i) {
+        if (d.type[i] != 1 && d.type[i] != 2)
+            throw LammpsDataError(file + ": atom " + std::to_string(d.id[i]) + " has type " +
+                                  std::to_string(d.type[i]) + ": types 1 (small, d = 1) and 2 (large, d = size_ratio = " +
+                                  show(size_ratio) + ")");
+        if (d.type[i] == 1) ++small_count;
+        if (!d.diameter.empty()) {
+            const double expected = d.type[i] == 1 ? 1.0 : size_ratio;
+            if (!(std::abs(d.diameter[i] - expected) <= 1e-12 * expected))
+                throw LammpsDataError(file + ": atom " + std::to_string(d.id[i]) + " of type " +
+                                      std::to_string(d.type[i]) + " has diameter " + show(d.diameter[i]) +
+                                      ": type 1 is the small disk (diameter 1) and type 2 the large one (diameter "
+                                      "size_ratio = " + show(size_ratio) +
+                                      "); each type has one diameter and the two types do not overlap");
+        }
+    }
+    if (size_ratio != 1.0 && small_count * 2 != n)
+        throw LammpsDataError(file + " has " + std::to_string(small_count) + " atoms of type 1 and " +
+                              std::to_string(n - small_count) + " of type 2: jamsim's mixture is 50:50 (" +
+                              std::to_string(n / 2) + " and " + std::to_string(n / 2) + ")");
+    if (d.xz != 0.0 || d.yz != 0.0)
+        throw LammpsDataError(file + ": tilt xz = " + show(d.xz) + ", yz = " + show(d.yz) +
+                              ": a simple shear in the xy plane tilts only xy (xz = yz = 0)");
+    const double lx = d.xhi - d.xlo, ly = d.yhi - d.ylo;
+    if (!(std::abs(lx - ly) <= 1e-12 * ly))
+        throw LammpsDataError(file + ": the cell is " + show(lx) + " x " + show(ly) +
+                              " (xhi - xlo, yhi - ylo): jamsim's sheared cell is square (equal sides)");
+    for (std::size_t i = 0; i < d.z.size(); ++i)
+        if (d.z[i] != 0.0)
+            throw LammpsDataError(file + ": atom " + std::to_string(d.id[i]) + " has z = " + show(d.z[i]) +
+                                  ": a 2D configuration has z = 0");
+    const double side = ly;
+    double gamma = d.xy / side;
+    gamma -= std::floor(gamma + 0.5);  // into [-1/2, 1/2): the same lattice (xy shifted by whole xprd)
+    std::vector<std::size_t> order(d.id.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return d.type[a] != d.type[b] ? d.type[a] < d.type[b] : d.id[a] < d.id[b];
+    });
+    const Box box(side, gamma);
+    Particles q;
+    q.resize(static_cast<std::size_t>(n));
+    for (std::size_t k = 0; k < order.size(); ++k) {
+        const std::size_t i = order[k];
+        const double ys = d.y[i] - d.ylo;
+        double xs = (d.x[i] - d.xlo) - box.strain() * ys;
+        double yw = ys;
+        box.wrap_into_cell(xs, yw);
+        q.x[k] = xs;
+        q.y[k] = yw;
+        q.diameter[k] = d.type[i] == 1 ? 1.0 : size_ratio;
+        q.tag[k] = static_cast<std::int32_t>(k);
+    }
+    return System{std::move(q), box};
+}
+
+bool is_hdf5_file(const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) throw LammpsDataError("'" + path + "' does not exist");
+    if (std::filesystem::is_directory(path, ec)) throw LammpsDataError("'" + path + "' is a directory");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw LammpsDataError("'" + path + "' cannot be read");
+    char head[8] = {};
+    in.read(head, sizeof head);
+    return in.gcount() == 8 && std::equal(head, head + 8, kSignature);
+}
+
+} // namespace jamsim
