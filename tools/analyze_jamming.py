@@ -1,18 +1,46 @@
 #!/usr/bin/python3
-"""usage: analyze_jamming.py ARCHIVE.h5 OUTDIR
+"""Static analysis of jamsim jamming campaigns (RAND, COOL, COMPRESS, COOL_COMPRESS, SHEARED).
 
-Static analysis of a RAND, COOL, COMPRESS, COOL_COMPRESS or SHEARED campaign archive; finished
-replicas only.
-  RAND, COOL:         P_J(phi, N) with binomial errors, and <p> and <Z> of the jammed states
-                      (pj.png, pj.tsv); the pressure distribution of the jammed states at
-                      each (phi, N) (pressure.png).
-  COMPRESS, COOL_COMPRESS, SHEARED:
-                      the distribution of phi_J per N: mean, standard deviation, histogram
-                      (phi_j.png, phi_j.tsv), the fraction of isostatic states (states whose
-                      non-rattlers have exactly 2(N' - 1) + 1 contacts, excess_contacts = 0),
-                      and P_J(phi) as its cumulative distribution (pj_from_phi_j.png, .tsv).
-Prints the tables as well. A thin command over tools/jamsim_analysis (jamming.py);
-`jamsim_analyze.py jamming` adds the thresholds per N and their finite-size scaling."""
+usage: analyze_jamming.py ARCHIVE [ARCHIVE ...] OUTDIR
+
+ARCHIVE: campaign archives, shards of one campaign or several campaigns of one model read
+together (shards merged; a replica held by several archives, e.g. a campaign and its grown
+or merged version, counted once). Finished replicas only. OUTDIR: the output directory
+(created if needed). Prints the tables as well. A thin command over tools/jamsim_analysis
+(jamming.py); `jamsim_analyze.py jamming` adds the thresholds per N and their finite-size
+scaling.
+
+RAND, COOL (one quenched state at the replica's phi):
+  pj.tsv, pj.png, and the printed table, one row per (N, phi):
+    N               number of disks
+    phi             packing fraction of the quench
+    configurations  finished replicas (seeds) at (N, phi)
+    P_J             fraction of them jammed (`jammed` = 1: the minimiser stopped with the
+                    forces balanced, not below energy_floor)
+    error           binomial standard error sqrt(max(P_J (1 - P_J), (1/m)(1 - 1/m)) / m),
+                    m = configurations (never 0, even at P_J = 0 or 1)
+    mean_p_jammed   mean pressure p of the jammed states (k_e/d_s^2; nan if none)
+    mean_Z_jammed   mean contact number of their non-rattlers, Z = 2 N_c' / N' (nan if none)
+  pressure.png: the distribution of p of the jammed states at each (N, phi) with >= 5.
+
+COMPRESS, COOL_COMPRESS, SHEARED (one jammed state at the configuration's own phi_J):
+  phi_j.tsv, phi_j.png (histograms), and the printed table, one row per N:
+    N                   number of disks
+    configurations      jammed states (finished replicas with jammed = 1)
+    mean_phi_J          mean of their packing_fraction (phi_J, from above within phi_tol)
+    std_phi_J           sample standard deviation of phi_J (n - 1; nan for one state)
+    isostatic_fraction  fraction of the states that are isostatic: after removing rattlers
+                        (disks with fewer than 3 contacts, repeatedly) the N' remaining disks
+                        have exactly N_c' = 2(N' - 1) + 1 contacts, i.e. excess_contacts = 0,
+                        with no tolerance. This is z = 2 N_c'/N' = 2d = 4 in two dimensions
+                        up to its finite-size correction (2 per disk, less 2 for the global
+                        translations, plus 1 for a positive pressure in a fixed box).
+  pj_from_phi_j.tsv, .png: P_J(phi) as the cumulative distribution of phi_J (a configuration
+    compressed to phi jams iff phi >= its phi_J): N, phi (each phi_J), P_J (fraction with
+    phi_J <= phi), error (binomial standard error).
+  phi_J depends on the start phi of the search (README, "Which start phi for COMPRESS"): a
+  note is printed when one N mixes several start phi."""
+import argparse
 import os
 import sys
 
@@ -25,38 +53,28 @@ import numpy as np  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from jamsim_analysis import AnalysisError, open_archives  # noqa: E402
 from jamsim_analysis import jamming  # noqa: E402
+from jamsim_analysis.cli import output_directory, run_script  # noqa: E402
 
 
-def fail(msg):
-    sys.stderr.write(f"analyze_jamming.py: {msg}\n")
-    sys.exit(2)
-
-
-def main():
-    if len(sys.argv) == 2 and sys.argv[1] in ("-h", "--help"):
-        print(__doc__)
-        return
-    if len(sys.argv) != 3:
-        fail("usage: analyze_jamming.py ARCHIVE.h5 OUTDIR (--help: what it computes)")
-    path, out = sys.argv[1], sys.argv[2]
-    try:
-        run = open_archives(path)
-    except AnalysisError as e:
-        fail(f"cannot open archive '{path}': {e}")
+def analyze(a):
+    paths, out = a.archives, a.outdir
+    names = ", ".join(paths)
+    run = open_archives(paths)
     if "jammed" not in run.observables():
-        fail(f"'{path}' has no /timeseries/jammed: not a jamsim archive of this version")
-    name = run.attributes().get("model", "")
-    if name in ("COMPRESS", "COOL_COMPRESS", "SHEARED"):
+        raise AnalysisError(f"{names} has no /timeseries/jammed: not a jamsim archive of this version")
+    models = run.models
+    if len(models) > 1:
+        raise AnalysisError(f"{names} hold models {', '.join(models)}: analyse one model at a time")
+    name = models[0]
+    if name in jamming.COMPRESSED:
         model = "COMPRESS"  # one state at phi_J+ per replica
-    elif name in ("RAND", "COOL"):
+    elif name in jamming.QUENCHED:
         model = "RAND"  # one quenched state at phi per replica
     else:
-        fail(f"'{path}': model '{name}' is not RAND, COOL, COMPRESS, COOL_COMPRESS or SHEARED"
-             " (QS: use plot_campaign.py)")
-    try:
-        states = jamming.static_states(run)  # finished replicas, the state's columns
-    except AnalysisError as e:
-        fail(f"'{path}': {e}")
+        raise AnalysisError(f"{names}: model '{name}' is not allowed: RAND, COOL, COMPRESS, COOL_COMPRESS "
+                            "or SHEARED (flow campaigns: plot_campaign.py, analyze_scaling.py)")
+    states = jamming.static_states(run)  # finished replicas, the state's columns
+    output_directory(out)
     N = states["N"].to_numpy().astype(int)
     phi = states["phi"].to_numpy()
     jammed = states["jammed"].to_numpy()
@@ -64,7 +82,6 @@ def main():
     z = states["contact_number_nonrattler"].to_numpy()
     phi_state = states["packing_fraction"].to_numpy()
     excess = states["excess_contacts"].to_numpy()
-    os.makedirs(out, exist_ok=True)
     if model == "RAND":
         rows = []
         fig, ax = plt.subplots(figsize=(5, 4))
@@ -143,8 +160,24 @@ def main():
         ax.legend()
         fig.tight_layout()
         fig.savefig(os.path.join(out, "pj_from_phi_j.png"), dpi=120)
+    if model == "COMPRESS":
+        for n in sorted(set(N)):
+            starts = sorted(set(phi[N == n]))
+            if len(starts) > 1:
+                print(f"note: N = {n} mixes start phi {', '.join(f'{v:g}' for v in starts)}; "
+                      "phi_J depends on the start")
     print(f"figures and tables in {out}/")
 
 
+def parser():
+    ap = argparse.ArgumentParser(prog="analyze_jamming.py", description=__doc__.split("\n\n")[0],
+                                 epilog=__doc__.split("\n\n", 2)[2],
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("archives", nargs="+", metavar="ARCHIVE",
+                    help="campaign archives or shards of one jamming model (read together)")
+    ap.add_argument("outdir", metavar="OUTDIR", help="output directory (created if needed)")
+    return ap
+
+
 if __name__ == "__main__":
-    main()
+    sys.exit(run_script("analyze_jamming.py", analyze, parser().parse_args()))

@@ -1,9 +1,13 @@
 #!/usr/bin/python3
-"""Critical scaling of the flow curves of a jamsim campaign (thesis §5.2; Olsson & Teitel 2007).
+"""Critical scaling of the flow curves of jamsim sheared-flow campaigns (thesis §5.2; Olsson & Teitel 2007).
 
-usage: tools/analyze_scaling.py ARCHIVE.h5 OUTDIR [--observable pressure|shear_stress]
+usage: tools/analyze_scaling.py ARCHIVE [ARCHIVE ...] OUTDIR [--observable pressure|shear_stress]
            [--N N] [--phi-min X] [--phi-max X] [--rate-max R] [--degree K]
            [--start PHI_J Q ZNU]
+
+ARCHIVE: campaign archives, shards of one campaign or several campaigns of one model read
+together (shards merged; a replica held by several archives counted once). OUTDIR: the
+output directory (created if needed).
 
 Near point J an observable of the steady state scales as
     O(phi, rate) = rate^q F(x),   x = (phi - phi_J) / rate^(1/znu),   q = y/znu,
@@ -30,32 +34,34 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from jamsim_analysis import AnalysisError, open_archives  # noqa: E402
+from jamsim_analysis import AnalysisError  # noqa: E402
 from jamsim_analysis import figures, scaling, stats  # noqa: E402
+from jamsim_analysis.cli import _flow_archive, output_directory, run_script  # noqa: E402
 
 COLUMNS = {"pressure": "pressure", "shear_stress": "shear_stress"}
 
 
-def fail(message):
-    print(f"analyze_scaling.py: {message}", file=sys.stderr)
-    sys.exit(2)
-
-
-def seed_averages(path, observable):
-    """Averages over seeds per (N, phi, rate) of each finished replica's mean over
+def seed_averages(paths, observable):
+    """Averages over seeds per (model, N, phi, rate) of each finished replica's mean over
     strain >= its transient (the package's steady windows)."""
-    run = open_archives(path)
+    run = _flow_archive(paths)
     table = stats.replica_averages(run, [observable], detect=False)
     table = table[table["left_out"] == ""]
     if "rate" not in table or not (table["rate"] > 0).any():
-        fail(f"'{path}' has no finished replicas with rate > 0")
+        raise AnalysisError(f"{', '.join(paths)} has no finished replicas with rate > 0")
+    if len(set(table["model"])) > 1:
+        raise AnalysisError(f"{', '.join(paths)} hold models {', '.join(sorted(set(table['model'])))}: "
+                            "fit one model at a time (jamsim_analyze.py compare fits two together)")
     return stats.group_averages(table[table["rate"] > 0], [observable])
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("archive")
-    ap.add_argument("outdir")
+def parser():
+    ap = argparse.ArgumentParser(prog="analyze_scaling.py", description=__doc__.split("\n")[0],
+                                 epilog=__doc__.split("\n\n", 1)[1],
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("archives", nargs="+", metavar="ARCHIVE",
+                    help="campaign archives or shards of one model (read together)")
+    ap.add_argument("outdir", metavar="OUTDIR", help="output directory (created if needed)")
     ap.add_argument("--observable", choices=sorted(COLUMNS), default="pressure")
     ap.add_argument("--N", type=int, help="system size to fit (default: the largest)")
     ap.add_argument("--phi-min", type=float, default=-np.inf)
@@ -64,28 +70,29 @@ def main():
     ap.add_argument("--degree", type=int, default=3, help="degree K of ln F(x) (default 3)")
     ap.add_argument("--start", type=float, nargs=3, default=[0.843, 0.28, 3.5],
                     metavar=("PHI_J", "Q", "ZNU"), help="start values (default 0.843 0.28 3.5)")
-    a = ap.parse_args()
+    return ap
+
+
+def analyze(a):
     if a.degree < 0:
-        fail(f"--degree = {a.degree} is not allowed: an integer >= 0")
-    try:
-        groups = seed_averages(a.archive, a.observable)
-    except AnalysisError as e:
-        fail(str(e))
+        raise AnalysisError(f"--degree = {a.degree} is not allowed: an integer >= 0")
+    output_directory(a.outdir, create=False)
+    groups = seed_averages(a.archives, a.observable)
     sizes = sorted(int(n) for n in groups["N"].unique())
     n = a.N if a.N is not None else sizes[-1]
     if n not in sizes:
-        fail(f"--N = {n} is not in '{a.archive}' (sizes there: {', '.join(map(str, sizes))})")
+        raise AnalysisError(f"--N = {n} is not in {', '.join(a.archives)} (sizes there: {', '.join(map(str, sizes))})")
     try:
         pts = scaling.collapse_points(groups, a.observable, n, (a.phi_min, a.phi_max), a.rate_max)
         fit = scaling.fit_collapse(pts, a.degree, start=tuple(a.start), observable=a.observable,
                                    multistart=False)
     except AnalysisError as e:
-        fail(f"{e} (N = {n}, points with >= 2 seeds)")
+        raise AnalysisError(f"{e} (N = {n}, points with >= 2 seeds)") from None
     v, sd = fit.values, fit.errors
     phi_j, q, znu, y, beta = (v[k] for k in ("phi_J", "q", "znu", "y", "beta"))
     chi2, dof = fit.chi2, fit.dof
     pts = fit.points
-    os.makedirs(a.outdir, exist_ok=True)
+    output_directory(a.outdir)
     rows = [("N", n), ("points", len(pts)), ("degree", a.degree), ("phi_J", phi_j), ("phi_J_error", sd["phi_J"]),
             ("q", q), ("q_error", sd["q"]), ("znu", znu), ("znu_error", sd["znu"]), ("y", y), ("y_error", sd["y"]),
             ("beta", beta), ("beta_error", sd["beta"]), ("chi2_per_dof", chi2 / dof)]
@@ -101,4 +108,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(run_script("analyze_scaling.py", analyze, parser().parse_args()))

@@ -9,6 +9,10 @@
 # jamsim, the overhead of saving itself.
 #   tools/bench_checkpoint.sh [N STEPS ...]     default: 1024 1000000 65536 30000
 set -euo pipefail
+if [[ ${1:-} == -h || ${1:-} == --help ]]; then  # the header above, on stdout
+  awk 'NR > 1 { if ($0 !~ /^#( |$)/) exit; sub(/^# ?/, ""); print }' "$0"
+  exit 0
+fi
 cd "$(dirname "$0")/.."
 jamsim=${JAMSIM:-build/release/jamsim}
 work=$(mktemp -d)

@@ -12,6 +12,10 @@
 # configuration (seed 1: jamsim 227 s, LAMMPS 757 s, both ~6.8e5 iterations); set
 # FIRE_MAX_N=16384 to run it.
 set -euo pipefail
+if [[ ${1:-} == -h || ${1:-} == --help ]]; then  # the header above, on stdout
+  awk 'NR > 1 { if ($0 !~ /^#( |$)/) exit; sub(/^# ?/, ""); print }' "$0"
+  exit 0
+fi
 cd "$(dirname "$0")/.."
 tools/install-deps.sh --bench >/dev/null
 tools/build.sh >/dev/null

@@ -7,6 +7,10 @@
 #
 # Idempotent: when everything is present it makes no apt call at all.
 set -euo pipefail
+if [[ ${1:-} == -h || ${1:-} == --help ]]; then  # the header above, on stdout
+  awk 'NR > 1 { if ($0 !~ /^#( |$)/) exit; sub(/^# ?/, ""); print }' "$0"
+  exit 0
+fi
 
 packages=(
   g++ cmake make pkg-config git

@@ -4,6 +4,11 @@
 # out/quickstart.h5, and draw its figures into out/quickstart/.
 #   RANKS=4 tools/quickstart.sh     more ranks
 set -euo pipefail
+if [[ ${1:-} == -h || ${1:-} == --help ]]; then  # the header above, on stdout
+  awk 'NR > 1 { if ($0 !~ /^#( |$)/) exit; sub(/^# ?/, ""); print }' "$0"
+  exit 0
+fi
+[[ $# -eq 0 ]] || { echo "quickstart.sh: argument '$1' is not allowed: it takes none (RANKS=4 for more ranks); --help says what it does" >&2; exit 2; }
 cd "$(dirname "$0")/.."
 tools/install-deps.sh
 tools/build.sh

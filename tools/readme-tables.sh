@@ -4,6 +4,10 @@
 #   tools/readme-tables.sh [JAMSIM]            update README.md
 #   tools/readme-tables.sh --check [JAMSIM]    exit 1 (with a diff) if README.md is stale
 set -euo pipefail
+if [[ ${1:-} == -h || ${1:-} == --help ]]; then  # the header above, on stdout
+  awk 'NR > 1 { if ($0 !~ /^#( |$)/) exit; sub(/^# ?/, ""); print }' "$0"
+  exit 0
+fi
 cd "$(dirname "$0")/.."
 check=0
 if [[ "${1:-}" == "--check" ]]; then check=1; shift; fi

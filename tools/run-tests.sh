@@ -5,6 +5,10 @@
 #   tools/run-tests.sh -L physics extra arguments go to ctest
 # JAMSIM_PRESET picks the CMake preset (default release; CI uses `ci`: warnings are errors).
 set -euo pipefail
+if [[ ${1:-} == -h || ${1:-} == --help ]]; then  # the header above, on stdout
+  awk 'NR > 1 { if ($0 !~ /^#( |$)/) exit; sub(/^# ?/, ""); print }' "$0"
+  exit 0
+fi
 cd "$(dirname "$0")/.."
 tools/install-deps.sh
 preset=${JAMSIM_PRESET:-release}

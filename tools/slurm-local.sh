@@ -7,6 +7,10 @@
 # (finished jobs are listed in DIR/log/jobcomp.txt). Ports are picked free, so it does not
 # collide with another Slurm on the machine; munged is reused when one already runs.
 set -euo pipefail
+if [[ ${1:-} == -h || ${1:-} == --help ]]; then  # the header above, on stdout
+  awk 'NR > 1 { if ($0 !~ /^#( |$)/) exit; sub(/^# ?/, ""); print }' "$0"
+  exit 0
+fi
 dir=${SLURM_LOCAL_DIR:?set SLURM_LOCAL_DIR to a directory for the state and logs}
 
 start() {

@@ -29,6 +29,7 @@
 #include "jamsim/io/campaign_spec.hpp"
 #include "jamsim/linalg/contact_solver.hpp"
 #include "jamsim/campaign/farm.hpp"
+#include "jamsim/params/parameters.hpp"
 #include "jamsim/run/model_registry.hpp"
 #include "jamsim/parallel/mpi.hpp"
 
@@ -201,6 +202,23 @@ std::string check_petsc_options(const CampaignSpec& spec) {
 void print_advisories(const CampaignSpec& spec) {
     for (const std::string& line : campaign_warnings(spec))
         std::fprintf(stderr, "jamsim run: warning: %s: %s\n", spec.path.c_str(), line.c_str());
+    // A file without [run] is allowed, but the length and sampling of a dynamics run are
+    // then the defaults: say which, so that an omission is not mistaken for a choice.
+    if (spec.run_table || spec.replicas.empty()) return;
+    std::string defaults;
+    for (const auto& info : parameters()) {
+        if (info.table != "run" || (info.key != "strain" && info.key != "time" && info.key != "transient" &&
+                                    info.key != "sample_interval"))
+            continue;
+        const auto used = std::find_if(spec.replicas.begin(), spec.replicas.end(),
+                                       [&](const ReplicaParams& p) { return uses_parameter(p, info.key); });
+        if (used == spec.replicas.end()) continue;
+        defaults.append(defaults.empty() ? "" : ", ").append(info.key).append(" = ").append(
+            show_value(get_value(*used, info)));
+    }
+    if (!defaults.empty())
+        std::fprintf(stderr, "jamsim run: warning: %s: no [run] table: the run takes the defaults %s "
+                     "(campaigns/TEMPLATE.toml lists every key)\n", spec.path.c_str(), defaults.c_str());
 }
 
 /// Replicas that run at one throughput (seconds per estimated cost unit): model, N and phi.

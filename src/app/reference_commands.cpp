@@ -66,7 +66,10 @@ void print_template() {
     std::printf("# jamsim campaign template: every key with its default, units, allowed values and the\n"
                 "# models that read it. Printed by `jamsim parameters --template` from the parameter\n"
                 "# table; copy it, set what you need, delete the rest. A key the model does not read is\n"
-                "# refused. Paths (output, initial) are relative to the working directory of jamsim run.\n"
+                "# refused. Paths (output, initial) are relative to the working directory of jamsim run,\n"
+                "# not to this file (`jamsim run FILE -o PATH` replaces output). A table or key left out\n"
+                "# takes its defaults; without [run] a dynamics replica runs to strain 2 with transient 0\n"
+                "# (jamsim run warns).\n"
                 "# Run: mpirun -n 4 jamsim run FILE.toml   (check first: jamsim run --dry-run FILE.toml)\n\n"
                 "[campaign]\nname = \"my-campaign\"           # required\n"
                 "output = \"out/my-campaign.h5\"  # required: the archive\n");

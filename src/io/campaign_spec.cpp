@@ -228,6 +228,7 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
     spec.output = r.string(*campaign, "[campaign]", "output", "", true);
     if (spec.name.empty()) r.fail("[campaign] name", "\"\"", "a non-empty string");
     if (spec.output.empty()) r.fail("[campaign] output", "\"\"", "a non-empty path");
+    spec.run_table = r.table(root, "run") != nullptr;
 
     // Every key of every table must be a parameter of that table (so a typo is never
     // ignored); the model's name comes first, since it decides which parameters apply.

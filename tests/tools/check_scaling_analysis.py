@@ -27,6 +27,7 @@ m = len(rows)
 
 def write_archive(path, rows):
     with h5py.File(path, "w") as f:
+        f.attrs["model"] = "RD0"
         r, ts = f.create_group("replicas"), f.create_group("timeseries")
         r["status"] = np.full(len(rows), 2, dtype=np.int8)
         r["N"] = np.full(len(rows), 1024.0)

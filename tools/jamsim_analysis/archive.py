@@ -155,6 +155,46 @@ def _merge_shards(sources, tables):
     return best
 
 
+# Columns that are not settings of the run (compared when two files hold one replica).
+NOT_SETTINGS = BOOKKEEPING | {"valid_rows", "row", "source", "campaign", "model", "seed", "failure_reason",
+                              "checkpoint_steps"}
+
+
+def _drop_duplicates(table):
+    """One row per replica (identity and seed; rows of identity 0 all kept): the best status,
+    the first on a tie. The same replica with other run settings (strain, dt, sampling, ...)
+    is refused: its results are not the same."""
+    if "seed" not in table:
+        return table
+    ident = table["identity"].to_numpy(np.uint64)
+    seed = table["seed"].to_numpy(float)
+    rank = table["status"].map(STATUS_PRIORITY).to_numpy()
+    settings = [c for c in table.columns if c not in NOT_SETTINGS and table[c].dtype.kind in "fiub"]
+    keep = np.ones(len(table), bool)
+    best = {}
+    for k in range(len(table)):
+        if ident[k] == 0:
+            continue
+        key = (int(ident[k]), float(seed[k]))
+        j = best.get(key)
+        if j is None:
+            best[key] = k
+            continue
+        for c in settings:
+            a, b = float(table[c].iat[j]), float(table[c].iat[k])
+            if np.isfinite(a) and np.isfinite(b) and a != b:
+                raise AnalysisError(
+                    f"'{table['source'].iat[j].path}' and '{table['source'].iat[k].path}' hold the same replica "
+                    f"(N = {table['N'].iat[k]:g}, phi = {table['phi'].iat[k]:g}, seed = {seed[k]:g}) run with "
+                    f"other settings ({c} = {a:g} and {b:g}): read one of them")
+        if rank[k] > rank[j]:
+            keep[j] = False
+            best[key] = k
+        else:
+            keep[k] = False
+    return table[keep].reset_index(drop=True)
+
+
 class Archive:
     """One or more jamsim output files as one table of replicas.
 
@@ -164,7 +204,13 @@ class Archive:
       `valid_rows` (rows of the time series that may be read), `wall_seconds` (s),
       `force_evaluations`, `failure_reason`, `identity`.
     Shards of one campaign (the same spec_fingerprint and replica count) are merged: each
-    replica comes from the shard where it is done."""
+    replica comes from the shard where it is done. Archives of other campaigns (other
+    sweeps, a campaign and its grown or merged version) are put together; a replica that
+    several of them hold (the same identity and seed, i.e. the same model, physical
+    parameters and seed) is counted once, from the file where its status is best (done,
+    failed, running, pending; the first file given on a tie), and refused when its run
+    settings (strain, dt, sampling, ...) differ between the files. Replicas of archives made
+    before stable identity (identity 0) are never taken for one another."""
 
     def __init__(self, paths):
         if not paths:
@@ -182,7 +228,7 @@ class Archive:
             merged["campaign"] = first.attrs.get("campaign", os.path.basename(first.path))
             merged["model"] = first.attrs.get("model", "")
             parts.append(merged)
-        table = pd.concat(parts, ignore_index=True, sort=False)
+        table = _drop_duplicates(pd.concat(parts, ignore_index=True, sort=False))
         table["file"] = [s.path for s in table["source"]]
         table["status_name"] = table["status"].map(STATUS_NAMES)
         table["replica"] = np.arange(len(table))

@@ -50,7 +50,7 @@ def cmd_averages(a):
     print()
     print(groups.to_string(index=False))
     if a.output:
-        groups.to_csv(a.output, sep="\t", index=False)
+        groups.to_csv(output_file(a.output, "--output"), sep="\t", index=False)
 
 
 def cmd_csv(a):
@@ -84,7 +84,7 @@ def cmd_collapse(a):
           f"errors: {fit.method}; chi2/dof = {fit.chi2_per_dof:.3f} ({fit.dof} dof)")
     for k, v in fit.values.items():
         print(f"  {k:6s} = {v:.5g} +- {fit.errors[k]:.2g}")
-    os.makedirs(a.outdir, exist_ok=True)
+    output_directory(a.outdir)
     figures.collapse_figure(fit, os.path.join(a.outdir, f"collapse_{a.observable}.png"))
     pd.DataFrame([dict(parameter=k, value=v, error=fit.errors[k]) for k, v in fit.values.items()]
                  + [dict(parameter="chi2_per_dof", value=fit.chi2_per_dof, error=np.nan)]).to_csv(
@@ -111,7 +111,7 @@ def _divergence_command(a, power):
     print(plateau.to_string(index=False))
     print(", ".join(f"{k} = {v:.5g} +- {fit.errors[k]:.2g}" for k, v in fit.values.items())
           + f", chi2/dof = {fit.chi2_per_dof:.2f}")
-    os.makedirs(a.outdir, exist_ok=True)
+    output_directory(a.outdir)
     figures.divergence_figure(plateau, fit, f"{a.observable}/rate^{power}",
                               os.path.join(a.outdir, f"divergence_{power}_{a.observable}.png"))
 
@@ -156,7 +156,7 @@ def cmd_picture(a):
         raise AnalysisError(f"replica {a.replica} is not a finished replica (done: {len(done)})")
     rep = run.replicas.iloc[a.replica]
     alpha = float(rep["alpha"]) if "alpha" in rep and np.isfinite(rep["alpha"]) else 2.0
-    net, ratt = pictures.draw_configuration(run.final(a.replica), a.output, alpha)
+    net, ratt = pictures.draw_configuration(run.final(a.replica), output_file(a.output, "--output"), alpha)
     p, s = net.stress(run.final(a.replica).box_side)
     print(f"{len(net.force)} contacts, {int(ratt.sum())} rattlers, network p = {p:.6g}, sigma = {s:.6g}; {a.output}")
 
@@ -244,6 +244,7 @@ def report_main(argv=None):
         ap.error("give at least one archive and the output directory")
 
     def run(a):
+        output_directory(a.paths[-1], create=False)
         opts = report.ReportOptions(a.degree, a.correction, a.bootstrap, a.N)
         rep = report.build_report(a.paths[:-1], a.paths[-1], opts)
         for s in rep.skipped:
@@ -253,3 +254,47 @@ def report_main(argv=None):
             raise AnalysisError("no analysis could fit this archive (reasons above and in the report)")
 
     return _run(run, a, "jamsim_report.py")
+
+
+# -- helpers of the scripts in tools/ (plot_campaign.py, plot_replica.py, analyze_*.py, ...) --
+def output_directory(path, what="OUTDIR", create=True):
+    """Create the output directory `path` (if needed; with create=False only check that it
+    is not a file); refused with a message naming it."""
+    if os.path.exists(path) and not os.path.isdir(path):
+        raise AnalysisError(f"{what} '{path}' is an existing file, not a directory "
+                            "(the output directory comes after the archives)")
+    if not create:
+        return path
+    try:
+        os.makedirs(path, exist_ok=True)
+    except OSError as e:
+        raise AnalysisError(f"cannot create {what} '{path}': {e.strerror}") from None
+    return path
+
+
+def output_file(path, what="FIGURE"):
+    """Check that the file `path` can be written (its directory exists, it is not a directory)."""
+    folder = os.path.dirname(path) or "."
+    if os.path.isdir(path):
+        raise AnalysisError(f"{what} '{path}' is a directory, not a file name")
+    if not os.path.isdir(folder):
+        raise AnalysisError(f"{what} '{path}': no directory '{folder}'")
+    return path
+
+
+def run_script(prog, func, args):
+    """Run a script's body; bad input (AnalysisError) becomes one line on stderr and exit
+    status 2, without a traceback."""
+    return _run(func, args, prog)
+
+
+def describe_ids(ids):
+    """'0-5, 7, 9-11' for a sorted list of integers."""
+    ids, parts, k = sorted(ids), [], 0
+    while k < len(ids):
+        j = k
+        while j + 1 < len(ids) and ids[j + 1] == ids[j] + 1:
+            j += 1
+        parts.append(str(ids[k]) if j == k else f"{ids[k]}-{ids[j]}")
+        k = j + 1
+    return ", ".join(parts) if parts else "none"

@@ -32,6 +32,9 @@ struct CampaignSpec {
     std::string name;
     std::string output;
     std::vector<ReplicaParams> replicas;
+    /// false when the file has no [run] table: every run setting is at its default (jamsim
+    /// run warns).
+    bool run_table = true;
     /// Rate ladders: the replica whose end state starts each replica (−1: none); empty
     /// without a ladder.
     std::vector<std::int64_t> predecessor;
