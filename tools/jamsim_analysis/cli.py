@@ -239,13 +239,16 @@ def report_main(argv=None):
     ap.add_argument("--correction", action="store_true", help="leading correction to scaling in the fits")
     ap.add_argument("--bootstrap", type=int, default=100, help="bootstrap resamples over seeds (0: none)")
     ap.add_argument("--N", type=int, help="system size of the fits (default: the largest)")
+    ap.add_argument("--phi-min", type=float, default=-np.inf, help="collapse window: smallest phi (default: all)")
+    ap.add_argument("--phi-max", type=float, default=np.inf, help="collapse window: largest phi (default: all)")
+    ap.add_argument("--rate-max", type=float, default=np.inf, help="collapse window: largest rate (default: all)")
     a = ap.parse_args(argv)
     if len(a.paths) < 2:
         ap.error("give at least one archive and the output directory")
 
     def run(a):
         output_directory(a.paths[-1], create=False)
-        opts = report.ReportOptions(a.degree, a.correction, a.bootstrap, a.N)
+        opts = report.ReportOptions(a.degree, a.correction, a.bootstrap, a.N, a.phi_min, a.phi_max, a.rate_max)
         rep = report.build_report(a.paths[:-1], a.paths[-1], opts)
         for s in rep.skipped:
             print(f"not run: {s['analysis']}: {s['reason']}")

@@ -32,11 +32,16 @@ PICTURE_MAX_N = 16384
 @dataclasses.dataclass
 class ReportOptions:
     """degree: of ln F; correction: leading correction to scaling in the collapse;
-    n_boot: bootstrap resamples (0: none); N: system size for fits (default: the largest)."""
+    n_boot: bootstrap resamples (0: none); N: system size for fits (default: the largest);
+    phi_min, phi_max, rate_max: the collapse's window (default: every point), for fits
+    restricted to the critical region."""
     degree: int = 3
     correction: bool = False
     n_boot: int = 100
     N: int = None
+    phi_min: float = -np.inf
+    phi_max: float = np.inf
+    rate_max: float = np.inf
 
 
 def fit_rows(name, values, errors, chi2=None, dof=None, extra=""):
@@ -128,13 +133,15 @@ def _dynamics(rep, archive, opts):
 
 
 def _collapse(rep, table, groups, model, observable, opts, phi_j):
-    pts = scaling.collapse_points(groups, observable, N=opts.N, model=model)
+    pts = scaling.collapse_points(groups, observable, N=opts.N, model=model,
+                                  phi_range=(opts.phi_min, opts.phi_max), rate_max=opts.rate_max)
     pts["group"] = model
     fit = scaling.fit_collapse(pts, opts.degree, 0 if opts.correction else -1, observable=observable)
     method = "least squares"
     n = int(groups.loc[groups["model"] == model, "N"].max()) if opts.N is None else opts.N
     if opts.n_boot > 0 and pts["seeds"].min() >= 3:
-        rows = table[(table["model"] == model) & (table["N"] == n)]
+        rows = table[(table["model"] == model) & (table["N"] == n) & (table["phi"] >= opts.phi_min)
+                     & (table["phi"] <= opts.phi_max) & (table["rate"] <= opts.rate_max)]
         fit = scaling.bootstrap_collapse(rows, observable, fit, opts.n_boot)
         method = fit.method
     name = f"collapse {model} {observable}"
@@ -170,7 +177,9 @@ def _divergence(rep, groups, model, power, phi_j, opts):
 
 
 def _compare(rep, groups, opts):
-    pts = pd.concat([scaling.collapse_points(groups, "pressure", N=opts.N, model=m) for m in ("RD0", "CD0")])
+    pts = pd.concat([scaling.collapse_points(groups, "pressure", N=opts.N, model=m,
+                                             phi_range=(opts.phi_min, opts.phi_max), rate_max=opts.rate_max)
+                     for m in ("RD0", "CD0")])
     cmp = scaling.compare_collapses(pts, opts.degree, 0 if opts.correction else -1)
     rep.doc.heading("RD0 against CD0")
     rep.doc.paragraph(cmp.statement())

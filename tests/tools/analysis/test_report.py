@@ -59,6 +59,24 @@ def test_report_of_a_flow_campaign(flow_archive, tmp_path):
     assert "configuration.png" in md and "correlation.png" in md
 
 
+def test_report_collapse_window(flow_archive, tmp_path):
+    """--phi-min/--phi-max/--rate-max restrict the collapse to the critical region: the fit's
+    note names the window of the points used, and a window with too few points is an
+    analysis not run (with its reason), not a traceback."""
+    out = call(REPORT, flow_archive, tmp_path / "w", "--bootstrap", "0", "--phi-min", "0.82",
+               "--phi-max", "0.9")
+    assert out.returncode == 0, out.stderr
+    md = open(tmp_path / "w" / "report.md").read()
+    row = re.search(r"\| collapse RD0 pressure \| phi_J \|[^\n]*N = 64, phi ([0-9.]+)\.\.([0-9.]+), rate", md)
+    assert row, md[:2000]
+    assert (float(row.group(1)), float(row.group(2))) == (0.83, 0.89)  # 0.80 left out
+    for name, args, reason in (("r", ("--rate-max", "2e-3"), "at least 3 shear rates"),
+                               ("e", ("--phi-min", "0.95"), "no \\(phi, rate\\) point")):
+        out = call(REPORT, flow_archive, tmp_path / name, "--bootstrap", "0", *args)
+        md = open(tmp_path / name / "report.md").read()
+        assert re.search(r"\| collapse RD0 pressure \| [^\n]*" + reason, md), md[:3000]
+
+
 def test_report_of_a_rand_campaign(rand_archive, tmp_path):
     out = call(REPORT, rand_archive, tmp_path)
     assert out.returncode == 0, out.stderr
