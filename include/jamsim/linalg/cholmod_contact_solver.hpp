@@ -19,9 +19,10 @@ namespace jamsim::linalg {
 ///  - after changes the true residual ‖b − A u‖ ≤ rtol ‖b‖ is checked for both right-hand
 ///    sides, and the factor is recomputed from scratch when round-off accumulated by the
 ///    changes makes it miss.
-/// Block structure needs no extra work: the elimination tree of a block-diagonal matrix is a
-/// forest (one tree per cluster of touching disks), an isolated disk is a 1×1 block, and an
-/// update only walks the tree of the cluster it touches.
+/// The factor itself (analysis, updates, solves) is CholmodUpdatedFactor, shared with the
+/// PETSc backend's default preconditioner. Below φ_J the contact graph falls apart into
+/// clusters, but the factor's pattern is the neighbour list's, which stays connected: an
+/// update walks the whole elimination-tree path of its rows (measured costs: README, CD0).
 /// Everything is sequential and deterministic (no threads, fixed ordering seed).
 class CholmodContactSolver final : public ContactSolver {
   public:
