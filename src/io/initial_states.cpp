@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "jamsim/io/hdf5.hpp"
+#include "jamsim/io/stored_replicas.hpp"
 
 namespace jamsim {
 
@@ -103,22 +104,15 @@ System InitialStates::load(const ReplicaParams& p, std::int64_t id) const {
     h5::quiet_errors();
     try {
         const h5::Handle f = h5::open_unlocked_readonly(source_);
+        FinalConfiguration c = read_final_configuration(f.get(), static_cast<std::int64_t>(k),
+                                                         static_cast<std::int64_t>(n));
         Particles q;
         q.resize(n);
-        // Layout 4: every replica's disks end to end from /replicas/particle_offset; layout 3:
-        // one row per replica.
-        const bool rows = h5::dataset_shape(f.get(), "/final/x").size() == 2;
-        std::int64_t first = 0;
-        if (!rows) h5::read_block(f.get(), "/replicas/particle_offset", H5T_NATIVE_INT64, {k}, {1}, &first);
-        for (const auto& [name, v] : {std::pair{"/final/x", &q.x}, {"/final/y", &q.y}, {"/final/diameter", &q.diameter}}) {
-            if (rows)
-                h5::read_block(f.get(), name, H5T_NATIVE_DOUBLE, {k, 0}, {1, n}, v->data());
-            else
-                h5::read_block(f.get(), name, H5T_NATIVE_DOUBLE, {static_cast<hsize_t>(first)}, {n}, v->data());
-        }
-        double side = 0, strain = 0;
-        h5::read_block(f.get(), "/final/box_side", H5T_NATIVE_DOUBLE, {k}, {1}, &side);
-        h5::read_block(f.get(), "/final/box_strain", H5T_NATIVE_DOUBLE, {k}, {1}, &strain);
+        q.x = std::move(c.x);
+        q.y = std::move(c.y);
+        q.diameter = std::move(c.diameter);
+        double side = c.box_side;
+        const double strain = c.box_strain;
         for (std::size_t i = 0; i < q.size(); ++i) {
             q.tag[i] = static_cast<std::int32_t>(i);
             const double expected = (i < q.size() / 2 || p.size_ratio == 1.0) ? 1.0 : p.size_ratio;

@@ -46,6 +46,24 @@ StoredReplicas::StoredReplicas(const std::string& archive) : path_(archive) {
         throw h5::Error("the columns of /replicas in '" + archive + "' differ in length");
 }
 
+FinalConfiguration read_final_configuration(hid_t archive, std::int64_t id, std::int64_t n) {
+    const auto k = static_cast<hsize_t>(id), disks = static_cast<hsize_t>(n);
+    FinalConfiguration c;
+    for (auto* v : {&c.x, &c.y, &c.diameter}) v->resize(disks);
+    const bool rows = h5::dataset_shape(archive, "/final/x").size() == 2;  // layout 3
+    std::int64_t first = 0;
+    if (!rows) h5::read_block(archive, "/replicas/particle_offset", H5T_NATIVE_INT64, {k}, {1}, &first);
+    for (const auto& [name, v] : {std::pair{"/final/x", &c.x}, {"/final/y", &c.y}, {"/final/diameter", &c.diameter}}) {
+        if (rows)
+            h5::read_block(archive, name, H5T_NATIVE_DOUBLE, {k, 0}, {1, disks}, v->data());
+        else
+            h5::read_block(archive, name, H5T_NATIVE_DOUBLE, {static_cast<hsize_t>(first)}, {disks}, v->data());
+    }
+    h5::read_block(archive, "/final/box_side", H5T_NATIVE_DOUBLE, {k}, {1}, &c.box_side);
+    h5::read_block(archive, "/final/box_strain", H5T_NATIVE_DOUBLE, {k}, {1}, &c.box_strain);
+    return c;
+}
+
 StoredReplica StoredReplicas::read(std::int64_t id) const {
     const auto k = static_cast<std::size_t>(id);
     const auto kk = static_cast<hsize_t>(id);
@@ -54,21 +72,7 @@ StoredReplica StoredReplicas::read(std::int64_t id) const {
     const auto n = static_cast<hsize_t>(n_[k]);
     h5::quiet_errors();
     const h5::Handle f = h5::open_unlocked_readonly(path_);
-    FinalConfiguration& c = out.final;
-    for (auto* v : {&c.x, &c.y, &c.diameter}) v->resize(n);
-    // Layout 4: every replica's disks end to end from /replicas/particle_offset; layout 3:
-    // one row per replica.
-    const bool rows = h5::dataset_shape(f.get(), "/final/x").size() == 2;
-    std::int64_t first = 0;
-    if (!rows) h5::read_block(f.get(), "/replicas/particle_offset", H5T_NATIVE_INT64, {kk}, {1}, &first);
-    for (const auto& [name, v] : {std::pair{"/final/x", &c.x}, {"/final/y", &c.y}, {"/final/diameter", &c.diameter}}) {
-        if (rows)
-            h5::read_block(f.get(), name, H5T_NATIVE_DOUBLE, {kk, 0}, {1, n}, v->data());
-        else
-            h5::read_block(f.get(), name, H5T_NATIVE_DOUBLE, {static_cast<hsize_t>(first)}, {n}, v->data());
-    }
-    h5::read_block(f.get(), "/final/box_side", H5T_NATIVE_DOUBLE, {kk}, {1}, &c.box_side);
-    h5::read_block(f.get(), "/final/box_strain", H5T_NATIVE_DOUBLE, {kk}, {1}, &c.box_strain);
+    out.final = read_final_configuration(f.get(), id, static_cast<std::int64_t>(n));
     const double samples = n_samples_[k];
     if (!(samples >= 1)) throw h5::Error("replica " + std::to_string(id) + " of '" + path_ + "' has no rows");
     const auto last = static_cast<hsize_t>(samples) - 1;

@@ -19,7 +19,7 @@ struct CholmodUpdatedFactor::Impl {
     std::vector<int> pinv;                  // pinv[i] = row of L holding original row i
     std::vector<std::uint8_t> factored;     // contact set the factor represents
     bool have_factor = false;
-    std::vector<ContactPair> contacts;      // contacts of the last follow()
+    std::vector<ContactPair> contacts;      // contacts of the last factorize() or follow()
     std::vector<std::size_t> formed, broken;
 
     void fail(const char* what) const {
@@ -144,7 +144,9 @@ void CholmodUpdatedFactor::factorize(std::span<const ContactPair> pairs,
     Impl& m = *impl_;
     auto* v = static_cast<double*>(m.A->x);
     for (const int s : m.diag_slot) v[s] = m.delta;
+    m.contacts.clear();
     for (std::size_t k = 0; k < pairs.size(); ++k) {
+        if (in_contact[k]) m.contacts.push_back(pairs[k]);
         const double w = in_contact[k] ? 1.0 : 0.0;
         v[m.pair_slot[k]] = -w;
         v[m.diag_slot[static_cast<std::size_t>(pairs[k].i)]] += w;

@@ -40,7 +40,7 @@ class CholmodUpdatedFactor {
     void solve(const double* b, double* x);
 
     bool has_factor() const;
-    /// The contacts of the last `follow` (for a residual check).
+    /// The contacts of the last `factorize` or `follow` (residual check, matrix products).
     std::span<const ContactPair> contacts() const;
 
   private:

@@ -36,6 +36,7 @@ struct PetscContactSolver::Impl {
     PetscInt half = 0;
     bool factor_exact = false;  // the factor solves the Mat to round-off (fresh or verified)
     bool refresh = true;        // factorise afresh (shell) / recompute the PC (others) next
+    KSPConvergedReason last_reason = KSP_CONVERGED_ITERATING;  // of the last KSPSolve
 
     /// The default PC's apply, z = A⁻¹ r: one pass of the factor for both halves.
     static PetscErrorCode apply(PC pc, Vec r, Vec z) {
@@ -228,7 +229,6 @@ struct PetscContactSolver::Impl {
         last_reason = reason;
         return reason < 0 ? -1 : its;
     }
-    KSPConvergedReason last_reason = KSP_CONVERGED_ITERATING;
 };
 
 PetscContactSolver::PetscContactSolver(std::size_t n, double delta, const std::string& options,
@@ -282,7 +282,6 @@ SolveInfo PetscContactSolver::solve(std::span<const ContactPair> pairs,
         }
         if (m.refresh || !m.factor->has_factor()) {
             m.factor->factorize(pairs, in_contact);
-            (void)m.factor->follow(pairs, in_contact);  // records the contact set (no change)
             m.factor_exact = true;
             m.refresh = false;
             info.refactored = true;

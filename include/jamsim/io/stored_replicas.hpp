@@ -5,9 +5,16 @@
 #include <string>
 #include <vector>
 
+#include <hdf5.h>
+
 #include "jamsim/run/replica.hpp"
 
 namespace jamsim {
+
+/// Replica `id`'s final configuration of `n` disks from an open archive: layout 4 keeps every
+/// replica's disks end to end from /replicas/particle_offset, layout 3 one row per replica.
+/// Throws h5::Error when it cannot be read.
+FinalConfiguration read_final_configuration(hid_t archive, std::int64_t id, std::int64_t n);
 
 /// One replica's final state with what describes it.
 struct StoredReplica {
