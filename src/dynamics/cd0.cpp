@@ -5,7 +5,7 @@
 namespace jamsim {
 
 void Cd0::solve(const ForceField& forces, const Box& box, std::span<const double> x,
-                std::span<const double> y, std::span<const double> fx,
+                std::span<const double> y, std::span<const std::int32_t> tag, std::span<const double> fx,
                 std::span<const double> fy, double rate, std::span<double> ux,
                 std::span<double> uy) {
     const std::size_t n = x.size();
@@ -36,12 +36,12 @@ void Cd0::solve(const ForceField& forces, const Box& box, std::span<const double
         bx_[j] += rate * r.y;
     });
     if (!solver_) solver_ = linalg::make_contact_solver(backend_, n, delta_, petsc_options_);
-    last_ = solver_->solve(pairs_, in_contact_, pairs_version_, bx_, by_, ux, uy);
+    last_ = solver_->solve(pairs_, in_contact_, pairs_version_, tag, bx_, by_, ux, uy);
 }
 
 void Cd0::prepare(System& sys, ForceField& forces, double rate) {
     Particles& p = sys.particles;
-    solve(forces, sys.box, p.x, p.y, p.fx, p.fy, rate, p.ux, p.uy);
+    solve(forces, sys.box, p.x, p.y, p.tag, p.fx, p.fy, rate, p.ux, p.uy);
 }
 
 void Cd0::advance(System& sys, ForceField& forces, double dt, double rate, std::int64_t) {
@@ -54,7 +54,7 @@ void Cd0::advance(System& sys, ForceField& forces, double dt, double rate, std::
         ux1_.assign(p.ux.begin(), p.ux.end());
         uy1_.assign(p.uy.begin(), p.uy.end());
         forces.compute_at(s.box, p.x, p.y, p.diameter, fx1_, fy1_);
-        solve(forces, s.box, p.x, p.y, fx1_, fy1_, rate, ux1_, uy1_);
+        solve(forces, s.box, p.x, p.y, p.tag, fx1_, fy1_, rate, ux1_, uy1_);
         return std::pair<std::span<const double>, std::span<const double>>{ux1_, uy1_};
     });
 }

@@ -39,25 +39,29 @@ CholmodContactSolver::~CholmodContactSolver() = default;
 
 SolveInfo CholmodContactSolver::solve(std::span<const ContactPair> pairs,
                                       std::span<const std::uint8_t> in_contact,
-                                      std::size_t pattern_version, std::span<const double> b_x,
+                                      std::size_t pattern_version,
+                                    std::span<const std::int32_t> labels, std::span<const double> b_x,
                                       std::span<const double> b_y, std::span<double> u_x,
                                       std::span<double> u_y) {
     Impl& m = *impl_;
+    SolveInfo info;
     if (pattern_version != m.version) {
-        m.factor.analyse(pairs);
+        info.relabelled = m.factor.adopt(pairs, labels);
         m.version = pattern_version;
     }
     if (m.factor.has_factor()) {  // bring the factor to the current contacts
-        const int changes = m.factor.follow(pairs, in_contact);
+        info.factor_updates = m.factor.follow(pairs, in_contact);
         m.solve(b_x, b_y, u_x, u_y);
-        if (changes == 0) return {0, 0, false, 0};
+        if (info.factor_updates == 0 && !info.relabelled) return info;
         if (contact_residual_within(b_x, b_y, u_x, u_y, m.delta, m.factor.contacts(), m.rtol,
                                     m.rx, m.ry))
-            return {0, 0, false, changes};
+            return info;
     }
     m.factor.factorize(pairs, in_contact);
     m.solve(b_x, b_y, u_x, u_y);
-    return {0, 0, true, 0};
+    info.refactored = true;
+    info.factor_updates = 0;
+    return info;
 }
 
 } // namespace jamsim::linalg

@@ -17,6 +17,17 @@ struct CholmodUpdatedFactor::Impl {
     cholmod_dense *X = nullptr, *Y = nullptr, *E = nullptr;  // solve2 result and workspace
     std::vector<int> diag_slot, pair_slot;  // positions in A->x
     std::vector<int> pinv;                  // pinv[i] = row of L holding original row i
+    bool analysis_current = false;          // A and the analysis are of the current pairs
+    std::vector<std::int32_t> labels;       // labels of the rows at the last factorize/adopt
+    double fresh_fill = 0;                  // entries of L after the last fresh factor
+    std::vector<int> scratch;
+
+    double fill() const {
+        const auto* nz = static_cast<const int*>(L->nz);
+        double total = 0;
+        for (int j = 0; j < n; ++j) total += nz[j];
+        return total;
+    }
     std::vector<std::uint8_t> factored;     // contact set the factor represents
     bool have_factor = false;
     std::vector<ContactPair> contacts;      // contacts of the last factorize() or follow()
@@ -137,11 +148,78 @@ void CholmodUpdatedFactor::analyse(std::span<const ContactPair> pairs) {
     const auto* perm = static_cast<const int*>(m.L->Perm);
     m.pinv.resize(static_cast<std::size_t>(n));
     for (int k = 0; k < n; ++k) m.pinv[static_cast<std::size_t>(perm[k])] = k;
+    m.analysis_current = true;
+}
+
+bool CholmodUpdatedFactor::adopt(std::span<const ContactPair> pairs,
+                                 std::span<const std::int32_t> labels) {
+    Impl& m = *impl_;
+    m.analysis_current = false;
+    const auto n = static_cast<std::size_t>(m.n);
+    if (!m.have_factor || labels.size() != n || m.labels.size() != n ||
+        m.fill() > kFillGrowth * m.fresh_fill) {
+        m.have_factor = false;
+        m.labels.assign(labels.begin(), labels.end());
+        return false;
+    }
+    // Row of L of each label, then the new rows' positions: the same disks, the same order.
+    std::vector<int>& row_of_label = m.scratch;
+    row_of_label.assign(n, -1);
+    for (std::size_t i = 0; i < n; ++i) row_of_label[static_cast<std::size_t>(m.labels[i])] = m.pinv[i];
+    std::vector<int> new_index(n, -1);  // by label
+    for (std::size_t i = 0; i < n; ++i) {
+        const auto label = static_cast<std::size_t>(labels[i]);
+        if (label >= n || new_index[label] >= 0) throw std::invalid_argument("CD0 CHOLMOD factor: labels are not a permutation");
+        new_index[label] = static_cast<int>(i);
+    }
+    auto* perm = static_cast<int*>(m.L->Perm);
+    for (std::size_t i = 0; i < n; ++i) {
+        const int row = row_of_label[static_cast<std::size_t>(labels[i])];
+        m.pinv[i] = row;
+        perm[row] = static_cast<int>(i);
+    }
+    // The factor's contacts in the new numbering, matched against the new candidate pairs.
+    auto key = [](int a, int b) {
+        return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | static_cast<std::uint32_t>(std::max(a, b));
+    };
+    std::vector<std::uint64_t> held;
+    held.reserve(m.contacts.size());
+    std::vector<ContactPair> renamed;
+    renamed.reserve(m.contacts.size());
+    for (const ContactPair& c : m.contacts) {
+        const int a = new_index[static_cast<std::size_t>(m.labels[static_cast<std::size_t>(c.i)])];
+        const int b = new_index[static_cast<std::size_t>(m.labels[static_cast<std::size_t>(c.j)])];
+        renamed.push_back({a, b});
+        held.push_back(key(a, b));
+    }
+    std::vector<std::uint64_t> sorted = held;
+    std::sort(sorted.begin(), sorted.end());
+    std::vector<std::uint8_t> found(sorted.size(), 0);
+    m.factored.assign(pairs.size(), 0);
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+        const auto at = std::lower_bound(sorted.begin(), sorted.end(), key(pairs[k].i, pairs[k].j));
+        if (at == sorted.end() || *at != key(pairs[k].i, pairs[k].j)) continue;
+        m.factored[k] = 1;
+        found[static_cast<std::size_t>(at - sorted.begin())] = 1;
+    }
+    // Contacts of the factor that are no candidates any more (they broke): downdated now.
+    std::vector<std::size_t> gone;
+    for (std::size_t t = 0; t < renamed.size(); ++t) {
+        const auto at = std::lower_bound(sorted.begin(), sorted.end(), held[t]);
+        if (!found[static_cast<std::size_t>(at - sorted.begin())]) gone.push_back(t);
+    }
+    m.modify(false, renamed, gone);
+    m.contacts.clear();
+    for (std::size_t k = 0; k < pairs.size(); ++k)
+        if (m.factored[k]) m.contacts.push_back(pairs[k]);
+    m.labels.assign(labels.begin(), labels.end());
+    return true;
 }
 
 void CholmodUpdatedFactor::factorize(std::span<const ContactPair> pairs,
                                      std::span<const std::uint8_t> in_contact) {
     Impl& m = *impl_;
+    if (!m.analysis_current) analyse(pairs);
     auto* v = static_cast<double*>(m.A->x);
     for (const int s : m.diag_slot) v[s] = m.delta;
     m.contacts.clear();
@@ -155,6 +233,7 @@ void CholmodUpdatedFactor::factorize(std::span<const ContactPair> pairs,
     if (!cholmod_factorize(m.A, m.L, &m.c) || m.c.status != CHOLMOD_OK) m.fail("cholmod_factorize");
     m.factored.assign(in_contact.begin(), in_contact.end());
     m.have_factor = true;
+    m.fresh_fill = m.fill();
 }
 
 int CholmodUpdatedFactor::follow(std::span<const ContactPair> pairs,

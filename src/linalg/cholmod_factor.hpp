@@ -30,9 +30,17 @@ class CholmodUpdatedFactor {
     CholmodUpdatedFactor(const CholmodUpdatedFactor&) = delete;
     CholmodUpdatedFactor& operator=(const CholmodUpdatedFactor&) = delete;
 
-    /// Symbolic analysis of the candidate pairs' pattern; drops the numeric factor.
-    void analyse(std::span<const ContactPair> pairs);
-    /// Numeric factor of the contact set `in_contact` (one flag per pair of `analyse`).
+    /// A new candidate list (a list rebuild; the rows may be renumbered, `labels` gives each
+    /// row's lasting identity). The factor is carried over when it can be: the elimination
+    /// order stays that of the same disks, so L is unchanged and only the permutation is
+    /// renumbered; contacts of the factor missing from `pairs` are downdated. Carried over
+    /// while the fill (entries of L, grown by updates) stays below kFillGrowth times that of
+    /// the last fresh factor; else, and without a factor, the next `factorize` orders and
+    /// analyses `pairs` afresh. Returns whether the factor was carried over.
+    bool adopt(std::span<const ContactPair> pairs, std::span<const std::int32_t> labels);
+    /// Numeric factor of the contact set `in_contact` (one flag per pair of the last `adopt`),
+    /// ordering and analysing the candidate pattern first when the factor's analysis is of an
+    /// earlier list.
     void factorize(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact);
     /// Updates the factor to `in_contact`; returns the number of contacts formed or broken.
     int follow(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact);
@@ -40,10 +48,15 @@ class CholmodUpdatedFactor {
     void solve(const double* b, double* x);
 
     bool has_factor() const;
+    /// Entries of L over those of the last fresh factor at which `adopt` analyses afresh
+    /// (downdates keep their entries, and the order ages as the disks move apart).
+    static constexpr double kFillGrowth = 1.3;
     /// The contacts of the last `factorize` or `follow` (residual check, matrix products).
     std::span<const ContactPair> contacts() const;
 
   private:
+    /// Orders (METIS nested dissection, or AMD) and analyses the candidate pattern.
+    void analyse(std::span<const ContactPair> pairs);
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };

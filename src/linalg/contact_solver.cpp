@@ -92,10 +92,11 @@ std::string petsc_options_problem(const std::string& options) {
         PetscContactSolver solver(2, 1e-3);
         const ContactPair pair[] = {{0, 1}};
         const std::uint8_t touching[] = {1}, apart[] = {0};
+        const std::int32_t labels[] = {0, 1};
         const double bx[] = {1.0, -1.0}, by[] = {0.5, -0.5};
         double ux[] = {0.0, 0.0}, uy[] = {0.0, 0.0};
-        solver.solve(pair, touching, 0, bx, by, ux, uy);
-        solver.solve(pair, apart, 0, bx, by, ux, uy);
+        solver.solve(pair, touching, 0, labels, bx, by, ux, uy);
+        solver.solve(pair, apart, 0, labels, bx, by, ux, uy);
     } catch (const std::runtime_error& e) {
         return std::string("options PETSc accepts: ") + e.what();
     }

@@ -197,10 +197,12 @@ EigenContactSolver::~EigenContactSolver() = default;
 
 SolveInfo EigenContactSolver::solve(std::span<const ContactPair> pairs,
                                     std::span<const std::uint8_t> in_contact,
-                                    std::size_t pattern_version, std::span<const double> b_x,
+                                    std::size_t pattern_version,
+                                    std::span<const std::int32_t> labels, std::span<const double> b_x,
                                     std::span<const double> b_y, std::span<double> u_x,
                                     std::span<double> u_y) {
     Impl& m = *impl_;
+    (void)labels;  // the Eigen factor is rebuilt with the pattern
     if (pattern_version != m.version) {
         m.build_pattern(pairs);
         m.version = pattern_version;

@@ -267,7 +267,8 @@ PetscContactSolver::~PetscContactSolver() {
 
 SolveInfo PetscContactSolver::solve(std::span<const ContactPair> pairs,
                                     std::span<const std::uint8_t> in_contact,
-                                    std::size_t pattern_version, std::span<const double> b_x,
+                                    std::size_t pattern_version,
+                                    std::span<const std::int32_t> labels, std::span<const double> b_x,
                                     std::span<const double> b_y, std::span<double> u_x,
                                     std::span<double> u_y) {
     Impl& m = *impl_;
@@ -276,9 +277,8 @@ SolveInfo PetscContactSolver::solve(std::span<const ContactPair> pairs,
     if (m.shell) {
         if (!m.A) m.make_shell_operator();
         if (pattern_version != m.version) {
-            m.factor->analyse(pairs);
+            info.relabelled = m.factor->adopt(pairs, labels);
             m.version = pattern_version;
-            m.refresh = true;
         }
         if (m.refresh || !m.factor->has_factor()) {
             m.factor->factorize(pairs, in_contact);
@@ -287,9 +287,10 @@ SolveInfo PetscContactSolver::solve(std::span<const ContactPair> pairs,
             info.refactored = true;
         } else {
             info.factor_updates = m.factor->follow(pairs, in_contact);
-            if (info.factor_updates > 0) m.factor_exact = false;
+            if (info.factor_updates > 0 || info.relabelled) m.factor_exact = false;
         }
     } else {
+        (void)labels;  // PETSc's own preconditioners are recomputed with the pattern
         if (pattern_version != m.version) {
             m.build_pattern(pairs);
             m.version = pattern_version;

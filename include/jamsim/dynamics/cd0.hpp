@@ -41,7 +41,7 @@ class Cd0 final : public Model {
   private:
     /// Solve for u at positions (x, y) with forces (fx, fy) into (ux, uy).
     void solve(const ForceField& forces, const Box& box, std::span<const double> x,
-               std::span<const double> y, std::span<const double> fx,
+               std::span<const double> y, std::span<const std::int32_t> tag, std::span<const double> fx,
                std::span<const double> fy, double rate, std::span<double> ux,
                std::span<double> uy);
 

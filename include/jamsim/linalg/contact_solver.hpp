@@ -25,7 +25,8 @@ bool contact_residual_within(std::span<const double> bx, std::span<const double>
 struct SolveInfo {
     int iterations_x = 0, iterations_y = 0;
     bool refactored = false;  // the preconditioner / factor was recomputed for this solve
-    int factor_updates = 0;   // rank-one updates/downdates applied to the factor (Eigen)
+    int factor_updates = 0;   // rank-one updates/downdates applied to the factor
+    bool relabelled = false;  // a new candidate list: the factor was carried over (relabelled)
 };
 
 /// PETSc is initialised on first use (on PETSC_COMM_SELF problems only) and finalised by
@@ -50,10 +51,13 @@ class ContactSolver {
     /// Solve A u_x = b_x and A u_y = b_y; u_x, u_y hold the initial guess on entry.
     /// `pairs` are the candidate pairs, `in_contact[k]` says whether pair k touches now;
     /// `pattern_version` changes whenever `pairs` changes (the list's build count).
+    /// `labels[i]` is row i's lasting identity (the disk's tag, a permutation of 0 … n−1):
+    /// rows are renumbered when the disks are re-sorted at a list rebuild, and a backend that
+    /// keeps a factor carries it over by relabelling instead of factorising anew.
     /// Throws std::runtime_error naming the reason when a solve fails.
     virtual SolveInfo solve(std::span<const ContactPair> pairs,
                             std::span<const std::uint8_t> in_contact, std::size_t pattern_version,
-                            std::span<const double> b_x, std::span<const double> b_y,
+                            std::span<const std::int32_t> labels, std::span<const double> b_x, std::span<const double> b_y,
                             std::span<double> u_x, std::span<double> u_y) = 0;
 };
 

@@ -39,7 +39,8 @@ class PetscContactSolver final : public ContactSolver {
     PetscContactSolver& operator=(const PetscContactSolver&) = delete;
 
     SolveInfo solve(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,
-                    std::size_t pattern_version, std::span<const double> b_x,
+                    std::size_t pattern_version, std::span<const std::int32_t> labels,
+                    std::span<const double> b_x,
                     std::span<const double> b_y, std::span<double> u_x,
                     std::span<double> u_y) override;
 
