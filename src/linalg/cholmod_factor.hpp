@@ -12,10 +12,12 @@
 namespace jamsim::linalg {
 
 /// A_ii = z_i + δ, A_ij = −1 per contact, as a simplicial LDLᵀ factor:
-///  - `analyse` orders (METIS nested dissection, or AMD) the pattern of every candidate pair
-///    (the neighbour list, explicit zeros for pairs not touching), so no contact that forms
-///    before the next list rebuild needs new fill;
+///  - a fresh factor orders (METIS nested dissection, or AMD) the pattern of every candidate
+///    pair (the neighbour list, explicit zeros for pairs not touching), so no contact that
+///    forms before the next list rebuild needs new fill;
 ///  - `factorize` computes the numeric factor of a contact set from scratch;
+///  - `adopt` carries the factor over a list rebuild (rows renumbered by the re-sorting of
+///    the disks; contacts formed later may then add fill, which CHOLMOD's update makes);
 ///  - `follow` brings the factor to a new contact set by one multiple-rank update (contacts
 ///    that formed: A + W Wᵀ, W's columns e_i − e_j) and one downdate (contacts that broke),
 ///    CHOLMOD's cholmod_updown (Davis and Hager), a pass along the union of the elimination
