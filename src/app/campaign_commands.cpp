@@ -452,6 +452,9 @@ void print_capacity(const CapacityEstimate& e, const std::string& output) {
                 output.c_str(), show_bytes(e.archive_bytes).c_str(), show_bytes(e.archive_present).c_str(),
                 show_bytes(e.checkpoint_bytes).c_str(), show_bytes(e.free_bytes).c_str(),
                 show_bytes(e.rank_memory).c_str(), e.ranks_per_node, show_bytes(e.node_memory).c_str());
+    if (e.frame_bytes > 0)
+        std::printf("configuration frames ([run] frame_interval): up to %.0f per replica, %s of the archive\n",
+                    e.frames, show_bytes(e.frame_bytes).c_str());
 }
 
 int run(const RunOptions& opt, int& argc, char**& argv) {

@@ -285,7 +285,13 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, A
         if (before >= 0 && !resume)  // a rate ladder: start where the predecessor ended
             timed([&] { initial = read_state_system(end_state_path(options.archive_path, before)); });
         const ReplicaResult result = run_replica(
-            params, RunContext{.after_sample = between, .checkpoints = &policy,
+            params, RunContext{.after_sample = between,
+                               // Each frame straight into its place in the archive: frames
+                               // before a checkpoint are there before the checkpoint is saved.
+                               .on_frame = [&](std::int64_t k, double strain, const FinalConfiguration& frame) {
+                                   timed([&] { archive.write_frame(id, k, strain, frame); });
+                               },
+                               .checkpoints = &policy,
                                .resume = resume ? &*resume : nullptr,
                                .initial = initial ? &*initial : nullptr});
         if (has_successor)  // durable before the status that lets the successor start

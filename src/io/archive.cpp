@@ -68,6 +68,7 @@ ArchiveLayout archive_layout(const CampaignSpec& spec) {
         particles += p.n;
         out.samples = std::max<hsize_t>(out.samples, static_cast<hsize_t>(sample_count(p)));
         out.bins = std::max<hsize_t>(out.bins, VelocityCorrelation::bins_for(box_side_for(p.n, p.phi, p.size_ratio)));
+        out.frames = std::max<hsize_t>(out.frames, static_cast<hsize_t>(frame_count(p)));
     }
     out.particles = std::max<hsize_t>(1, static_cast<hsize_t>(particles));
     // Per replica: the parameter and bookkeeping columns (~40 numbers and a 256-byte reason).
@@ -76,6 +77,9 @@ ArchiveLayout archive_layout(const CampaignSpec& spec) {
     out.bytes = 8.0 * (replicas * static_cast<double>(out.samples) * static_cast<double>(std::size(kSampleColumns)) +
                        replicas * 2.0 * static_cast<double>(out.bins) + 3.0 * static_cast<double>(out.particles)) +
                 replicas * per_replica_bytes;
+    // Frames: x and y of every disk per frame, and two numbers per frame and replica.
+    out.frame_bytes = 8.0 * static_cast<double>(out.frames) * (2.0 * static_cast<double>(out.particles) + 2.0 * replicas);
+    out.bytes += out.frame_bytes;
     return out;
 }
 
@@ -196,6 +200,20 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
     h5::create_filled_dataset(f, "/final/box_side", H5T_NATIVE_DOUBLE, {replicas}, &nan, "d_s", "cell side L");
     h5::create_filled_dataset(f, "/final/box_strain", H5T_NATIVE_DOUBLE, {replicas}, &nan, "1",
            "Lees-Edwards strain gamma in [-1/2, 1/2)");
+    if (layout.frames > 0) {  // only with [run] frame_interval: archives without it are unchanged
+        h5::create_group(f, "frames").close("frames");
+        for (const char* name : {"x", "y"})
+            h5::create_unfilled_dataset(f, std::string("/frames/") + name, H5T_NATIVE_DOUBLE,
+                                        {layout.frames, layout.particles}, "d_s",
+                                        std::string(name) + " of configuration frame k (row k) of every replica, "
+                                        "replica r at columns [particle_offset[r], particle_offset[r] + N[r]) in tag "
+                                        "order; sheared coordinates in [0, L), lab x = x + box_strain y; defined where "
+                                        "/frames/strain is not NaN");
+        h5::create_filled_dataset(f, "/frames/strain", H5T_NATIVE_DOUBLE, {replicas, layout.frames}, &nan, "1",
+                                  "strain (time at rate 0, tau) of frame k of replica r (NaN: no frame)");
+        h5::create_filled_dataset(f, "/frames/box_strain", H5T_NATIVE_DOUBLE, {replicas, layout.frames}, &nan,
+                                  "1", "Lees-Edwards strain gamma in [-1/2, 1/2) of frame k of replica r");
+    }
 
     // Parameter columns: rank 0 writes them (independently), then everyone flushes.
     if (mpi::rank(comm) == 0) {
@@ -228,6 +246,7 @@ Archive Archive::open(MPI_Comm comm, const std::string& path) {
     layout.samples = h5::dataset_shape(file.get(), "/timeseries/time").at(1);
     layout.bins = h5::dataset_shape(file.get(), "/correlation/g_y").at(1);
     layout.particles = h5::dataset_shape(file.get(), "/final/x").at(0);
+    if (h5::exists(file.get(), "/frames/strain")) layout.frames = h5::dataset_shape(file.get(), "/frames/strain").at(1);
     return Archive(std::move(file), comm, std::move(layout));
 }
 
@@ -272,6 +291,28 @@ void Archive::clear_rows(std::int64_t replica) {
     for (const auto& c : kSampleColumns)
         write_block(file_.get(), std::string("/timeseries/") + c.name, H5T_NATIVE_DOUBLE,
                     {static_cast<hsize_t>(replica), 0}, {1, layout_.samples}, none.data());
+    if (layout_.frames > 0) {
+        const std::vector<double> no_frames(layout_.frames, kNaN);
+        for (const char* path : {"/frames/strain", "/frames/box_strain"})
+            write_block(file_.get(), path, H5T_NATIVE_DOUBLE, {static_cast<hsize_t>(replica), 0},
+                        {1, layout_.frames}, no_frames.data());
+    }
+}
+
+void Archive::write_frame(std::int64_t replica, std::int64_t index, double strain,
+                          const FinalConfiguration& frame) {
+    const auto r = static_cast<hsize_t>(replica);
+    const auto k = static_cast<hsize_t>(index);
+    if (k >= layout_.frames)
+        throw h5::Error("replica " + std::to_string(replica) + ": frame " + std::to_string(index) +
+                        " beyond the archive's " + std::to_string(layout_.frames) + " frames");
+    const auto n = static_cast<hsize_t>(frame.x.size());
+    const auto first = static_cast<hsize_t>(layout_.particle_offset.at(r));
+    const hid_t f = file_.get();
+    write_block(f, "/frames/x", H5T_NATIVE_DOUBLE, {k, first}, {1, n}, frame.x.data());
+    write_block(f, "/frames/y", H5T_NATIVE_DOUBLE, {k, first}, {1, n}, frame.y.data());
+    write_block(f, "/frames/box_strain", H5T_NATIVE_DOUBLE, {r, k}, {1, 1}, &frame.box_strain);
+    write_block(f, "/frames/strain", H5T_NATIVE_DOUBLE, {r, k}, {1, 1}, &strain);  // last: marks it
 }
 
 void Archive::mark_running(std::int64_t replica, int rank, bool keep_rows) {
@@ -396,6 +437,36 @@ void Archive::import_replica(const std::string& source_path, std::int64_t source
                            buffer.data());
             write_block(file_.get(), path, H5T_NATIVE_DOUBLE, {first}, {n}, buffer.data());
         }
+    }
+    // Configuration frames (the source's frames that fit this archive's rows; a longer run's
+    // further frames come from its continuation).
+    if (layout_.frames > 0 && h5::exists(src.get(), "/frames/strain")) {
+        const auto first = static_cast<hsize_t>(layout_.particle_offset.at(r));
+        std::int64_t source_first = 0;
+        h5::read_block(src.get(), "/replicas/particle_offset", H5T_NATIVE_INT64, {from}, {1}, &source_first);
+        const hsize_t source_frames = h5::dataset_shape(src.get(), "/frames/strain").at(1);
+        const hsize_t common = std::min(source_frames, layout_.frames);
+        std::vector<double> strains(source_frames), boxes(source_frames);
+        h5::read_block(src.get(), "/frames/strain", H5T_NATIVE_DOUBLE, {from, 0}, {1, source_frames}, strains.data());
+        h5::read_block(src.get(), "/frames/box_strain", H5T_NATIVE_DOUBLE, {from, 0}, {1, source_frames}, boxes.data());
+        const hsize_t n = (r + 1 < layout_.particle_offset.size()
+                               ? static_cast<hsize_t>(layout_.particle_offset[r + 1])
+                               : layout_.particles) - first;
+        std::vector<double> buffer(n);
+        for (hsize_t k = 0; k < common; ++k) {
+            if (std::isnan(strains[k])) continue;
+            for (const char* path : {"/frames/x", "/frames/y"}) {
+                h5::read_block(src.get(), path, H5T_NATIVE_DOUBLE, {k, static_cast<hsize_t>(source_first)}, {1, n},
+                               buffer.data());
+                write_block(file_.get(), path, H5T_NATIVE_DOUBLE, {k, first}, {1, n}, buffer.data());
+            }
+        }
+        strains.resize(layout_.frames, kNaN);
+        boxes.resize(layout_.frames, kNaN);
+        std::fill(strains.begin() + static_cast<std::ptrdiff_t>(common), strains.end(), kNaN);
+        std::fill(boxes.begin() + static_cast<std::ptrdiff_t>(common), boxes.end(), kNaN);
+        write_block(file_.get(), "/frames/box_strain", H5T_NATIVE_DOUBLE, {r, 0}, {1, layout_.frames}, boxes.data());
+        write_block(file_.get(), "/frames/strain", H5T_NATIVE_DOUBLE, {r, 0}, {1, layout_.frames}, strains.data());
     }
     for (const auto& path : paths) {
         const std::vector<hsize_t> dims = h5::dataset_shape(src.get(), path);

@@ -213,6 +213,28 @@ std::string Archive::replica_difference(const std::string& a, std::int64_t a_rep
     };
     for (const char* path : {"/final/x", "/final/y", "/final/diameter"})
         if (!same(disks(fa.get(), ra, path), disks(fb.get(), rb, path))) return path;
+    // Configuration frames, where either archive keeps them.
+    const bool frames_a = h5::exists(fa.get(), "/frames/strain"), frames_b = h5::exists(fb.get(), "/frames/strain");
+    if (frames_a != frames_b) return "/frames";
+    if (frames_a) {
+        for (const char* path : {"/frames/strain", "/frames/box_strain"})
+            if (!same(row(fa.get(), path, ra), row(fb.get(), path, rb))) return path;
+        const std::vector<double> strains = row(fa.get(), "/frames/strain", ra);
+        const auto frame = [](hid_t f, hsize_t r, const char* path, hsize_t k) {
+            std::int64_t first = 0;
+            h5::read_block(f, "/replicas/particle_offset", H5T_NATIVE_INT64, {r}, {1}, &first);
+            double n = 0;
+            h5::read_block(f, "/replicas/N", H5T_NATIVE_DOUBLE, {r}, {1}, &n);
+            std::vector<double> out(static_cast<std::size_t>(n));
+            h5::read_block(f, path, H5T_NATIVE_DOUBLE, {k, static_cast<hsize_t>(first)}, {1, out.size()}, out.data());
+            return out;
+        };
+        for (hsize_t k = 0; k < strains.size(); ++k) {
+            if (std::isnan(strains[k])) continue;
+            for (const char* path : {"/frames/x", "/frames/y"})
+                if (!same(frame(fa.get(), ra, path, k), frame(fb.get(), rb, path, k))) return path;
+        }
+    }
     std::int64_t ea = 0, eb = 0;
     h5::read_block(fa.get(), "/replicas/force_evaluations", H5T_NATIVE_INT64, {ra}, {1}, &ea);
     h5::read_block(fb.get(), "/replicas/force_evaluations", H5T_NATIVE_INT64, {rb}, {1}, &eb);

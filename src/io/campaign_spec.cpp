@@ -269,7 +269,8 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
         }
     }
     for (const auto& [info, shown] : given)
-        if (!uses_parameter(base, info->key)) {
+        // frame_interval = 0 (no frames, the default) may be written for any model.
+        if (!uses_parameter(base, info->key) && !(info->key == "frame_interval" && base.frame_interval == 0.0)) {
             std::string users;
             for (const auto& m : models()) {
                 ReplicaParams q = base;

@@ -69,7 +69,10 @@ double checkpoint_size(const ReplicaParams& p) {
 CapacityEstimate estimate_capacity(const CampaignSpec& spec, const std::string& output, int ranks,
                                    int ranks_per_node) {
     CapacityEstimate e;
-    e.archive_bytes = archive_layout(spec).bytes + 1e6;  // + metadata and attributes
+    const ArchiveLayout layout = archive_layout(spec);
+    e.archive_bytes = layout.bytes + 1e6;  // + metadata and attributes
+    e.frame_bytes = layout.frame_bytes;
+    e.frames = static_cast<double>(layout.frames);
     e.archive_present = occupied(output);
     double largest_checkpoint = 0, finals = 0, largest_replica = 0;
     for (const auto& p : spec.replicas) {

@@ -225,4 +225,15 @@ std::vector<hsize_t> dataset_shape(hid_t file, const std::string& path) {
     return dims;
 }
 
+bool exists(hid_t file, const std::string& path) {
+    // Each link of an absolute path in turn (H5Lexists fails on a missing intermediate group).
+    for (std::size_t slash = path.find('/', 1);; slash = path.find('/', slash + 1)) {
+        const std::string prefix = path.substr(0, slash);
+        const htri_t found = H5Lexists(file, prefix.c_str(), H5P_DEFAULT);
+        check(static_cast<herr_t>(found < 0 ? -1 : 0), "look up " + prefix);
+        if (found == 0) return false;
+        if (slash == std::string::npos) return true;
+    }
+}
+
 } // namespace jamsim::h5

@@ -94,6 +94,10 @@ ReplicaResult run_dynamics(const ReplicaParams& p, const RunContext& context) {
             if (steady) correlation.accumulate(sys);
             if (after_sample) after_sample();
         }
+        if (plan.frame_every > 0 && step % plan.frame_every == 0 && context.on_frame) {
+            const double t = static_cast<double>(step) * p.dt;
+            context.on_frame(step / plan.frame_every, p.rate > 0.0 ? p.rate * t : t, final_configuration(sys));
+        }
         if (step == plan.steps) break;
         model->advance(sys, run.forces, p.dt, p.rate, step);
         result.force_evaluations += evals_per_step;

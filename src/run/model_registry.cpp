@@ -27,8 +27,10 @@ namespace {
 Schedule dynamics_schedule(const ReplicaParams& p) {
     const double duration = p.rate > 0.0 ? p.strain / p.rate : p.time;
     const double sample_time = p.rate > 0.0 ? p.sample_interval / p.rate : p.sample_interval;
+    const double frame_time = p.rate > 0.0 ? p.frame_interval / p.rate : p.frame_interval;
     return {.steps = static_cast<std::int64_t>(std::ceil(duration / p.dt - 1e-9)),
-            .sample_every = std::max<std::int64_t>(1, std::llround(sample_time / p.dt))};
+            .sample_every = std::max<std::int64_t>(1, std::llround(sample_time / p.dt)),
+            .frame_every = p.frame_interval > 0.0 ? std::max<std::int64_t>(1, std::llround(frame_time / p.dt)) : 0};
 }
 
 /// A dynamical model's registration as the run layer sees it.
@@ -130,6 +132,7 @@ bool uses_parameter(const ReplicaParams& p, std::string_view key) {
             return true;
         if (key == "strain") return p.rate > 0.0;
         if (key == "rate_ladder" || key == "ladder_from") return !p.rate_ladder.empty();
+        if (key == "frame_interval") return p.frame_interval != 0.0;  // recorded only when set
         if (key == "time") return p.rate == 0.0;
     }
     return contains(m->parameters, key);
@@ -221,6 +224,11 @@ double estimated_memory(const ReplicaParams& p) {
 std::int64_t sample_count(const ReplicaParams& p) {
     const Schedule s = schedule_of(p);
     return s.steps / s.sample_every + 1;
+}
+
+std::int64_t frame_count(const ReplicaParams& p) {
+    const Schedule s = schedule_of(p);
+    return s.frame_every > 0 ? s.steps / s.frame_every + 1 : 0;
 }
 
 namespace {

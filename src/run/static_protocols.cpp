@@ -129,7 +129,8 @@ struct Protocol : ReplicaRun {
 
 ReplicaResult run_qs(const ReplicaParams& p, const RunContext& context) {
     Protocol run(p, context);
-    const auto [steps, every] = schedule_of(p);
+    const Schedule plan = schedule_of(p);
+    const std::int64_t steps = plan.steps, every = plan.sample_every;
     for (std::int64_t step = run.first_step();; ++step) {  // minimise, then γ → γ + Δγ (affine)
         if (run.checkpoint_step(step, steps)) run.minimizer = make_minimizer(p.minimizer);
         const double strain = static_cast<double>(step) * p.strain_step;

@@ -1,6 +1,7 @@
 """usage: compare_archives.py A.h5 B.h5
 Passes when both archives have every replica done and bitwise identical time series and
-final configurations (NaN padding compared as equal)."""
+final configurations, and configuration frames where the archives keep them (NaN padding
+compared as equal)."""
 import sys
 
 import h5py
@@ -19,4 +20,20 @@ for group in ("timeseries", "final", "correlation"):
         same = (x == y) | (np.isnan(x) & np.isnan(y))
         assert same.all(), f"{group}/{key} differs in replicas {sorted(set(np.argwhere(~same)[:, 0]))}"
         compared += x.size
+# Configuration frames: the strains (NaN where none) and each frame's disks where one exists.
+assert ("frames" in a) == ("frames" in b), "frames in one archive only"
+if "frames" in a:
+    for key in ("strain", "box_strain"):
+        x, y = a["frames"][key][...], b["frames"][key][...]
+        assert x.shape == y.shape and ((x == y) | (np.isnan(x) & np.isnan(y))).all(), f"frames/{key} differs"
+        compared += x.size
+    offset, n = a["replicas/particle_offset"][...], a["replicas/N"][...].astype(int)
+    strain = a["frames/strain"][...]
+    for key in ("x", "y"):
+        x, y = a["frames"][key][...], b["frames"][key][...]
+        for r in range(len(offset)):
+            for k in np.flatnonzero(~np.isnan(strain[r])):
+                cols = slice(offset[r], offset[r] + n[r])
+                assert (x[k, cols] == y[k, cols]).all(), f"frames/{key} differs: replica {r}, frame {k}"
+                compared += n[r]
 print(f"identical: {len(a['replicas/status'])} replicas, {compared} values")

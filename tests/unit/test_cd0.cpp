@@ -143,8 +143,9 @@ TEST(Cd0, StaleFactorSolvesMeetTheTolerance) {
             EXPECT_LE(refactored, static_cast<int>(ff.list().builds())) << "updates missed the tolerance";
         }
         // The CHOLMOD factor (default PC, cholmod backends) is carried over list rebuilds.
-        if (std::string(options).empty() && std::string(solver) != "eigen")
+        if (std::string(options).empty() && std::string(solver) != "eigen") {
             EXPECT_GT(carried, 0) << solver << ": no factor carried over a list rebuild";
+        }
     }
 }
 

@@ -24,6 +24,8 @@ struct ArchiveLayout {
     hsize_t bins = 1;       ///< row length of /correlation (the most g_y bins)
     hsize_t particles = 1;  ///< length of /final/x: every replica's N (at least 1)
     std::vector<std::int64_t> particle_offset;  ///< [R] first disk of each replica in /final
+    hsize_t frames = 0;     ///< configuration frames per replica (most of any; 0: no /frames)
+    double frame_bytes = 0.0;  ///< bytes of /frames (part of `bytes`)
     /// Bytes the archive will take once every replica is written (data, not metadata).
     double bytes = 0.0;
 };
@@ -90,6 +92,10 @@ class Archive {
                         double progress);
     void write_failed(std::int64_t replica, const std::string& reason, double wall_seconds,
                       int rank);
+    /// Configuration frame `index` of a running replica (disks in tag order, sheared
+    /// coordinates in [0, L)) and its strain (time at rate 0); valid once its status is done.
+    void write_frame(std::int64_t replica, std::int64_t index, double strain,
+                     const FinalConfiguration& frame);
 
     /// Copy replica `replica` (its rows, final configuration, bookkeeping and, last, its
     /// status) from another archive of the same campaign, opened serially read-only.

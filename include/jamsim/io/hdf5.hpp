@@ -117,6 +117,8 @@ void read_block(hid_t file, const std::string& path, hid_t memtype, std::vector<
                 std::vector<hsize_t> count, void* data, hid_t dxpl = H5P_DEFAULT);
 /// Shape of a dataset.
 std::vector<hsize_t> dataset_shape(hid_t file, const std::string& path);
+/// Whether the absolute path (e.g. "/frames/strain") names an object in the file.
+bool exists(hid_t file, const std::string& path);
 
 /// A whole dataset as a vector of T (memtype the native type of T).
 template <class T> std::vector<T> read_all(hid_t file, const std::string& path, hid_t memtype,

@@ -25,6 +25,7 @@ struct ReplicaParams {
     double time = 0.0;                  ///< total time at rate 0, τ
     double transient = 0.0;             ///< strain (time at rate 0) excluded from averages
     double sample_interval = 0.01;      ///< strain (time at rate 0) between samples
+    double frame_interval = 0.0;        ///< strain (time at rate 0) between configuration frames; 0: none
     std::int64_t checkpoint_steps = 10000;  ///< steps between checkpoint steps (run/replica.hpp)
     std::string rate_ladder = "";       ///< "down": each (N, phi, seed) runs its rates high to low
     double ladder_from = 0.0;           ///< rate of the replica whose end state starts this one (derived)

@@ -27,6 +27,7 @@ using SampleHook = std::function<void()>;
 struct Schedule {
     std::int64_t steps = 0;
     std::int64_t sample_every = 1;
+    std::int64_t frame_every = 0;  ///< steps between configuration frames (0: none)
 };
 
 enum class ModelKind : std::uint8_t {
@@ -103,6 +104,8 @@ int evaluations_per_step(const ReplicaParams& p);
 double estimated_memory(const ReplicaParams& p);
 /// Samples (rows) a replica writes.
 std::int64_t sample_count(const ReplicaParams& p);
+/// Configuration frames the replica writes (0 without frame_interval).
+std::int64_t frame_count(const ReplicaParams& p);
 
 /// "key=value key=value ..." of the parameters p's model uses (17 significant digits where
 /// needed): the canonical description of a replica (fingerprints, messages).

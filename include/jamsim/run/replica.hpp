@@ -61,16 +61,6 @@ struct ReplicaInterrupted : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-/// How a replica runs besides its parameters.
-struct RunContext {
-    SampleHook after_sample = {};            ///< called after every sample
-    const CheckpointPolicy* checkpoints = nullptr;
-    const ReplicaState* resume = nullptr;    ///< continue from this state instead of the start
-    /// Start from this configuration instead of random positions (ReplicaParams::initial;
-    /// the caller reads it, see io/initial_states.hpp).
-    const System* initial = nullptr;
-};
-
 /// The final configuration in output form: sheared coordinates folded into [0, L), ordered
 /// by particle tag (creation order), with the box.
 struct FinalConfiguration {
@@ -79,6 +69,21 @@ struct FinalConfiguration {
     double box_strain = 0.0;             ///< γ; lab x = x + γ y
 };
 FinalConfiguration final_configuration(const System& sys);
+
+/// How a replica runs besides its parameters.
+struct RunContext {
+    SampleHook after_sample = {};            ///< called after every sample
+    /// Called with each configuration frame (ReplicaParams::frame_interval > 0): its index k
+    /// (step k · frame_every), its strain (time at rate 0) and the configuration. A resumed
+    /// run calls it again, with the same bits, for the frames from its checkpoint step on.
+    std::function<void(std::int64_t index, double strain, const FinalConfiguration&)> on_frame = {};
+    const CheckpointPolicy* checkpoints = nullptr;
+    const ReplicaState* resume = nullptr;    ///< continue from this state instead of the start
+    /// Start from this configuration instead of random positions (ReplicaParams::initial;
+    /// the caller reads it, see io/initial_states.hpp).
+    const System* initial = nullptr;
+};
+
 
 /// The initial configuration of a replica: random positions keyed by (seed, replica_identity).
 System initial_system(const ReplicaParams& params);
