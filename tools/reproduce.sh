@@ -5,10 +5,11 @@
 # Archives go to out/papers/NAME.SIZE.h5 and reports to out/papers/NAME.SIZE.report/; a run
 # that stopped resumes where it stopped. The published sizes take hundreds of core-hours: run
 # them on a cluster (slurm/submit_campaign.sh) after `jamsim run --dry-run` shows their cost.
-# RD0 against CD0 (rd0_cd0) is reported against the collapse_rd0 archive of the same size.
+# RD0 against CD0 (rd0_cd0) is reported against the collapse_rd0 archive of the same size,
+# the bidisperse crystallisation campaign against the monodisperse one.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-usage() { sed -n '2,8p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//'; }
 size=${1:-laptop}
 case "$size" in
   -h|--help) usage; exit 0 ;;
@@ -17,7 +18,7 @@ case "$size" in
 esac
 names=("$@")
 if [[ ${#names[@]} -eq 0 ]]; then
-  names=(collapse_rd0 rd0_cd0 bagnold_cdn jamming_fss sheared_fss)
+  names=(collapse_rd0 rd0_cd0 bagnold_cdn jamming_fss sheared_fss crystallisation_mono crystallisation_bi)
 fi
 jamsim=build/${JAMSIM_PRESET:-release}/jamsim
 [[ -x $jamsim ]] || { echo "reproduce.sh: $jamsim not built (run tools/build.sh)" >&2; exit 2; }
@@ -42,6 +43,9 @@ for name in "${names[@]}"; do
   inputs=("$archive")
   if [[ $name == rd0_cd0 && -e out/papers/collapse_rd0.$size.h5 ]]; then
     inputs=(out/papers/collapse_rd0.$size.h5 "$archive")
+  fi
+  if [[ $name == crystallisation_bi && -e out/papers/crystallisation_mono.$size.h5 ]]; then
+    inputs=(out/papers/crystallisation_mono.$size.h5 "$archive")
   fi
   # shellcheck disable=SC2046  # the options are words
   /usr/bin/python3 tools/jamsim_report.py $(report_options "$name") "${inputs[@]}" "out/papers/$name.$size.report"

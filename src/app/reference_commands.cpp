@@ -22,6 +22,7 @@ std::string users_of(std::string_view key) {
         p.model = std::string(m.name);
         p.initial = "other.h5";  // the parameters recorded only when these are set
         p.rate_ladder = "down";
+        p.frame_interval = 1.0;
         bool used = false;
         for (double rate : {1.0, 0.0}) {
             p.rate = rate;

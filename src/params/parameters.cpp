@@ -95,7 +95,7 @@ const ParamInfo kParameters[] = {
      "strain (time at rate 0) between samples, rounded to whole steps", &R::sample_interval,
      kNum, JAMSIM_CHECK(positive(p.sample_interval), "sample_interval > 0"),
      "sample_interval > 0"},
-    {"frame_interval", "run", "frame_interval", "--frame-interval", "1",
+    {"frame_interval", "run", "frame_interval", "", "1",  // campaigns only: frames live in the archive
      "strain (time at rate 0) between configuration frames kept in the archive (/frames), "
      "rounded to whole steps; 0: none",
      &R::frame_interval, kNum, JAMSIM_CHECK(non_negative(p.frame_interval), "frame_interval >= 0"),

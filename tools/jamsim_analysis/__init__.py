@@ -1,6 +1,7 @@
 """Analysis of jamsim archives: load campaigns into pandas, honest error bars, the analyses
 of the thesis (scaling collapse, Newtonian and Bagnold divergences, finite-size scaling of
-jamming, velocity correlations, configuration pictures) and one report per archive.
+jamming, velocity correlations, configuration pictures, psi6 and animations of configuration
+frames) and one report per archive.
 
     import sys; sys.path.insert(0, "tools")
     import jamsim_analysis as ja
@@ -22,7 +23,9 @@ from .scaling import fit_collapse, collapse_points, bootstrap_collapse, compare_
 from .rheology import fit_divergence, newtonian_divergence, bagnold_analysis, local_slopes
 from .jamming import jamming_probability, phi_j_samples, finite_size_scaling
 from .correlations import correlation_minima, fit_minimum_growth
-from .pictures import contact_network, rattlers
+from .pictures import contact_network, rattlers, animate_frames
+from . import order
+from .order import psi6, psi6_over_strain
 from .tables import to_dataset, replica_dataset, group_dataset, means_table, write_means_csv
 
 __all__ = [name for name in dir() if not name.startswith("_")]

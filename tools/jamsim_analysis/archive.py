@@ -301,6 +301,30 @@ class Archive:
         n = int(self.replicas["N"].iat[replica])
         return _read_final(src, row, n)
 
+    def has_frames(self, replica):
+        """Whether the file of `replica` keeps configuration frames ([run] frame_interval)."""
+        src = self._sources[replica]
+        return src.kind == "campaign" and src.read("frames/strain") is not None
+
+    def frames(self, replica):
+        """Configuration frames of `replica`: (strain [F] (time at rate 0), list of F
+        FinalConfiguration in tag order, sheared coordinates in [0, L); diameters and L from
+        the final configuration). Only the frames written (strain not NaN)."""
+        src, row = self._sources[replica], self._rows[replica]
+        if not self.has_frames(replica):
+            raise AnalysisError(f"'{src.path}' keeps no configuration frames (set [run] frame_interval)")
+        final = self.final(replica)
+        n = len(final.x)
+        strain = np.asarray(src.read("frames/strain", [row])[0], float)
+        box = np.asarray(src.read("frames/box_strain", [row])[0], float)
+        valid = np.flatnonzero(np.isfinite(strain))
+        with _open(src.path) as f:
+            start = int(f["replicas/particle_offset"][row])
+            cols = slice(start, start + n)
+            out = [FinalConfiguration(f["frames/x"][k, cols], f["frames/y"][k, cols], final.diameter,
+                                      final.box_side, float(box[k])) for k in valid]
+        return strain[valid], out
+
     def correlation(self, replica):
         """Velocity correlation of `replica`: (x [B] in d_s, g_y [B]); empty arrays if the
         file has none."""

@@ -8,7 +8,7 @@ import sys
 import numpy as np
 import pandas as pd
 
-from . import correlations, figures, jamming, pictures, report, rheology, scaling, stats, tables
+from . import correlations, figures, jamming, order, pictures, report, rheology, scaling, stats, tables
 from .archive import open_archives
 from .errors import AnalysisError
 
@@ -161,6 +161,20 @@ def cmd_picture(a):
     print(f"{len(net.force)} contacts, {int(ratt.sum())} rattlers, network p = {p:.6g}, sigma = {s:.6g}; {a.output}")
 
 
+def cmd_frames(a):
+    """psi6 per configuration frame of one replica, and an animated GIF of its frames."""
+    run = open_archives(a.archives)
+    if a.replica not in set(run.replicas["replica"]):
+        raise AnalysisError(f"replica {a.replica} is not in these files ({len(run.replicas)} replicas)")
+    table = order.psi6_over_strain(run, a.replica)
+    print(table.to_string(index=False))
+    if a.animation:
+        rep = run.replicas.iloc[a.replica]
+        alpha = float(rep["alpha"]) if "alpha" in rep and np.isfinite(rep["alpha"]) else 2.0
+        drawn = pictures.animate_frames(run, a.replica, output_file(a.animation, "--animation"), alpha=alpha)
+        print(f"{drawn} frames drawn: {a.animation}")
+
+
 def _common(p, observable=True):
     p.add_argument("archives", nargs="+", help="campaign archives, shards or replica files")
     if observable:
@@ -213,6 +227,10 @@ def analyze_parser():
     p.add_argument("archives", nargs="+")
     p.add_argument("--replica", type=int, default=0)
     p.add_argument("--output", default="configuration.png")
+    p = sub.add_parser("frames", help=cmd_frames.__doc__, description=cmd_frames.__doc__ + " " + order.__doc__)
+    p.add_argument("archives", nargs="+")
+    p.add_argument("--replica", type=int, default=0)
+    p.add_argument("--animation", help="write an animated GIF of the frames here")
     return ap
 
 

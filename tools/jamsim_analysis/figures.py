@@ -126,3 +126,25 @@ def correlation_figure(curves, minima, path):
     bx.set_ylabel(r"$x_{min}$ ($d_s$)")
     bx.legend(fontsize=6)
     _save(fig, path)
+
+
+def order_figure(series, path):
+    """psi6 (global and local) against strain, one line per replica, coloured by size ratio."""
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4), sharex=True)
+    ratios = sorted(series["size_ratio"].unique())
+    colours = {r: c for r, c in zip(ratios, plt.rcParams["axes.prop_cycle"].by_key()["color"] * 4)}
+    seen = set()
+    for r, part in series.groupby("replica"):
+        ratio = part["size_ratio"].iat[0]
+        label = None if ratio in seen else (f"size ratio {ratio:g}" + (" (monodisperse)" if ratio == 1 else ""))
+        seen.add(ratio)
+        for ax, column in zip(axes, ("psi6_global", "psi6_local")):
+            ax.plot(part["strain"], part[column], color=colours[ratio], lw=1, alpha=0.8,
+                    label=label if column == "psi6_global" else None)
+    axes[0].set_ylabel(r"global $|\langle\psi_6\rangle|$")
+    axes[1].set_ylabel(r"local $\langle|\psi_{6,i}|\rangle$")
+    for ax in axes:
+        ax.set_xlabel(r"strain $\gamma$")
+        ax.set_ylim(0, 1)
+    axes[0].legend(fontsize=8)
+    _save(fig, path)

@@ -16,6 +16,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.collections import LineCollection, PatchCollection  # noqa: E402
 from matplotlib.patches import Circle, Polygon  # noqa: E402
+from .errors import AnalysisError  # noqa: E402
 
 # Rows of the pair search handled at once (memory ~ CHUNK * N doubles per array).
 CHUNK = 512
@@ -123,3 +124,29 @@ def draw_configuration(final, path, alpha=2.0, title="", max_width=4.0):
     fig.savefig(path, dpi=120)
     plt.close(fig)
     return net, rattler
+
+
+def animate_frames(archive, replica, path, alpha=2.0, max_frames=120, seconds_per_frame=0.2):
+    """Animated GIF of a replica's configuration frames ([run] frame_interval) in the lab
+    frame, each drawn as draw_configuration draws one (contact forces, rattlers); at most
+    max_frames, evenly spaced. Returns the number of frames drawn."""
+    import os
+    import tempfile
+
+    from PIL import Image
+
+    strains, configurations = archive.frames(replica)
+    if len(configurations) == 0:
+        raise AnalysisError(f"replica {replica} has no configuration frames yet")
+    chosen = np.unique(np.linspace(0, len(configurations) - 1, min(max_frames, len(configurations))).round().astype(int))
+    with tempfile.TemporaryDirectory() as tmp:
+        names = []
+        for k in chosen:
+            name = os.path.join(tmp, f"frame_{k:05d}.png")
+            draw_configuration(configurations[k], name, alpha=alpha,
+                               title=f"replica {replica}, strain {strains[k]:.4g}")
+            names.append(name)
+        images = [Image.open(n).convert("P", palette=Image.ADAPTIVE) for n in names]
+        images[0].save(path, save_all=True, append_images=images[1:], loop=0,
+                       duration=int(1000 * seconds_per_frame))
+    return len(chosen)

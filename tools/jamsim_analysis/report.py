@@ -5,7 +5,8 @@ Dynamics (RD0, CD0, RD0T, RD, CD, CDn, CDt): steady averages per (model, N, phi,
 replicas left out and why, flow curves; per model with >= 3 rates the collapse of p and
 sigma (bootstrap over seeds when every point has >= 3 seeds); the Newtonian divergence
 (overdamped models) or the Bagnold analysis (massive models); RD0 against CD0 when both
-are present; g_y(x) and its minimum; a picture of a final configuration.
+are present; g_y(x) and its minimum; a picture of a final configuration; with
+configuration frames ([run] frame_interval), psi6 over strain and an animation.
 Static (RAND, COOL, COMPRESS, COOL_COMPRESS, SHEARED): P_J(phi, N), thresholds per N,
 finite-size scaling with >= 3 sizes, pressure distributions, a picture of a jammed state.
 QS: averages per (N, phi) and a picture.
@@ -17,7 +18,7 @@ import os
 import numpy as np
 import pandas as pd
 
-from . import correlations, figures, jamming, pictures, rheology, scaling, stats
+from . import correlations, figures, jamming, order, pictures, rheology, scaling, stats
 from .archive import open_archives
 from .document import Document
 from .errors import AnalysisError
@@ -130,6 +131,8 @@ def _dynamics(rep, archive, opts):
         rep.attempt("RD0 against CD0", lambda: _compare(rep, groups, opts))
     rep.attempt("velocity correlations", lambda: _correlations(rep, archive, table))
     rep.attempt("configuration picture", lambda: _picture(rep, archive, kept))
+    if any(archive.has_frames(int(r)) for r in archive.done()["replica"]):
+        rep.attempt("bond-orientational order", lambda: _order(rep, archive))
 
 
 def _collapse(rep, table, groups, model, observable, opts, phi_j):
@@ -221,6 +224,33 @@ def _picture(rep, archive, kept):
                       + (f", rate = {pick['rate']:g}" if "rate" in pick and np.isfinite(pick["rate"]) else "")
                       + f"): {len(net.force)} contacts, {int(ratt.sum())} rattlers.")
     rep.doc.figure("configuration.png", "final configuration in the lab frame, contact forces as lines")
+
+
+def _order(rep, archive):
+    series, summary = order.order_by_size_ratio(archive)
+    d = rep.doc
+    d.heading("Bond-orientational order over strain")
+    d.paragraph("psi6 from each configuration frame (Delaunay neighbours, periodic images): global "
+                "|<psi6_i>| and local <|psi6_i|>; late-strain averages over the frames after each "
+                "replica's transient, mean over replicas, error = standard error over replicas.")
+    d.table(summary)
+    for _, row in summary.iterrows():
+        rep.fits += fit_rows(f"psi6 size ratio {row['size_ratio']:g}",
+                             {"psi6_global": row["psi6_global"], "psi6_local": row["psi6_local"]},
+                             {"psi6_global": row["psi6_global_error"], "psi6_local": row["psi6_local_error"]},
+                             extra=f"{int(row['replicas'])} replicas, {int(row['frames'])} frames")
+    figures.order_figure(series, rep.path("psi6.png"))
+    d.figure("psi6.png", "psi6 against strain, per replica")
+    # An animation of the smallest replica with the most frames, per size ratio.
+    for ratio, part in series.groupby("size_ratio"):
+        counts = part.groupby(["replica", "N"]).size().reset_index(name="frames")
+        pick = counts.sort_values(["frames", "N"], ascending=[False, True]).iloc[0]
+        if pick["N"] > PICTURE_MAX_N:
+            continue
+        name = f"frames_size_ratio_{ratio:g}.gif"
+        drawn = pictures.animate_frames(archive, int(pick["replica"]), rep.path(name), max_frames=60)
+        d.paragraph(f"Animation ({drawn} frames) of replica {int(pick['replica'])}, size ratio {ratio:g}, "
+                    f"N = {int(pick['N'])}: [{name}]({name})")
 
 
 def _static(rep, archive, opts):

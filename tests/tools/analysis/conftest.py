@@ -52,3 +52,8 @@ def copy_of(tmp_path):
         shutil.copy(path, target)
         return str(target)
     return copy
+
+
+@pytest.fixture(scope="session")
+def frames_archive(jamsim, tmp_path_factory):
+    return run_campaign(jamsim, str(tmp_path_factory.mktemp("frames")), "analysis_frames")
