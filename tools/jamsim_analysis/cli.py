@@ -66,9 +66,21 @@ def cmd_csv(a):
     print(f"{len(out)} replicas, {len(out.columns)} columns: {a.output}")
 
 
+def _check_window_options(parser, a):
+    """--auto-window and an explicit window exclude each other (argparse's error: exit 2)."""
+    if a.auto_window and (np.isfinite(a.phi_min) or np.isfinite(a.phi_max) or np.isfinite(a.rate_max)):
+        parser.error("--auto-window chooses the window itself: give it without --phi-min, --phi-max and --rate-max")
+
+
 def cmd_collapse(a):
     """Critical scaling collapse of p or sigma in the (phi, rate) plane."""
     table, groups = _averages(_flow_archive(a.archives), [a.observable])
+    if a.auto_window:
+        every = scaling.collapse_points(groups, a.observable, a.N, model=a.model)
+        choice = scaling.choose_window(every, a.degree, a.correction_degree if a.correction else -1,
+                                       tuple(a.start), a.observable)
+        print(f"window chosen from the data: {choice.describe()}")
+        a.phi_min, a.phi_max, a.rate_max = choice.phi_min, choice.phi_max, choice.rate_max
     pts = scaling.collapse_points(groups, a.observable, a.N, (a.phi_min, a.phi_max), a.rate_max,
                                   model=a.model)
     fit = scaling.fit_collapse(pts, a.degree, a.correction_degree if a.correction else -1,
@@ -207,6 +219,8 @@ def analyze_parser():
             p.add_argument("--phi-min", type=float, default=-np.inf)
             p.add_argument("--phi-max", type=float, default=np.inf)
             p.add_argument("--rate-max", type=float, default=np.inf)
+            p.add_argument("--auto-window", action="store_true",
+                           help="choose the window from the data (the largest whose fit is acceptable)")
             p.add_argument("--correction", action="store_true", help="leading correction to scaling")
             p.add_argument("--correction-degree", type=int, default=0, help="degree of Q(x) (default 0)")
             p.add_argument("--bootstrap", type=int, default=0, help="resamples of the bootstrap over seeds")
@@ -244,7 +258,10 @@ def _run(func, a, prog):
 
 
 def analyze_main(argv=None):
-    a = analyze_parser().parse_args(argv)
+    parser = analyze_parser()
+    a = parser.parse_args(argv)
+    if a.command == "collapse":
+        _check_window_options(parser, a)
     return _run(globals()[f"cmd_{a.command}"], a, "jamsim_analyze.py")
 
 
@@ -260,13 +277,17 @@ def report_main(argv=None):
     ap.add_argument("--phi-min", type=float, default=-np.inf, help="collapse window: smallest phi (default: all)")
     ap.add_argument("--phi-max", type=float, default=np.inf, help="collapse window: largest phi (default: all)")
     ap.add_argument("--rate-max", type=float, default=np.inf, help="collapse window: largest rate (default: all)")
+    ap.add_argument("--auto-window", action="store_true",
+                    help="choose each collapse's window from the data (the largest whose fit is acceptable)")
     a = ap.parse_args(argv)
     if len(a.paths) < 2:
         ap.error("give at least one archive and the output directory")
+    _check_window_options(ap, a)
 
     def run(a):
         output_directory(a.paths[-1], create=False)
-        opts = report.ReportOptions(a.degree, a.correction, a.bootstrap, a.N, a.phi_min, a.phi_max, a.rate_max)
+        opts = report.ReportOptions(a.degree, a.correction, a.bootstrap, a.N, a.phi_min, a.phi_max, a.rate_max,
+                                    a.auto_window)
         rep = report.build_report(a.paths[:-1], a.paths[-1], opts)
         for s in rep.skipped:
             print(f"not run: {s['analysis']}: {s['reason']}")

@@ -35,7 +35,9 @@ class ReportOptions:
     """degree: of ln F; correction: leading correction to scaling in the collapse;
     n_boot: bootstrap resamples (0: none); N: system size for fits (default: the largest);
     phi_min, phi_max, rate_max: the collapse's window (default: every point), for fits
-    restricted to the critical region."""
+    restricted to the critical region; auto_window: choose the window of each collapse from
+    the data instead (scaling.choose_window; the RD0/CD0 comparison uses RD0's pressure
+    window)."""
     degree: int = 3
     correction: bool = False
     n_boot: int = 100
@@ -43,6 +45,7 @@ class ReportOptions:
     phi_min: float = -np.inf
     phi_max: float = np.inf
     rate_max: float = np.inf
+    auto_window: bool = False
 
 
 def fit_rows(name, values, errors, chi2=None, dof=None, extra=""):
@@ -61,6 +64,7 @@ class Report:
         self.outdir = outdir
         self.fits = []
         self.skipped = []
+        self.windows = {}  # (model, observable) -> (phi_min, phi_max, rate_max) chosen from the data
         os.makedirs(outdir, exist_ok=True)
 
     def path(self, name):
@@ -136,15 +140,23 @@ def _dynamics(rep, archive, opts):
 
 
 def _collapse(rep, table, groups, model, observable, opts, phi_j):
+    phi_min, phi_max, rate_max = opts.phi_min, opts.phi_max, opts.rate_max
+    choice = None
+    if opts.auto_window:
+        every = scaling.collapse_points(groups, observable, N=opts.N, model=model)
+        every["group"] = model
+        choice = scaling.choose_window(every, opts.degree, 0 if opts.correction else -1, observable=observable)
+        phi_min, phi_max, rate_max = choice.phi_min, choice.phi_max, choice.rate_max
+        rep.windows[(model, observable)] = (phi_min, phi_max, rate_max)
     pts = scaling.collapse_points(groups, observable, N=opts.N, model=model,
-                                  phi_range=(opts.phi_min, opts.phi_max), rate_max=opts.rate_max)
+                                  phi_range=(phi_min, phi_max), rate_max=rate_max)
     pts["group"] = model
     fit = scaling.fit_collapse(pts, opts.degree, 0 if opts.correction else -1, observable=observable)
     method = "least squares"
     n = int(groups.loc[groups["model"] == model, "N"].max()) if opts.N is None else opts.N
     if opts.n_boot > 0 and pts["seeds"].min() >= 3:
-        rows = table[(table["model"] == model) & (table["N"] == n) & (table["phi"] >= opts.phi_min)
-                     & (table["phi"] <= opts.phi_max) & (table["rate"] <= opts.rate_max)]
+        rows = table[(table["model"] == model) & (table["N"] == n) & (table["phi"] >= phi_min)
+                     & (table["phi"] <= phi_max) & (table["rate"] <= rate_max)]
         fit = scaling.bootstrap_collapse(rows, observable, fit, opts.n_boot)
         method = fit.method
     name = f"collapse {model} {observable}"
@@ -158,6 +170,11 @@ def _collapse(rep, table, groups, model, observable, opts, phi_j):
     figures.collapse_figure(fit, rep.path(fname))
     rep.doc.heading(f"Scaling collapse: {model}, {observable}")
     rep.doc.paragraph(f"Window: {window}. Errors: {method}. chi2/dof = {fit.chi2_per_dof:.2f} ({fit.dof} dof).")
+    if choice is not None:
+        rep.doc.paragraph(f"Window chosen from the data (--auto-window): {choice.describe()}. The largest "
+                          f"window whose fit has a chi2 p-value >= {choice.level:g} and its phi_J inside it; "
+                          "the windows tried:")
+        rep.doc.table(choice.tried.sort_values(["points", "p_value"], ascending=False).head(15))
     rep.doc.figure(fname, f"collapse of {observable} ({model})")
 
 
@@ -180,8 +197,9 @@ def _divergence(rep, groups, model, power, phi_j, opts):
 
 
 def _compare(rep, groups, opts):
+    phi_min, phi_max, rate_max = rep.windows.get(("RD0", "pressure"), (opts.phi_min, opts.phi_max, opts.rate_max))
     pts = pd.concat([scaling.collapse_points(groups, "pressure", N=opts.N, model=m,
-                                             phi_range=(opts.phi_min, opts.phi_max), rate_max=opts.rate_max)
+                                             phi_range=(phi_min, phi_max), rate_max=rate_max)
                      for m in ("RD0", "CD0")])
     cmp = scaling.compare_collapses(pts, opts.degree, 0 if opts.correction else -1)
     rep.doc.heading("RD0 against CD0")

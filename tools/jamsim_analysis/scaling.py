@@ -293,3 +293,87 @@ def compare_collapses(points, degree=3, correction_degree=-1, start=(0.843, 0.28
     f_stat = max(joint.chi2 - chi2_sep, 0.0) / extra / (chi2_sep / dof_sep)
     p = float(sps.f.sf(f_stat, extra, dof_sep))
     return CollapseComparison(joint, separate, chi2_sep, dof_sep, float(f_stat), p, alpha)
+
+
+@dataclasses.dataclass
+class WindowChoice:
+    """The collapse window chosen by choose_window: phi_min, phi_max, rate_max; the fit in it;
+    p_value = P(chi2 >= the fit's chi2 | dof) (scipy.stats.chi2.sf); acceptable: p_value >=
+    the level; tried: DataFrame of every window fitted (phi_min, phi_max, rate_max, points,
+    chi2_per_dof, p_value, phi_J)."""
+    phi_min: float
+    phi_max: float
+    rate_max: float
+    fit: ScalingFit
+    p_value: float
+    acceptable: bool
+    level: float
+    tried: pd.DataFrame
+
+    def describe(self):
+        verdict = (f"acceptable at the {self.level:g} level" if self.acceptable else
+                   f"no window acceptable at the {self.level:g} level: the best p-value")
+        return (f"phi {self.phi_min:g}..{self.phi_max:g}, rate <= {self.rate_max:g} "
+                f"({len(self.fit.points)} points, chi2/dof = {self.fit.chi2_per_dof:.2f}, "
+                f"p = {self.p_value:.3g}: {verdict}; {len(self.tried)} windows tried)")
+
+
+def choose_window(points, degree=3, correction_degree=-1, start=(0.843, 0.28, 3.5),
+                  observable="pressure", level=0.05, min_rates=3, min_phis=3, max_fits=400):
+    """The critical window of a collapse, chosen from the data (the practice of Olsson and
+    Teitel: shrink the window around phi_J towards low rates until the scaling fits).
+
+    points: collapse_points output (every point; the window is chosen here). Candidate
+    windows: every contiguous range of the phi values with at least `min_phis` of them,
+    times rate_max over the distinct rates (the highest dropped first, at least `min_rates`
+    left); when there are more than `max_fits`, every k-th range (evenly thinned). Each is
+    fitted. A window is acceptable when its fit's chi2 p-value is >= `level` and its fitted
+    phi_J lies inside it (both branches of the collapse). The chosen window has the most
+    points among the acceptable ones (ties: the wider phi range, then the higher rate_max);
+    when none is acceptable, the one with the best p-value, flagged. Raises AnalysisError
+    when no window can be fitted."""
+    from scipy.stats import chi2 as chi2_distribution
+
+    pts = _prepare(points)
+    rates = np.sort(pts["rate"].unique())[::-1]
+    if len(rates) < min_rates:
+        raise AnalysisError(f"a collapse needs at least {min_rates} shear rates with data; the data have {len(rates)}")
+    phis = np.unique(pts["phi"])
+    if len(phis) < min_phis:
+        raise AnalysisError(f"{len(phis)} phi values in the data: a window needs at least {min_phis}")
+    ranges = [(float(phis[a]), float(phis[b])) for a in range(len(phis)) for b in range(a + min_phis - 1, len(phis))]
+    windows = [(lo, hi, float(r)) for r in rates[: len(rates) - min_rates + 1] for lo, hi in ranges]
+    if len(windows) > max_fits:
+        windows = [windows[k] for k in np.unique(np.linspace(0, len(windows) - 1, max_fits).round().astype(int))]
+    # Each window's fit starts from the fit to every point (one multistart fit, not one per
+    # window: the windows' fits take a few Levenberg-Marquardt runs each).
+    try:
+        whole = fit_collapse(pts, degree, correction_degree, start, observable)
+        first = (whole.values["phi_J"], whole.values["q"], whole.values["znu"])
+        if not (np.isfinite(first).all() and first[2] > 0):
+            first = start
+    except AnalysisError:
+        first = start
+    tried, fits = [], {}
+    for lo, hi, rate_max in windows:
+        sub = pts[(pts["phi"] >= lo) & (pts["phi"] <= hi) & (pts["rate"] <= rate_max)]
+        try:
+            fit = fit_collapse(sub, degree, correction_degree, first, observable, multistart=False)
+            if first != tuple(start):  # and from the caller's start, keeping the better
+                other = fit_collapse(sub, degree, correction_degree, start, observable, multistart=False)
+                fit = other if other.chi2 < fit.chi2 else fit
+        except AnalysisError:
+            continue
+        p = float(chi2_distribution.sf(fit.chi2, fit.dof))
+        fits[(lo, hi, rate_max)] = (fit, p)
+        tried.append(dict(phi_min=lo, phi_max=hi, rate_max=rate_max, points=len(sub),
+                          chi2_per_dof=fit.chi2_per_dof, p_value=p, phi_J=fit.values["phi_J"]))
+    if not fits:
+        raise AnalysisError("no candidate window could be fitted (too few points or rates in each)")
+    good = [k for k, (fit, p) in fits.items() if p >= level and k[0] < fit.values["phi_J"] < k[1]]
+    if good:
+        chosen = max(good, key=lambda k: (len(fits[k][0].points), k[1] - k[0], k[2]))
+    else:
+        chosen = max(fits, key=lambda k: fits[k][1])
+    fit, p = fits[chosen]
+    return WindowChoice(chosen[0], chosen[1], chosen[2], fit, p, bool(good), level, pd.DataFrame(tried))

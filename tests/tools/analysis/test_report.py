@@ -77,6 +77,29 @@ def test_report_collapse_window(flow_archive, tmp_path):
         assert re.search(r"\| collapse RD0 pressure \| [^\n]*" + reason, md), md[:3000]
 
 
+def test_report_auto_window(flow_archive, tmp_path):
+    """--auto-window: the report names the window chosen from the data, with its p-value and
+    the windows tried, and the fit's note is of that window; given with an explicit window
+    it is refused with one message and exit 2, for the report and the collapse command."""
+    out = call(REPORT, flow_archive, tmp_path / "a", "--bootstrap", "0", "--auto-window")
+    assert out.returncode == 0, out.stderr
+    md = open(tmp_path / "a" / "report.md").read()
+    chosen = re.search(r"Window chosen from the data \(--auto-window\): phi ([0-9.]+)\.\.([0-9.]+), "
+                       r"rate <= ([0-9.e-]+) \((\d+) points, chi2/dof = [0-9.]+, p = ([0-9.e-]+)", md)
+    assert chosen, md[:3000]
+    lo, hi = float(chosen.group(1)), float(chosen.group(2))
+    row = re.search(r"\| collapse RD0 pressure \| phi_J \|[^\n]*N = 64, phi ([0-9.]+)\.\.([0-9.]+), rate", md)
+    assert row and (float(row.group(1)), float(row.group(2))) == (lo, hi)
+    assert "| phi_min | phi_max | rate_max | points | chi2_per_dof | p_value | phi_J |" in md
+    for script, args in ((REPORT, (flow_archive, tmp_path / "b", "--auto-window", "--phi-min", "0.8")),
+                         (ANALYZE, ("collapse", flow_archive, tmp_path / "c", "--auto-window", "--rate-max", "1e-3"))):
+        out = call(script, *args)
+        assert out.returncode == 2 and "--auto-window chooses the window itself" in out.stderr, out.stderr
+        assert "Traceback" not in out.stderr
+    out = call(ANALYZE, "collapse", flow_archive, tmp_path / "d", "--auto-window")
+    assert out.returncode == 0 and "window chosen from the data: phi" in out.stdout, out.stderr
+
+
 def test_report_of_a_rand_campaign(rand_archive, tmp_path):
     out = call(REPORT, rand_archive, tmp_path)
     assert out.returncode == 0, out.stderr
