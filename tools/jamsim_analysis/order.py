@@ -36,12 +36,13 @@ def psi6_per_disk(lab_x, y, box_side, box_strain):
     points = _with_images(lab_x, y, box_side, box_strain)
     tri = Delaunay(points)
     indptr, indices = tri.vertex_neighbor_vertices
-    psi = np.empty(n, complex)
-    for i in range(n):  # the originals are the first N points
-        nb = indices[indptr[i]:indptr[i + 1]]
-        d = points[nb] - points[i]
-        psi[i] = np.exp(6j * np.arctan2(d[:, 1], d[:, 0])).mean()
-    return psi
+    # The originals are the first N points: their neighbours are indices[indptr[0]:indptr[n]].
+    counts = np.diff(indptr[: n + 1])
+    owner = np.repeat(np.arange(n), counts)
+    d = points[indices[indptr[0]:indptr[n]]] - points[owner]
+    bond = np.exp(6j * np.arctan2(d[:, 1], d[:, 0]))
+    total = np.bincount(owner, weights=bond.real, minlength=n) + 1j * np.bincount(owner, weights=bond.imag, minlength=n)
+    return total / counts
 
 
 def psi6(configuration):
