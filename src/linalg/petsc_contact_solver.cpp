@@ -3,6 +3,7 @@
 #include <petscksp.h>
 
 #include <algorithm>
+#include <span>
 #include <cmath>
 #include <stdexcept>
 
@@ -34,6 +35,8 @@ struct PetscContactSolver::Impl {
     std::vector<PetscInt> diag_slot, slot_ij, slot_ji;
     PetscInt half = 0;
     bool factor_exact = false;  // the factor solves the Mat to round-off (fresh or verified)
+    double half_rtol = 0;       // the KSP's rtol (default or -cd0_ksp_rtol): each half's bound
+    std::vector<double> rx, ry; // residual scratch
     bool refresh = true;        // factorise afresh (shell) / recompute the PC (others) next
     KSPConvergedReason last_reason = KSP_CONVERGED_ITERATING;  // of the last KSPSolve
 
@@ -77,6 +80,7 @@ struct PetscContactSolver::Impl {
         // rtol (default or -cd0_ksp_rtol) bounds each half: the joint test takes rtol/√2.
         PetscReal given = 0;
         check(KSPGetTolerances(ksp, &given, nullptr, nullptr, nullptr), "KSPGetTolerances");
+        half_rtol = given;
         check(KSPSetTolerances(ksp, given / std::sqrt(2.0), PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT), "KSPSetTolerances");
         check(KSPGetPC(ksp, &pc), "KSPGetPC");
         PetscBool is_shell = PETSC_FALSE;
@@ -328,8 +332,31 @@ SolveInfo PetscContactSolver::solve(std::span<const ContactPair> pairs,
         check(VecRestoreArrayWrite(m.x, &px), "VecRestoreArrayWrite");
         check(VecRestoreArrayWrite(m.b, &pb), "VecRestoreArrayWrite");
     }
-    const bool shortcut = m.shell && m.factor_exact && m.norm_type != KSP_NORM_NONE;
+    // The default PC after contact changes: one application of the updated factor, whose
+    // true residual is checked here for each half in one pass (as the cholmod backend does);
+    // only when it misses the tolerance does the KSP refine, from that solution.
+    const bool check_here = m.shell && !m.factor_exact && m.norm_type != KSP_NORM_NONE;
+    const bool shortcut = m.shell && (m.factor_exact || check_here) && m.norm_type != KSP_NORM_NONE;
     PetscInt its = m.run_ksp(shortcut);
+    if (check_here) {
+        bool within = false;
+        {
+            const PetscScalar *pb = nullptr, *px = nullptr;
+            check(VecGetArrayRead(m.b, &pb), "VecGetArrayRead");
+            check(VecGetArrayRead(m.x, &px), "VecGetArrayRead");
+            const std::span<const double> b_all(pb, 2 * nn), x_all(px, 2 * nn);
+            within = contact_residual_within(b_all.first(nn), b_all.last(nn), x_all.first(nn), x_all.last(nn),
+                                             m.delta, m.factor->contacts(), m.half_rtol, m.rx, m.ry);
+            check(VecRestoreArrayRead(m.x, &px), "VecRestoreArrayRead");
+            check(VecRestoreArrayRead(m.b, &pb), "VecRestoreArrayRead");
+        }
+        if (!within) {  // refinement by the KSP from the factor's solution
+            check(KSPSetInitialGuessNonzero(m.ksp, PETSC_TRUE), "KSPSetInitialGuessNonzero");
+            const PetscInt more = m.run_ksp(false);
+            check(KSPSetInitialGuessNonzero(m.ksp, PETSC_FALSE), "KSPSetInitialGuessNonzero");
+            its = more < 0 ? -1 : std::max<PetscInt>(2, more + 1);
+        }
+    }
     if (its < 0 && m.shell && !info.refactored) {  // round-off of many updates: start afresh
         m.factor->factorize(pairs, in_contact);
         info.refactored = true;
@@ -339,9 +366,9 @@ SolveInfo PetscContactSolver::solve(std::span<const ContactPair> pairs,
     if (its < 0)
         throw std::runtime_error(std::string("CD0 contact solve did not converge: ") +
                                  KSPConvergedReasons[m.last_reason]);
-    if (m.shell && !shortcut) {
-        // One refinement step reached the tolerance: the updated factor is exact for this
-        // matrix. More: round-off accumulated by the updates; factorise afresh next time.
+    if (m.shell && (!shortcut || check_here)) {
+        // One application met the tolerance: the updated factor is exact for this matrix.
+        // More: round-off accumulated by the updates; factorise afresh next time.
         m.factor_exact = its <= 1;
         m.refresh = its > 1;
     } else if (!m.shell && its > refresh_iterations) {

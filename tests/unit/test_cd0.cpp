@@ -195,3 +195,31 @@ TEST(Cd0, CholmodUpdatedFactorMatchesFreshFactor) {
     EXPECT_GT(carried, 0) << "no factor was carried over a list rebuild";
     EXPECT_GE(ff.list().builds(), 3u);
 }
+
+// The default PC's own residual check after contact changes: a tolerance below round-off
+// cannot be met, so the KSP refines, factorises afresh, still misses it, and the solve fails
+// with PETSc's reason (a replica fails with this message instead of running on unverified).
+TEST(Cd0, UnreachableToleranceFailsWithPetscReason) {
+    ASSERT_EQ(PetscOptionsSetValue(nullptr, "-cd0_ksp_rtol", "1e-17"), 0);
+    ASSERT_EQ(PetscOptionsSetValue(nullptr, "-cd0_ksp_max_it", "5"), 0);
+    System sys = random_configuration(200, 0.85, 0.0, 5);
+    ForceField ff(potential::make_soft_sphere(2.0), 0.3);
+    ReplicaParams params{.integrator = "euler", .kd = 1.0, .delta = 1e-3};
+    params.solver = "petsc";
+    std::string message;
+    {
+        Cd0 model(params);
+        try {
+            for (int step = 0; step < 400 && message.empty(); ++step) {
+                ff.compute(sys);
+                model.prepare(sys, ff, 1e-3);
+                model.advance(sys, ff, 0.2, 1e-3, 0);
+            }
+        } catch (const std::runtime_error& e) {
+            message = e.what();
+        }
+    }
+    PetscOptionsClearValue(nullptr, "-cd0_ksp_rtol");
+    PetscOptionsClearValue(nullptr, "-cd0_ksp_max_it");
+    EXPECT_NE(message.find("CD0 contact solve did not converge: DIVERGED_ITS"), std::string::npos) << message;
+}
