@@ -17,9 +17,10 @@ namespace jamsim::linalg {
 /// Default (no options): Richardson iteration (iterative refinement) preconditioned by a
 /// PCSHELL that applies a CHOLMOD LDLᵀ factor of A (METIS ordering of the neighbour list's
 /// pattern) kept equal to A by multiple-rank updates and downdates as contacts change
-/// (CholmodUpdatedFactor). After changes the KSP checks the true residual, ‖b − A u‖ ≤ rtol
-/// ‖b‖ for u_x and u_y (rtol = 1e-10), and refines where round-off of the updates left more;
-/// a solve that needed more than one refinement step refactorises afresh for the next one.
+/// (CholmodUpdatedFactor). After changes the factor is applied once (PCApply) and the true
+/// residual ‖b − A u‖ ≤ rtol ‖b‖ checked for u_x and u_y in one pass (rtol = 1e-10, the KSP's
+/// rtol); where round-off of the updates left more, the KSP refines from that solution and
+/// the factor is made afresh for the next solve.
 /// While the contacts and so A are unchanged since a factor was verified (or made), a solve is
 /// one application of the factor.
 ///
