@@ -3,10 +3,24 @@
 #include <cholmod.h>
 
 #include <algorithm>
+#include <cstring>
+#include <utility>
 #include <stdexcept>
 #include <string>
 
 namespace jamsim::linalg {
+
+namespace {
+/// Two doubles as one SIMD register (GCC/Clang vector extension; element-wise, so the
+/// results are bitwise those of scalar code on every target).
+using Pair = double __attribute__((vector_size(16)));
+Pair load(const double* at) {
+    Pair v;
+    std::memcpy(&v, at, sizeof v);
+    return v;
+}
+void store(double* at, Pair v) { std::memcpy(at, &v, sizeof v); }
+} // namespace
 
 struct CholmodUpdatedFactor::Impl {
     int n = 0;
@@ -29,13 +43,181 @@ struct CholmodUpdatedFactor::Impl {
         return total;
     }
     std::vector<std::uint8_t> factored;     // contact set the factor represents
+    std::vector<double> xy;                 // solve: the permuted right-hand sides, interleaved
+    // Workspace of `sweep`: kSweepRank columns of n (zero between sweeps), the union of the
+    // changes' elimination-tree paths and, per column of L, which changes pass through it.
+    std::vector<double> w;
+    std::vector<std::uint64_t> on_path;
+    static constexpr std::uint64_t kVisited = std::uint64_t{1} << 63;
+    std::vector<int> path_union;
+    bool sweep_failed = false;
+    Counts counts;
     bool have_factor = false;
     std::vector<ContactPair> contacts;      // contacts of the last factorize() or follow()
-    std::vector<std::size_t> formed, broken;
+    std::vector<std::size_t> formed, broken, outside;
+    std::vector<std::pair<int, int>> sweep_rows;
 
     void fail(const char* what) const {
         throw std::runtime_error(std::string("CD0 CHOLMOD factor: ") + what + " failed (status " +
                                  std::to_string(c.status) + ")");
+    }
+
+    /// Rows (of L) a < b of a pair's change e_a − e_b, and whether L's pattern already has
+    /// entry (b, a): then the change's path is the etree path from a (through b) and makes
+    /// no fill, so `sweep` can apply it in place.
+    bool fits(const ContactPair& pair, int& a, int& b) const {
+        a = pinv[static_cast<std::size_t>(pair.i)];
+        b = pinv[static_cast<std::size_t>(pair.j)];
+        if (a > b) std::swap(a, b);
+        const auto* Lp = static_cast<const int*>(L->p);
+        const auto* Li = static_cast<const int*>(L->i);
+        const auto* Lnz = static_cast<const int*>(L->nz);
+        const int* first = Li + Lp[a] + 1;
+        const int* last = Li + Lp[a] + Lnz[a];
+        return std::binary_search(first, last, b);  // CHOLMOD keeps columns sorted
+    }
+
+    /// LDLᵀ ← LDLᵀ + Σ_t σ_t w_t w_tᵀ, w_t = e_{a_t} − e_{b_t} (rows of L; the pattern must
+    /// already hold each (b_t, a_t), see `fits`), σ_t = +1 for t < n_up, −1 after: the rank-1
+    /// modifications in sequence (method C1 of Gill, Golub, Murray and Saunders, as CHOLMOD
+    /// uses) interleaved in one pass over the union of their elimination-tree paths, column by
+    /// column (a column's ancestors come later), up to kSweepRank at a time. A column whose
+    /// rows are consecutive (the dense separators at the top of the tree, where every path
+    /// ends and most of the work is) runs as contiguous loops the compiler vectorises. Sets
+    /// sweep_failed when a downdate meets a pivot that is not positive (the caller refactors).
+    static constexpr int kSweepRank = 32;
+    void sweep(std::span<const std::pair<int, int>> rows, std::size_t n_up) {
+        const auto* Lp = static_cast<const int*>(L->p);
+        const auto* Li = static_cast<const int*>(L->i);
+        const auto* Lnz = static_cast<const int*>(L->nz);
+        auto* Lx = static_cast<double*>(L->x);
+        const auto un = static_cast<std::size_t>(n);
+        if (w.size() != kSweepRank * un) {
+            w.assign(kSweepRank * un, 0.0);
+            on_path.assign(un, 0);
+        }
+        auto parent = [&](int j) { return Lnz[j] > 1 ? Li[Lp[j] + 1] : -1; };
+        double alpha[kSweepRank];
+        for (std::size_t start = 0; start < rows.size(); start += kSweepRank) {
+            const int rank = static_cast<int>(std::min<std::size_t>(kSweepRank, rows.size() - start));
+            path_union.clear();
+            for (int t = 0; t < rank; ++t) {
+                const auto [a, b] = rows[start + static_cast<std::size_t>(t)];
+                double* wt = w.data() + static_cast<std::size_t>(t) * un;
+                wt[a] = 1.0;
+                wt[b] = -1.0;
+                alpha[t] = start + static_cast<std::size_t>(t) < n_up ? 1.0 : -1.0;
+                // The path from a to the root, as far as an earlier change's path (whose
+                // columns pass their changes on to their parents while they are processed).
+                on_path[static_cast<std::size_t>(a)] |= std::uint64_t{1} << t;
+                for (int j = a; j >= 0 && !(on_path[static_cast<std::size_t>(j)] & kVisited); j = parent(j)) {
+                    on_path[static_cast<std::size_t>(j)] |= kVisited;
+                    path_union.push_back(j);
+                }
+            }
+            std::sort(path_union.begin(), path_union.end());
+            for (const int j : path_union) {
+                const std::uint64_t here = on_path[static_cast<std::size_t>(j)] & ~kVisited;
+                on_path[static_cast<std::size_t>(j)] = 0;
+                if (const int up = parent(j); up >= 0) on_path[static_cast<std::size_t>(up)] |= here;
+                std::uint64_t active = here;
+                // The pivot's recurrence, change after change; then each entry of the column
+                // takes every change in turn (its arithmetic is that of one change at a time).
+                const int begin = Lp[j];
+                int count = 0;
+                while (active) {
+                    const int t = __builtin_ctzll(active);
+                    active &= active - 1;
+                    double* wt = w.data() + static_cast<std::size_t>(t) * un;
+                    const double p = wt[j];
+                    wt[j] = 0.0;
+                    if (p == 0.0) continue;
+                    const double d = Lx[begin];
+                    const double dbar = d + alpha[t] * p * p;
+                    if (!(dbar > 0.0)) sweep_failed = true;
+                    step_p[count] = p;
+                    step_beta[count] = p * alpha[t] / dbar;
+                    step_w[count] = wt;
+                    ++count;
+                    alpha[t] *= d / dbar;
+                    Lx[begin] = dbar;
+                }
+                const int len = Lnz[j] - 1;  // entries below the diagonal
+                if (count == 0 || len == 0) continue;
+                const int* rows_j = Li + begin + 1;
+                double* l = Lx + begin + 1;
+                if (rows_j[len - 1] - rows_j[0] == len - 1) apply_consecutive(l, rows_j[0], len, count);
+                else apply_scattered(l, rows_j, len, count);
+            }
+        }
+    }
+
+    // The changes of one column (step_p, step_beta, step_w) applied to its entries l[0, len),
+    // kBlock entries at a time (independent chains the processor overlaps): for each change
+    // in order, w_r ← w_r − p l_r, then l_r ← l_r + β w_r.
+    static constexpr int kBlock = 8;
+    double step_p[kSweepRank], step_beta[kSweepRank];
+    double* step_w[kSweepRank];
+
+    void apply_consecutive(double* l, int row0, int len, int count) const {
+        constexpr int kPairs = 8;  // 16 entries at a time
+        int k = 0;
+        for (; k + 2 * kPairs <= len; k += 2 * kPairs) {
+            Pair v[kPairs];
+            for (int u = 0; u < kPairs; ++u) v[u] = load(l + k + 2 * u);
+            for (int s = 0; s < count; ++s) {
+                double* wr = step_w[s] + row0 + k;
+                const double p = step_p[s], beta = step_beta[s];
+                for (int u = 0; u < kPairs; ++u) {
+                    const Pair wk = load(wr + 2 * u) - p * v[u];
+                    store(wr + 2 * u, wk);
+                    v[u] += beta * wk;
+                }
+            }
+            for (int u = 0; u < kPairs; ++u) store(l + k + 2 * u, v[u]);
+        }
+        for (; k < len; ++k) {
+            double v = l[k];
+            for (int s = 0; s < count; ++s) {
+                double& wr = step_w[s][row0 + k];
+                const double wk = wr - step_p[s] * v;
+                wr = wk;
+                v += step_beta[s] * wk;
+            }
+            l[k] = v;
+        }
+    }
+
+    void apply_scattered(double* l, const int* rows, int len, int count) const {
+        int k = 0;
+        for (; k + kBlock <= len; k += kBlock) {
+            double v[kBlock];
+            int r[kBlock];
+            for (int u = 0; u < kBlock; ++u) {
+                v[u] = l[k + u];
+                r[u] = rows[k + u];
+            }
+            for (int s = 0; s < count; ++s) {
+                double* wt = step_w[s];
+                const double p = step_p[s], beta = step_beta[s];
+                for (int u = 0; u < kBlock; ++u) {
+                    const double wk = wt[r[u]] - p * v[u];
+                    wt[r[u]] = wk;
+                    v[u] += beta * wk;
+                }
+            }
+            for (int u = 0; u < kBlock; ++u) l[k + u] = v[u];
+        }
+        for (; k < len; ++k) {
+            double v = l[k];
+            for (int s = 0; s < count; ++s) {
+                double& wr = step_w[s][rows[k]];
+                const double wk = wr - step_p[s] * v;
+                wr = wk;
+                v += step_beta[s] * wk;
+            }
+            l[k] = v;
+        }
     }
 
     /// LDLᵀ ← LDLᵀ ± W Wᵀ, W's columns P (e_i − e_j) for the listed pairs (all at once).
@@ -95,6 +277,8 @@ CholmodUpdatedFactor::~CholmodUpdatedFactor() {
 }
 
 bool CholmodUpdatedFactor::has_factor() const { return impl_->have_factor; }
+
+CholmodUpdatedFactor::Counts CholmodUpdatedFactor::counts() const { return impl_->counts; }
 
 std::span<const ContactPair> CholmodUpdatedFactor::contacts() const { return impl_->contacts; }
 
@@ -248,25 +432,77 @@ int CholmodUpdatedFactor::follow(std::span<const ContactPair> pairs,
         (in_contact[k] ? m.formed : m.broken).push_back(k);
         m.factored[k] = in_contact[k];
     }
-    m.modify(true, pairs, m.formed);  // update first: the factor stays well away from singular
-    m.modify(false, pairs, m.broken);
+    // Changes whose pattern L holds go through `sweep`, updates first (the factor stays well
+    // away from singular), in one pass; contacts formed outside the pattern (possible after
+    // `adopt`) make fill, which CHOLMOD's update allocates.
+    m.sweep_rows.clear();
+    m.outside.clear();
+    int a = 0, b = 0;
+    for (const std::size_t k : m.formed) {
+        if (m.fits(pairs[k], a, b)) m.sweep_rows.emplace_back(a, b);
+        else m.outside.push_back(k);
+    }
+    const std::size_t n_up = m.sweep_rows.size();
+    for (const std::size_t k : m.broken) {
+        if (!m.fits(pairs[k], a, b)) throw std::logic_error("CD0 CHOLMOD factor: a broken contact outside L's pattern");
+        m.sweep_rows.emplace_back(a, b);
+    }
+    m.modify(true, pairs, m.outside);
+    m.sweep(m.sweep_rows, n_up);
+    m.counts.swept += static_cast<long>(m.sweep_rows.size());
+    m.counts.filled += static_cast<long>(m.outside.size());
+    if (m.sweep_failed) {  // a downdate lost positive definiteness (round-off): start afresh
+        m.sweep_failed = false;
+        ++m.counts.refactored;
+        factorize(pairs, in_contact);
+    }
     return static_cast<int>(m.formed.size() + m.broken.size());
 }
 
 void CholmodUpdatedFactor::solve(const double* b, double* x) {
+    // x = Pᵀ L⁻ᵀ D⁻¹ L⁻¹ P b on both right-hand sides at once: row r of `y` holds (x, y) as
+    // one SIMD pair, so each entry of L is read once per pass for both.
     Impl& m = *impl_;
-    cholmod_dense B{};  // a view of b: n × 2, column major
-    B.nrow = static_cast<std::size_t>(m.n);
-    B.ncol = 2;
-    B.nzmax = 2 * B.nrow;
-    B.d = B.nrow;
-    B.x = const_cast<double*>(b);
-    B.xtype = CHOLMOD_REAL;
-    B.dtype = CHOLMOD_DOUBLE;
-    if (!cholmod_solve2(CHOLMOD_A, m.L, &B, nullptr, &m.X, nullptr, &m.Y, &m.E, &m.c))
-        m.fail("cholmod_solve2");
-    const auto* out = static_cast<const double*>(m.X->x);
-    std::copy(out, out + 2 * m.n, x);
+    const int n = m.n;
+    const auto* Lp = static_cast<const int*>(m.L->p);
+    const auto* Li = static_cast<const int*>(m.L->i);
+    const auto* Lnz = static_cast<const int*>(m.L->nz);
+    const auto* Lx = static_cast<const double*>(m.L->x);
+    const auto* perm = static_cast<const int*>(m.L->Perm);
+    m.xy.resize(2 * static_cast<std::size_t>(n));
+    double* y = m.xy.data();  // row r at y + 2 r
+    for (int k = 0; k < n; ++k) {
+        y[2 * k] = b[perm[k]];
+        y[2 * k + 1] = b[n + perm[k]];
+    }
+    for (int j = 0; j < n; ++j) {  // L z = P b, column by column
+        const Pair yj = load(y + 2 * j);
+        if (yj[0] == 0.0 && yj[1] == 0.0) continue;
+        const int begin = Lp[j], end = begin + Lnz[j];
+        for (int p = begin + 1; p < end; ++p) {
+            double* at = y + 2 * Li[p];
+            store(at, load(at) - Lx[p] * yj);
+        }
+    }
+    for (int j = 0; j < n; ++j) store(y + 2 * j, load(y + 2 * j) / Lx[Lp[j]]);  // D
+    for (int j = n - 1; j >= 0; --j) {  // Lᵀ x = D⁻¹ z, row by row of Lᵀ
+        const int begin = Lp[j], end = begin + Lnz[j];
+        // Four partial sums (independent chains; a fixed order, so deterministic).
+        Pair s0{0.0, 0.0}, s1{0.0, 0.0}, s2{0.0, 0.0}, s3{0.0, 0.0};
+        int p = begin + 1;
+        for (; p + 4 <= end; p += 4) {
+            s0 += Lx[p] * load(y + 2 * Li[p]);
+            s1 += Lx[p + 1] * load(y + 2 * Li[p + 1]);
+            s2 += Lx[p + 2] * load(y + 2 * Li[p + 2]);
+            s3 += Lx[p + 3] * load(y + 2 * Li[p + 3]);
+        }
+        for (; p < end; ++p) s0 += Lx[p] * load(y + 2 * Li[p]);
+        store(y + 2 * j, load(y + 2 * j) - ((s0 + s1) + (s2 + s3)));
+    }
+    for (int k = 0; k < n; ++k) {
+        x[perm[k]] = y[2 * k];
+        x[n + perm[k]] = y[2 * k + 1];
+    }
 }
 
 } // namespace jamsim::linalg

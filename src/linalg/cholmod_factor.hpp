@@ -18,11 +18,15 @@ namespace jamsim::linalg {
 ///  - `factorize` computes the numeric factor of a contact set from scratch;
 ///  - `adopt` carries the factor over a list rebuild (rows renumbered by the re-sorting of
 ///    the disks; contacts formed later may then add fill, which CHOLMOD's update makes);
-///  - `follow` brings the factor to a new contact set by one multiple-rank update (contacts
-///    that formed: A + W Wᵀ, W's columns e_i − e_j) and one downdate (contacts that broke),
-///    CHOLMOD's cholmod_updown (Davis and Hager), a pass along the union of the elimination
-///    tree paths of the changed rows, 8 columns at a time;
-///  - `solve` applies A⁻¹ to both right-hand sides (n × 2, column major) in one pass.
+///  - `follow` brings the factor to a new contact set: each contact that formed is a rank-one
+///    update A + w wᵀ, each that broke a downdate, w = e_i − e_j. They are applied in place,
+///    all of a step's changes in one pass along the union of their elimination-tree paths
+///    (`sweep`, the method of CHOLMOD's cholmod_updown, Davis and Hager, with every change of a
+///    column applied while the column is in cache, and the dense separators at the top of the
+///    tree, where every path ends, in SIMD loops); a contact outside L's pattern, possible
+///    after `adopt`, goes through cholmod_updown, which allocates the fill;
+///  - `solve` applies A⁻¹ to both right-hand sides (n × 2, column major) in one pass over L
+///    for both.
 /// Sequential and deterministic (no threads, fixed ordering).
 class CholmodUpdatedFactor {
   public:
@@ -53,6 +57,13 @@ class CholmodUpdatedFactor {
     /// Entries of L over those of the last fresh factor at which `adopt` analyses afresh
     /// (downdates keep their entries, and the order ages as the disks move apart).
     static constexpr double kFillGrowth = 1.3;
+    /// What `follow` did since construction: changes applied by the in-place sweep, contacts
+    /// formed outside L's pattern (CHOLMOD's update, which allocates their fill), and fresh
+    /// factorisations after a downdate met a pivot that was not positive.
+    struct Counts {
+        long swept = 0, filled = 0, refactored = 0;
+    };
+    Counts counts() const;
     /// The contacts of the last `factorize` or `follow` (residual check, matrix products).
     std::span<const ContactPair> contacts() const;
 
