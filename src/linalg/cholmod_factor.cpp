@@ -96,7 +96,8 @@ struct CholmodUpdatedFactor::Impl {
             w.assign(kSweepRank * un, 0.0);
             on_path.assign(un, 0);
         }
-        auto parent = [&](int j) { return Lnz[j] > 1 ? Li[Lp[j] + 1] : -1; };
+        if (etree.size() != un) find_etree();
+        auto parent = [&](int j) { return etree[static_cast<std::size_t>(j)]; };
         double alpha[kSweepRank];
         for (std::size_t start = 0; start < rows.size(); start += kSweepRank) {
             const int rank = static_cast<int>(std::min<std::size_t>(kSweepRank, rows.size() - start));
@@ -135,11 +136,12 @@ struct CholmodUpdatedFactor::Impl {
                     const double d = Lx[begin];
                     const double dbar = d + alpha[t] * p * p;
                     if (!(dbar > 0.0)) sweep_failed = true;
+                    const double inv = 1.0 / dbar;
                     step_p[count] = p;
-                    step_beta[count] = p * alpha[t] / dbar;
+                    step_beta[count] = p * alpha[t] * inv;
                     step_w[count] = wt;
                     ++count;
-                    alpha[t] *= d / dbar;
+                    alpha[t] *= d * inv;
                     Lx[begin] = dbar;
                 }
                 const int len = Lnz[j] - 1;  // entries below the diagonal
@@ -156,6 +158,16 @@ struct CholmodUpdatedFactor::Impl {
     // kBlock entries at a time (independent chains the processor overlaps): for each change
     // in order, w_r ← w_r − p l_r, then l_r ← l_r + β w_r.
     static constexpr int kBlock = 8;
+    /// The elimination tree of L's pattern: a column's parent is its first row below the
+    /// diagonal (−1 at a root). Cleared whenever the pattern may change.
+    std::vector<int> etree;
+    void find_etree() {
+        const auto* Lp = static_cast<const int*>(L->p);
+        const auto* Li = static_cast<const int*>(L->i);
+        const auto* Lnz = static_cast<const int*>(L->nz);
+        etree.resize(static_cast<std::size_t>(n));
+        for (int j = 0; j < n; ++j) etree[static_cast<std::size_t>(j)] = Lnz[j] > 1 ? Li[Lp[j] + 1] : -1;
+    }
     double step_p[kSweepRank], step_beta[kSweepRank];
     double* step_w[kSweepRank];
 
@@ -246,6 +258,7 @@ struct CholmodUpdatedFactor::Impl {
         }
         Wp[k] = static_cast<int>(2 * k);
         const int ok = cholmod_updown(update ? 1 : 0, W, L, &c);
+        etree.clear();  // an update may have added fill
         cholmod_free_sparse(&W, &c);
         if (!ok || c.status != CHOLMOD_OK) fail("cholmod_updown");
     }
@@ -415,6 +428,7 @@ void CholmodUpdatedFactor::factorize(std::span<const ContactPair> pairs,
         v[m.diag_slot[static_cast<std::size_t>(pairs[k].j)]] += w;
     }
     if (!cholmod_factorize(m.A, m.L, &m.c) || m.c.status != CHOLMOD_OK) m.fail("cholmod_factorize");
+    m.etree.clear();
     m.factored.assign(in_contact.begin(), in_contact.end());
     m.have_factor = true;
     m.fresh_fill = m.fill();
