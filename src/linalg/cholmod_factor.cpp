@@ -439,13 +439,18 @@ int CholmodUpdatedFactor::follow(std::span<const ContactPair> pairs,
     Impl& m = *impl_;
     m.formed.clear();
     m.broken.clear();
-    m.contacts.clear();
+    // The contacts gathered without a branch on the (unpredictable) contact flag; changes
+    // are rare, so their branch predicts well.
+    m.contacts.resize(pairs.size());
+    std::size_t touching = 0;
     for (std::size_t k = 0; k < pairs.size(); ++k) {
-        if (in_contact[k]) m.contacts.push_back(pairs[k]);
+        m.contacts[touching] = pairs[k];
+        touching += in_contact[k] != 0;
         if (in_contact[k] == m.factored[k]) continue;
         (in_contact[k] ? m.formed : m.broken).push_back(k);
         m.factored[k] = in_contact[k];
     }
+    m.contacts.resize(touching);
     // Changes whose pattern L holds go through `sweep`, updates first (the factor stays well
     // away from singular), in one pass; contacts formed outside the pattern (possible after
     // `adopt`) make fill, which CHOLMOD's update allocates.

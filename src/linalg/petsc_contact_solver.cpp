@@ -319,24 +319,29 @@ SolveInfo PetscContactSolver::solve(std::span<const ContactPair> pairs,
         norm_y += b_y[i] * b_y[i];
     }
     const double sx = norm_x > 0 ? 1 / std::sqrt(norm_x) : 1.0, sy = norm_y > 0 ? 1 / std::sqrt(norm_y) : 1.0;
-    {
-        PetscScalar *pb = nullptr, *px = nullptr;
-        check(VecGetArrayWrite(m.b, &pb), "VecGetArrayWrite");
-        check(VecGetArrayWrite(m.x, &px), "VecGetArrayWrite");
-        for (std::size_t i = 0; i < nn; ++i) {
-            pb[i] = b_x[i] * sx;
-            pb[nn + i] = b_y[i] * sy;
-            px[i] = u_x[i] * sx;  // the guess (read by a KSP with a nonzero initial guess)
-            px[nn + i] = u_y[i] * sy;
-        }
-        check(VecRestoreArrayWrite(m.x, &px), "VecRestoreArrayWrite");
-        check(VecRestoreArrayWrite(m.b, &pb), "VecRestoreArrayWrite");
-    }
     // The default PC after contact changes: one application of the updated factor, whose
     // true residual is checked here for each half in one pass (as the cholmod backend does);
     // only when it misses the tolerance does the KSP refine, from that solution.
     const bool check_here = m.shell && !m.factor_exact && m.norm_type != KSP_NORM_NONE;
     const bool shortcut = m.shell && (m.factor_exact || check_here) && m.norm_type != KSP_NORM_NONE;
+    {
+        PetscScalar* pb = nullptr;
+        check(VecGetArrayWrite(m.b, &pb), "VecGetArrayWrite");
+        for (std::size_t i = 0; i < nn; ++i) {
+            pb[i] = b_x[i] * sx;
+            pb[nn + i] = b_y[i] * sy;
+        }
+        check(VecRestoreArrayWrite(m.b, &pb), "VecRestoreArrayWrite");
+    }
+    if (!shortcut) {  // the guess, read by a KSP with a nonzero initial guess (PCApply overwrites x)
+        PetscScalar* px = nullptr;
+        check(VecGetArrayWrite(m.x, &px), "VecGetArrayWrite");
+        for (std::size_t i = 0; i < nn; ++i) {
+            px[i] = u_x[i] * sx;
+            px[nn + i] = u_y[i] * sy;
+        }
+        check(VecRestoreArrayWrite(m.x, &px), "VecRestoreArrayWrite");
+    }
     PetscInt its = m.run_ksp(shortcut);
     if (check_here) {
         bool within = false;
