@@ -44,8 +44,8 @@ struct CholmodUpdatedFactor::Impl {
     }
     std::vector<std::uint8_t> factored;     // contact set the factor represents
     std::vector<double> xy;                 // solve: the permuted right-hand sides, interleaved
-    // Workspace of `sweep`: kSweepRank columns of n (zero between sweeps), the union of the
-    // changes' elimination-tree paths and, per column of L, which changes pass through it.
+    // Workspace of `sweep`: one column per change over the rows of the union of the changes'
+    // elimination-tree paths, that union, and per column of L which changes pass through it.
     std::vector<double> w;
     std::vector<std::uint64_t> on_path;
     static constexpr std::uint64_t kVisited = std::uint64_t{1} << 63;
@@ -81,20 +81,21 @@ struct CholmodUpdatedFactor::Impl {
     /// already hold each (b_t, a_t), see `fits`), σ_t = +1 for t < n_up, −1 after: the rank-1
     /// modifications in sequence (method C1 of Gill, Golub, Murray and Saunders, as CHOLMOD
     /// uses) interleaved in one pass over the union of their elimination-tree paths, column by
-    /// column (a column's ancestors come later), up to kSweepRank at a time. A column whose
+    /// column (a column's ancestors come later), up to kSweepRank at a time (bit 63 of a column's mask marks the union). A column whose
     /// rows are consecutive (the dense separators at the top of the tree, where every path
     /// ends and most of the work is) runs as contiguous loops the compiler vectorises. Sets
     /// sweep_failed when a downdate meets a pivot that is not positive (the caller refactors).
-    static constexpr int kSweepRank = 32;
+    static constexpr int kSweepRank = 63;
     void sweep(std::span<const std::pair<int, int>> rows, std::size_t n_up) {
         const auto* Lp = static_cast<const int*>(L->p);
         const auto* Li = static_cast<const int*>(L->i);
         const auto* Lnz = static_cast<const int*>(L->nz);
         auto* Lx = static_cast<double*>(L->x);
         const auto un = static_cast<std::size_t>(n);
-        if (w.size() != kSweepRank * un) {
-            w.assign(kSweepRank * un, 0.0);
+        if (on_path.size() != un) {
             on_path.assign(un, 0);
+            slot_of.assign(un, 0);
+            slot_rows.resize(un);
         }
         if (etree.size() != un) find_etree();
         auto parent = [&](int j) { return etree[static_cast<std::size_t>(j)]; };
@@ -103,10 +104,7 @@ struct CholmodUpdatedFactor::Impl {
             const int rank = static_cast<int>(std::min<std::size_t>(kSweepRank, rows.size() - start));
             path_union.clear();
             for (int t = 0; t < rank; ++t) {
-                const auto [a, b] = rows[start + static_cast<std::size_t>(t)];
-                double* wt = w.data() + static_cast<std::size_t>(t) * un;
-                wt[a] = 1.0;
-                wt[b] = -1.0;
+                const int a = rows[start + static_cast<std::size_t>(t)].first;
                 alpha[t] = start + static_cast<std::size_t>(t) < n_up ? 1.0 : -1.0;
                 // The path from a to the root, as far as an earlier change's path (whose
                 // columns pass their changes on to their parents while they are processed).
@@ -117,21 +115,31 @@ struct CholmodUpdatedFactor::Impl {
                 }
             }
             std::sort(path_union.begin(), path_union.end());
-            for (const int j : path_union) {
+            // The workspace holds only the rows of the union (every row a change reaches is
+            // on its path), in the union's order (slot_of): small enough for the cache, and
+            // consecutive rows keep consecutive slots.
+            const std::size_t slots = path_union.size();
+            for (std::size_t k = 0; k < slots; ++k) slot_of[static_cast<std::size_t>(path_union[k])] = static_cast<int>(k);
+            w.assign(static_cast<std::size_t>(rank) * slots, 0.0);
+            for (int t = 0; t < rank; ++t) {
+                const auto [a, b] = rows[start + static_cast<std::size_t>(t)];
+                double* wt = w.data() + static_cast<std::size_t>(t) * slots;
+                wt[slot_of[static_cast<std::size_t>(a)]] = 1.0;
+                wt[slot_of[static_cast<std::size_t>(b)]] = -1.0;
+            }
+            for (std::size_t slot = 0; slot < slots; ++slot) {
+                const int j = path_union[slot];
                 const std::uint64_t here = on_path[static_cast<std::size_t>(j)] & ~kVisited;
                 on_path[static_cast<std::size_t>(j)] = 0;
                 if (const int up = parent(j); up >= 0) on_path[static_cast<std::size_t>(up)] |= here;
-                std::uint64_t active = here;
                 // The pivot's recurrence, change after change; then each entry of the column
                 // takes every change in turn (its arithmetic is that of one change at a time).
                 const int begin = Lp[j];
                 int count = 0;
-                while (active) {
+                for (std::uint64_t active = here; active; active &= active - 1) {
                     const int t = __builtin_ctzll(active);
-                    active &= active - 1;
-                    double* wt = w.data() + static_cast<std::size_t>(t) * un;
-                    const double p = wt[j];
-                    wt[j] = 0.0;
+                    double* wt = w.data() + static_cast<std::size_t>(t) * slots;
+                    const double p = wt[slot];
                     if (p == 0.0) continue;
                     const double d = Lx[begin];
                     const double dbar = d + alpha[t] * p * p;
@@ -147,9 +155,11 @@ struct CholmodUpdatedFactor::Impl {
                 const int len = Lnz[j] - 1;  // entries below the diagonal
                 if (count == 0 || len == 0) continue;
                 const int* rows_j = Li + begin + 1;
+                int* slots_j = slot_rows.data();
+                for (int e = 0; e < len; ++e) slots_j[e] = slot_of[static_cast<std::size_t>(rows_j[e])];
                 double* l = Lx + begin + 1;
-                if (rows_j[len - 1] - rows_j[0] == len - 1) apply_consecutive(l, rows_j[0], len, count);
-                else apply_scattered(l, rows_j, len, count);
+                if (slots_j[len - 1] - slots_j[0] == len - 1) apply_consecutive(l, slots_j[0], len, count);
+                else apply_scattered(l, slots_j, len, count);
             }
         }
     }
@@ -161,6 +171,8 @@ struct CholmodUpdatedFactor::Impl {
     /// The elimination tree of L's pattern: a column's parent is its first row below the
     /// diagonal (−1 at a root). Cleared whenever the pattern may change.
     std::vector<int> etree;
+    std::vector<int> slot_of;    // sweep: a row's place in the workspace
+    std::vector<int> slot_rows;  // sweep: a column's rows as places in the workspace
     void find_etree() {
         const auto* Lp = static_cast<const int*>(L->p);
         const auto* Li = static_cast<const int*>(L->i);
