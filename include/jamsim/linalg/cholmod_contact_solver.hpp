@@ -8,12 +8,13 @@ namespace jamsim::linalg {
 /// The CD0 contact matrix solved with CHOLMOD (SuiteSparse, PETSc's own sparse direct package
 /// in Debian) as a simplicial LDLᵀ factor that is modified in place as contacts form and break:
 ///  - the symbolic analysis (fill-reducing ordering: METIS nested dissection by default, AMD
-///    on request) is done on the neighbour list's pattern at each list rebuild, so every pair
-///    that may touch lies in the factor's pattern and no change ever needs new fill;
-///  - a step's contact changes are applied together as one multiple-rank update (contacts that
-///    formed: A + W Wᵀ) and one multiple-rank downdate (contacts that broke), CHOLMOD's
-///    cholmod_updown (Davis and Hager), each a single pass along the union of the elimination
-///    tree paths of the changed rows, up to 8 columns at a time;
+///    on request) is done on the neighbour list's pattern, so every pair that may touch
+///    before the next rebuild lies in the factor's pattern; at a rebuild the factor is carried
+///    over by relabelling its rows (CholmodUpdatedFactor::adopt);
+///  - a step's contact changes (contacts that formed: A + w wᵀ, that broke: A − w wᵀ) are
+///    applied in place in one pass along the union of their elimination-tree paths (the method
+///    of CHOLMOD's cholmod_updown, Davis and Hager, up to 63 changes per pass); a contact that
+///    formed outside the factor's pattern goes through cholmod_updown, which adds the fill;
 ///  - each solve is one pass of triangular solves for both right-hand sides (x and y share
 ///    the matrix: A u_x = b_x, A u_y = b_y);
 ///  - after changes the true residual ‖b − A u‖ ≤ rtol ‖b‖ is checked for both right-hand
