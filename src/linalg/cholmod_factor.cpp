@@ -164,15 +164,9 @@ struct CholmodUpdatedFactor::Impl {
         }
     }
 
-    // The changes of one column (step_p, step_beta, step_w) applied to its entries l[0, len),
-    // kBlock entries at a time (independent chains the processor overlaps): for each change
-    // in order, w_r ← w_r − p l_r, then l_r ← l_r + β w_r.
-    static constexpr int kBlock = 8;
     /// The elimination tree of L's pattern: a column's parent is its first row below the
     /// diagonal (−1 at a root). Cleared whenever the pattern may change.
     std::vector<int> etree;
-    std::vector<int> slot_of;    // sweep: a row's place in the workspace
-    std::vector<int> slot_rows;  // sweep: a column's rows as places in the workspace
     void find_etree() {
         const auto* Lp = static_cast<const int*>(L->p);
         const auto* Li = static_cast<const int*>(L->i);
@@ -180,6 +174,14 @@ struct CholmodUpdatedFactor::Impl {
         etree.resize(static_cast<std::size_t>(n));
         for (int j = 0; j < n; ++j) etree[static_cast<std::size_t>(j)] = Lnz[j] > 1 ? Li[Lp[j] + 1] : -1;
     }
+    std::vector<int> slot_of;    // sweep: a row's place in the workspace
+    std::vector<int> slot_rows;  // sweep: a column's rows as places in the workspace
+
+    // The changes of one column (step_p, step_beta, step_w) applied to its entries l[0, len),
+    // whose rows are given as places in the workspace (`row0` for consecutive ones, `rows`
+    // otherwise), kBlock entries at a time (independent chains the processor overlaps): for
+    // each change in order, w_r ← w_r − p l_r, then l_r ← l_r + β w_r.
+    static constexpr int kBlock = 8;
     double step_p[kSweepRank], step_beta[kSweepRank];
     double* step_w[kSweepRank];
 
