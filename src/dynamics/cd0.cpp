@@ -28,29 +28,21 @@ void Cd0::solve(const ForceField& forces, const Box& box, std::span<const double
         by_[i] = fy[i] * inv_kd;
     }
     // Contacts and the affine part of the contact drag: −γ̇ Σ_j [y_i − y_j] (k_d cancels).
-    // Every pair is written, touching or not, with no branch on the contact test (about half
-    // the pairs touch, in no pattern a branch predictor could learn): the affine term is
-    // multiplied by the 0/1 contact flag. Raw pointers: no aliasing reloads in the loop.
-    const auto owner = list.owner(), neighbor = list.neighbor();
-    const auto sx = list.shift_x(), sy = list.shift_y(), contact = list.contact();
+    // Every pair is written, touching or not (for_each_pair: no branch on the contact test),
+    // the affine term multiplied by the 0/1 contact flag. Raw pointers: the compiler need not
+    // reload the vectors' storage after each store.
     double* const rx_out = contact_rx_.data();
     double* const ry_out = contact_ry_.data();
     std::uint8_t* const touching_out = in_contact_.data();
     double* const bx = bx_.data();
-    const double* const xs = x.data();
-    const double* const ys = y.data();
-    const std::size_t size = list.size();
-    for (std::size_t k = 0; k < size; ++k) {
-        const auto i = static_cast<std::size_t>(owner[k]), j = static_cast<std::size_t>(neighbor[k]);
-        const Vec2 r = box.lab(xs[i] - xs[j] + sx[k], ys[i] - ys[j] + sy[k]);
-        const bool touching = norm2(r) < contact[k] * contact[k];
+    for_each_pair(list, box, x, y, [=](std::size_t k, std::size_t i, std::size_t j, Vec2 r, bool touching) {
         rx_out[k] = r.x;
         ry_out[k] = r.y;
         touching_out[k] = static_cast<std::uint8_t>(touching);
         const double affine = rate * r.y * static_cast<double>(touching);
         bx[i] -= affine;
         bx[j] += affine;
-    }
+    });
     if (!solver_) solver_ = linalg::make_contact_solver(backend_, n, delta_, petsc_options_);
     last_ = solver_->solve(pairs_, in_contact_, pairs_version_, tag, bx_, by_, ux, uy);
 }

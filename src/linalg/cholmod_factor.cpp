@@ -28,7 +28,6 @@ struct CholmodUpdatedFactor::Impl {
     cholmod_common c{};
     cholmod_sparse* A = nullptr;   // lower triangle (stype −1), pattern = candidate pairs
     cholmod_factor* L = nullptr;
-    cholmod_dense *X = nullptr, *Y = nullptr, *E = nullptr;  // solve2 result and workspace
     std::vector<int> diag_slot, pair_slot;  // positions in A->x
     std::vector<int> pinv;                  // pinv[i] = row of L holding original row i
     bool analysis_current = false;          // A and the analysis are of the current pairs
@@ -53,7 +52,10 @@ struct CholmodUpdatedFactor::Impl {
     bool sweep_failed = false;
     Counts counts;
     bool have_factor = false;
-    std::vector<ContactPair> contacts;      // contacts of the last factorize() or follow()
+    // The contacts of the last factorize(), adopt() or follow(): the first n_contacts entries
+    // (follow() writes all pairs' slots without a branch, so the storage is as long as them).
+    std::vector<ContactPair> contacts;
+    std::size_t n_contacts = 0;
     std::vector<std::size_t> formed, broken, outside;
     std::vector<std::pair<int, int>> sweep_rows;
 
@@ -185,6 +187,18 @@ struct CholmodUpdatedFactor::Impl {
     double step_p[kSweepRank], step_beta[kSweepRank];
     double* step_w[kSweepRank];
 
+    /// One entry (in workspace row `row`) alone.
+    void apply_entry(double& entry, int row, int count) const {
+        double v = entry;
+        for (int s = 0; s < count; ++s) {
+            double& wr = step_w[s][row];
+            const double wk = wr - step_p[s] * v;
+            wr = wk;
+            v += step_beta[s] * wk;
+        }
+        entry = v;
+    }
+
     void apply_consecutive(double* l, int row0, int len, int count) const {
         constexpr int kPairs = 8;  // 16 entries at a time
         int k = 0;
@@ -202,16 +216,7 @@ struct CholmodUpdatedFactor::Impl {
             }
             for (int u = 0; u < kPairs; ++u) store(l + k + 2 * u, v[u]);
         }
-        for (; k < len; ++k) {
-            double v = l[k];
-            for (int s = 0; s < count; ++s) {
-                double& wr = step_w[s][row0 + k];
-                const double wk = wr - step_p[s] * v;
-                wr = wk;
-                v += step_beta[s] * wk;
-            }
-            l[k] = v;
-        }
+        for (; k < len; ++k) apply_entry(l[k], row0 + k, count);
     }
 
     void apply_scattered(double* l, const int* rows, int len, int count) const {
@@ -234,16 +239,7 @@ struct CholmodUpdatedFactor::Impl {
             }
             for (int u = 0; u < kBlock; ++u) l[k + u] = v[u];
         }
-        for (; k < len; ++k) {
-            double v = l[k];
-            for (int s = 0; s < count; ++s) {
-                double& wr = step_w[s][rows[k]];
-                const double wk = wr - step_p[s] * v;
-                wr = wk;
-                v += step_beta[s] * wk;
-            }
-            l[k] = v;
-        }
+        for (; k < len; ++k) apply_entry(l[k], rows[k], count);
     }
 
     /// LDLᵀ ← LDLᵀ ± W Wᵀ, W's columns P (e_i − e_j) for the listed pairs (all at once).
@@ -297,9 +293,6 @@ CholmodUpdatedFactor::~CholmodUpdatedFactor() {
     Impl& m = *impl_;
     if (m.A) cholmod_free_sparse(&m.A, &m.c);
     if (m.L) cholmod_free_factor(&m.L, &m.c);
-    if (m.X) cholmod_free_dense(&m.X, &m.c);
-    if (m.Y) cholmod_free_dense(&m.Y, &m.c);
-    if (m.E) cholmod_free_dense(&m.E, &m.c);
     cholmod_finish(&m.c);
 }
 
@@ -307,7 +300,9 @@ bool CholmodUpdatedFactor::has_factor() const { return impl_->have_factor; }
 
 CholmodUpdatedFactor::Counts CholmodUpdatedFactor::counts() const { return impl_->counts; }
 
-std::span<const ContactPair> CholmodUpdatedFactor::contacts() const { return impl_->contacts; }
+std::span<const ContactPair> CholmodUpdatedFactor::contacts() const {
+    return std::span<const ContactPair>(impl_->contacts).first(impl_->n_contacts);
+}
 
 void CholmodUpdatedFactor::analyse(std::span<const ContactPair> pairs) {
     Impl& m = *impl_;
@@ -394,10 +389,11 @@ bool CholmodUpdatedFactor::adopt(std::span<const ContactPair> pairs,
         return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | static_cast<std::uint32_t>(std::max(a, b));
     };
     std::vector<std::uint64_t> held;
-    held.reserve(m.contacts.size());
+    const std::span<const ContactPair> factor_contacts = std::span<const ContactPair>(m.contacts).first(m.n_contacts);
+    held.reserve(factor_contacts.size());
     std::vector<ContactPair> renamed;
-    renamed.reserve(m.contacts.size());
-    for (const ContactPair& c : m.contacts) {
+    renamed.reserve(factor_contacts.size());
+    for (const ContactPair& c : factor_contacts) {
         const int a = new_index[static_cast<std::size_t>(m.labels[static_cast<std::size_t>(c.i)])];
         const int b = new_index[static_cast<std::size_t>(m.labels[static_cast<std::size_t>(c.j)])];
         renamed.push_back({a, b});
@@ -423,6 +419,7 @@ bool CholmodUpdatedFactor::adopt(std::span<const ContactPair> pairs,
     m.contacts.clear();
     for (std::size_t k = 0; k < pairs.size(); ++k)
         if (m.factored[k]) m.contacts.push_back(pairs[k]);
+    m.n_contacts = m.contacts.size();
     m.labels.assign(labels.begin(), labels.end());
     return true;
 }
@@ -441,6 +438,7 @@ void CholmodUpdatedFactor::factorize(std::span<const ContactPair> pairs,
         v[m.diag_slot[static_cast<std::size_t>(pairs[k].i)]] += w;
         v[m.diag_slot[static_cast<std::size_t>(pairs[k].j)]] += w;
     }
+    m.n_contacts = m.contacts.size();
     if (!cholmod_factorize(m.A, m.L, &m.c) || m.c.status != CHOLMOD_OK) m.fail("cholmod_factorize");
     m.etree.clear();
     m.factored.assign(in_contact.begin(), in_contact.end());
@@ -455,7 +453,7 @@ int CholmodUpdatedFactor::follow(std::span<const ContactPair> pairs,
     m.broken.clear();
     // The contacts gathered without a branch on the (unpredictable) contact flag; changes
     // are rare, so their branch predicts well.
-    m.contacts.resize(pairs.size());
+    if (m.contacts.size() < pairs.size()) m.contacts.resize(pairs.size());
     std::size_t touching = 0;
     for (std::size_t k = 0; k < pairs.size(); ++k) {
         m.contacts[touching] = pairs[k];
@@ -464,7 +462,7 @@ int CholmodUpdatedFactor::follow(std::span<const ContactPair> pairs,
         (in_contact[k] ? m.formed : m.broken).push_back(k);
         m.factored[k] = in_contact[k];
     }
-    m.contacts.resize(touching);
+    m.n_contacts = touching;
     // Changes whose pattern L holds go through `sweep`, updates first (the factor stays well
     // away from singular), in one pass; contacts formed outside the pattern (possible after
     // `adopt`) make fill, which CHOLMOD's update allocates.

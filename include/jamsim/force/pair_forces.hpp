@@ -157,19 +157,31 @@ struct Contact {
     double rx, ry;  ///< lab separation r_i − r_j
 };
 
-/// Calls f(k, i, j, r) for every listed pair k = (i, j) that touches at positions (x, y) in
-/// `box` (lab separation r = r_i − r_j, |r| < d_ij), in list order. The one contact
-/// traversal beside the force loop: contact dissipation (CD0, CD, CDn, CDt), contact networks.
+/// Calls f(k, i, j, r, touching) for every listed pair k = (i, j) at positions (x, y) in
+/// `box` (lab separation r = r_i − r_j; touching: |r| < d_ij), in list order, with no branch
+/// on the contact test: for loops that handle both cases arithmetically (about half the
+/// pairs touch, in no pattern a branch predictor could learn). The one pair traversal beside
+/// the force loop.
 template <class F>
-void for_each_contact(const NeighborList& list, const Box& box, std::span<const double> x,
-                      std::span<const double> y, F&& f) {
+void for_each_pair(const NeighborList& list, const Box& box, std::span<const double> x,
+                   std::span<const double> y, F&& f) {
     const auto owner = list.owner(), neighbor = list.neighbor();
     const auto sx = list.shift_x(), sy = list.shift_y(), contact = list.contact();
     for (std::size_t k = 0; k < list.size(); ++k) {
         const auto i = static_cast<std::size_t>(owner[k]), j = static_cast<std::size_t>(neighbor[k]);
         const Vec2 r = box.lab(x[i] - x[j] + sx[k], y[i] - y[j] + sy[k]);
-        if (norm2(r) < contact[k] * contact[k]) f(k, i, j, r);
+        f(k, i, j, r, norm2(r) < contact[k] * contact[k]);
     }
+}
+
+/// Calls f(k, i, j, r) for every listed pair k = (i, j) that touches (for_each_pair's
+/// touching pairs): contact dissipation (CD, CDn, CDt), contact networks.
+template <class F>
+void for_each_contact(const NeighborList& list, const Box& box, std::span<const double> x,
+                      std::span<const double> y, F&& f) {
+    for_each_pair(list, box, x, y, [&](std::size_t k, std::size_t i, std::size_t j, Vec2 r, bool touching) {
+        if (touching) f(k, i, j, r);
+    });
 }
 
 /// The contacts among the listed pairs, in list order (deterministic).
