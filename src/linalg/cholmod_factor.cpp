@@ -518,16 +518,20 @@ void CholmodUpdatedFactor::solve(const double* b, double* x) {
     for (int j = 0; j < n; ++j) store(y + 2 * j, load(y + 2 * j) / Lx[Lp[j]]);  // D
     for (int j = n - 1; j >= 0; --j) {  // Lᵀ x = D⁻¹ z, row by row of Lᵀ
         const int begin = Lp[j], end = begin + Lnz[j];
-        // Four partial sums (independent chains; a fixed order, so deterministic).
+        // Four partial sums (independent chains; a fixed order, so deterministic). Each
+        // column is read from its end down, so that the whole pass walks L's arrays downwards
+        // as one stream the hardware prefetcher follows: read upwards within columns taken in
+        // reverse, the short columns defeat it and at N = 65536 (L far larger than the cache)
+        // this pass took twice as long as the forward one.
         Pair s0{0.0, 0.0}, s1{0.0, 0.0}, s2{0.0, 0.0}, s3{0.0, 0.0};
-        int p = begin + 1;
-        for (; p + 4 <= end; p += 4) {
-            s0 += Lx[p] * load(y + 2 * Li[p]);
-            s1 += Lx[p + 1] * load(y + 2 * Li[p + 1]);
-            s2 += Lx[p + 2] * load(y + 2 * Li[p + 2]);
-            s3 += Lx[p + 3] * load(y + 2 * Li[p + 3]);
+        int p = end;
+        for (; p - 4 >= begin + 1; p -= 4) {
+            s0 += Lx[p - 1] * load(y + 2 * Li[p - 1]);
+            s1 += Lx[p - 2] * load(y + 2 * Li[p - 2]);
+            s2 += Lx[p - 3] * load(y + 2 * Li[p - 3]);
+            s3 += Lx[p - 4] * load(y + 2 * Li[p - 4]);
         }
-        for (; p < end; ++p) s0 += Lx[p] * load(y + 2 * Li[p]);
+        for (; p > begin + 1; --p) s0 += Lx[p - 1] * load(y + 2 * Li[p - 1]);
         store(y + 2 * j, load(y + 2 * j) - ((s0 + s1) + (s2 + s3)));
     }
     for (int k = 0; k < n; ++k) {
