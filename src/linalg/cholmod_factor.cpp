@@ -3,6 +3,7 @@
 #include <cholmod.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstring>
 #include <utility>
 #include <stdexcept>
@@ -11,6 +12,28 @@
 namespace jamsim::linalg {
 
 namespace {
+/// Adds the wall-clock seconds of its scope to `total`, unless an enclosing one (which shares
+/// `running`) already counts them.
+class ScopeTimer {
+  public:
+    ScopeTimer(double& total, bool& running)
+        : total_(running ? nullptr : &total), running_(running), start_(std::chrono::steady_clock::now()) {
+        running_ = true;
+    }
+    ~ScopeTimer() {
+        if (!total_) return;
+        *total_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+        running_ = false;
+    }
+    ScopeTimer(const ScopeTimer&) = delete;
+    ScopeTimer& operator=(const ScopeTimer&) = delete;
+
+  private:
+    double* total_;
+    bool& running_;
+    std::chrono::steady_clock::time_point start_;
+};
+
 /// Two doubles as one SIMD register (GCC/Clang vector extension; element-wise, so the
 /// results are bitwise those of scalar code on every target).
 using Pair = double __attribute__((vector_size(16)));
@@ -51,6 +74,7 @@ struct CholmodUpdatedFactor::Impl {
     std::vector<int> path_union;
     bool sweep_failed = false;
     Counts counts;
+    bool timing = false;  // a ScopeTimer is counting
     bool have_factor = false;
     // The contacts of the last factorize(), adopt() or follow(): the first n_contacts entries
     // (follow() writes all pairs' slots without a branch, so the storage is as long as them).
@@ -360,6 +384,7 @@ void CholmodUpdatedFactor::analyse(std::span<const ContactPair> pairs) {
 bool CholmodUpdatedFactor::adopt(std::span<const ContactPair> pairs,
                                  std::span<const std::int32_t> labels) {
     Impl& m = *impl_;
+    const ScopeTimer timer(m.counts.upkeep_seconds, m.timing);
     m.analysis_current = false;
     const auto n = static_cast<std::size_t>(m.n);
     if (!m.have_factor || labels.size() != n || m.labels.size() != n ||
@@ -427,6 +452,7 @@ bool CholmodUpdatedFactor::adopt(std::span<const ContactPair> pairs,
 void CholmodUpdatedFactor::factorize(std::span<const ContactPair> pairs,
                                      std::span<const std::uint8_t> in_contact) {
     Impl& m = *impl_;
+    const ScopeTimer timer(m.counts.upkeep_seconds, m.timing);
     if (!m.analysis_current) analyse(pairs);
     auto* v = static_cast<double*>(m.A->x);
     for (const int s : m.diag_slot) v[s] = m.delta;
@@ -449,6 +475,7 @@ void CholmodUpdatedFactor::factorize(std::span<const ContactPair> pairs,
 int CholmodUpdatedFactor::follow(std::span<const ContactPair> pairs,
                                  std::span<const std::uint8_t> in_contact) {
     Impl& m = *impl_;
+    const ScopeTimer timer(m.counts.upkeep_seconds, m.timing);
     m.formed.clear();
     m.broken.clear();
     // The contacts gathered without a branch on the (unpredictable) contact flag; changes
@@ -494,6 +521,7 @@ void CholmodUpdatedFactor::solve(const double* b, double* x) {
     // x = Pᵀ L⁻ᵀ D⁻¹ L⁻¹ P b on both right-hand sides at once: row r of `y` holds (x, y) as
     // one SIMD pair, so each entry of L is read once per pass for both.
     Impl& m = *impl_;
+    const ScopeTimer timer(m.counts.solve_seconds, m.timing);
     const int n = m.n;
     const auto* Lp = static_cast<const int*>(m.L->p);
     const auto* Li = static_cast<const int*>(m.L->i);

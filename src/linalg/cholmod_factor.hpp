@@ -60,8 +60,11 @@ class CholmodUpdatedFactor {
     /// What `follow` did since construction: changes applied by the in-place sweep, contacts
     /// formed outside L's pattern (CHOLMOD's update, which allocates their fill), and fresh
     /// factorisations after a downdate met a pivot that was not positive.
+    /// Also the wall-clock seconds spent keeping the factor (factorize, adopt, follow) and in
+    /// its solves, for benchmarks.
     struct Counts {
         long swept = 0, filled = 0, refactored = 0;
+        double upkeep_seconds = 0, solve_seconds = 0;
     };
     Counts counts() const;
     /// The contacts of the last `factorize` or `follow` (residual check, matrix products).
