@@ -77,4 +77,17 @@ class CholmodUpdatedFactor {
     std::unique_ptr<Impl> impl_;
 };
 
+/// `run()` (a backend's solve, returning SolveInfo) with the time it spent in `factor` (which
+/// may be null) added to its SolveInfo.
+template <class Run> SolveInfo with_factor_timings(const CholmodUpdatedFactor* factor, Run&& run) {
+    const auto before = factor ? factor->counts() : CholmodUpdatedFactor::Counts{};
+    SolveInfo info = run();
+    if (factor) {
+        const auto after = factor->counts();
+        info.factor_upkeep_seconds = after.upkeep_seconds - before.upkeep_seconds;
+        info.factor_solve_seconds = after.solve_seconds - before.solve_seconds;
+    }
+    return info;
+}
+
 } // namespace jamsim::linalg

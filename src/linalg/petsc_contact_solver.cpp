@@ -286,14 +286,9 @@ SolveInfo PetscContactSolver::solve(std::span<const ContactPair> pairs,
                                     std::span<const double> b_y, std::span<double> u_x,
                                     std::span<double> u_y) {
     Impl& m = *impl_;
-    const auto before = m.factor ? m.factor->counts() : CholmodUpdatedFactor::Counts{};
-    SolveInfo info = m.run(pairs, in_contact, pattern_version, labels, b_x, b_y, u_x, u_y);
-    if (m.factor) {
-        const auto after = m.factor->counts();
-        info.factor_upkeep_seconds = after.upkeep_seconds - before.upkeep_seconds;
-        info.factor_solve_seconds = after.solve_seconds - before.solve_seconds;
-    }
-    return info;
+    return with_factor_timings(m.factor.get(), [&] {
+        return m.run(pairs, in_contact, pattern_version, labels, b_x, b_y, u_x, u_y);
+    });
 }
 
 SolveInfo PetscContactSolver::Impl::run(std::span<const ContactPair> pairs,
