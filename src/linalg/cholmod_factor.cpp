@@ -107,10 +107,11 @@ struct CholmodUpdatedFactor::Impl {
     /// already hold each (b_t, a_t), see `fits`), σ_t = +1 for t < n_up, −1 after: the rank-1
     /// modifications in sequence (method C1 of Gill, Golub, Murray and Saunders, as CHOLMOD
     /// uses) interleaved in one pass over the union of their elimination-tree paths, column by
-    /// column (a column's ancestors come later), up to kSweepRank at a time (bit 63 of a column's mask marks the union). A column whose
-    /// rows are consecutive (the dense separators at the top of the tree, where every path
-    /// ends and most of the work is) runs as contiguous loops the compiler vectorises. Sets
-    /// sweep_failed when a downdate meets a pivot that is not positive (the caller refactors).
+    /// column (a column's ancestors come later), up to kSweepRank at a time (bit 63 of a
+    /// column's mask marks the union). A column whose rows are consecutive (the dense
+    /// separators at the top of the tree, where every path ends and most of the work is) runs
+    /// as contiguous loops the compiler vectorises. Sets sweep_failed when a downdate meets a
+    /// pivot that is not positive (the caller refactors).
     static constexpr int kSweepRank = 63;
     void sweep(std::span<const std::pair<int, int>> rows, std::size_t n_up) {
         const auto* Lp = static_cast<const int*>(L->p);
@@ -414,7 +415,7 @@ bool CholmodUpdatedFactor::adopt(std::span<const ContactPair> pairs,
         return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | static_cast<std::uint32_t>(std::max(a, b));
     };
     std::vector<std::uint64_t> held;
-    const std::span<const ContactPair> factor_contacts = std::span<const ContactPair>(m.contacts).first(m.n_contacts);
+    const std::span<const ContactPair> factor_contacts = contacts();
     held.reserve(factor_contacts.size());
     std::vector<ContactPair> renamed;
     renamed.reserve(factor_contacts.size());
