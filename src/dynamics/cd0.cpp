@@ -9,8 +9,10 @@ void Cd0::solve(const ForceField& forces, const Box& box, std::span<const double
                 std::span<const double> fy, double rate, std::span<double> ux,
                 std::span<double> uy) {
     const std::size_t n = x.size();
-    // Candidate pairs = the neighbour list (its pattern changes only at a rebuild).
-    const NeighborList& list = forces.list();
+    // Candidate pairs: those of the neighbour list within a thinner skin (their pattern
+    // changes only when that sub-list is filtered afresh).
+    candidates_.update(forces.list(), box, x, y);
+    const SubList& list = candidates_;
     if (list.builds() != pairs_version_) {
         pairs_.resize(list.size());
         for (std::size_t k = 0; k < list.size(); ++k)
@@ -46,6 +48,8 @@ void Cd0::solve(const ForceField& forces, const Box& box, std::span<const double
     if (!solver_) solver_ = linalg::make_contact_solver(backend_, n, delta_, petsc_options_);
     last_ = solver_->solve(pairs_, in_contact_, pairs_version_, tag, bx_, by_, ux, uy);
 }
+
+double Cd0::candidate_skin(const ReplicaParams& params) { return params.skin / 3.0; }
 
 void Cd0::prepare(System& sys, ForceField& forces, double rate) {
     Particles& p = sys.particles;

@@ -6,6 +6,7 @@
 #include "jamsim/dynamics/overdamped_step.hpp"
 #include "jamsim/force/pair_forces.hpp"
 #include "jamsim/linalg/contact_solver.hpp"
+#include "jamsim/neighbor/sub_list.hpp"
 
 namespace jamsim {
 
@@ -22,7 +23,8 @@ class Cd0 final : public Model {
   public:
     explicit Cd0(const ReplicaParams& params)
         : kd_(params.kd), delta_(params.delta), heun_(params.integrator == "heun"),
-          backend_(params.solver), petsc_options_(params.petsc_options) {}
+          backend_(params.solver), petsc_options_(params.petsc_options),
+          candidates_(candidate_skin(params)) {}
     void prepare(System& sys, ForceField& forces, double rate) override;
     void advance(System& sys, ForceField& forces, double dt, double rate,
                  std::int64_t step) override;
@@ -33,6 +35,9 @@ class Cd0 final : public Model {
 
     /// Krylov iterations of the most recent solve (diagnostics, benchmarks).
     linalg::SolveInfo last_solve() const { return last_; }
+
+    /// Candidate lists so far (each a new pattern for the contact solver).
+    std::size_t candidate_lists() const { return candidates_.builds(); }
 
     double solver_iterations() const override {
         return 0.5 * (last_.iterations_x + last_.iterations_y);
@@ -50,6 +55,9 @@ class Cd0 final : public Model {
     std::string backend_, petsc_options_;
     linalg::SolveInfo last_;
     std::unique_ptr<linalg::ContactSolver> solver_;
+    /// The skin of the contact matrix's candidate pairs (SubList of the force list).
+    static double candidate_skin(const ReplicaParams& params);
+    SubList candidates_;
     std::vector<linalg::ContactPair> pairs_;
     std::vector<std::uint8_t> in_contact_;
     std::vector<double> contact_rx_, contact_ry_;  // lab separation of each touching pair

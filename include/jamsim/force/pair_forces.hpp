@@ -161,9 +161,9 @@ struct Contact {
 /// `box` (lab separation r = r_i − r_j; touching: |r| < d_ij), in list order, with no branch
 /// on the contact test: for loops that handle both cases arithmetically (about half the
 /// pairs touch, in no pattern a branch predictor could learn). The one pair traversal beside
-/// the force loop.
-template <class F>
-void for_each_pair(const NeighborList& list, const Box& box, std::span<const double> x,
+/// the force loop. `List` is a NeighborList or a SubList (the same entry layout).
+template <class List, class F>
+void for_each_pair(const List& list, const Box& box, std::span<const double> x,
                    std::span<const double> y, F&& f) {
     const auto owner = list.owner(), neighbor = list.neighbor();
     const auto sx = list.shift_x(), sy = list.shift_y(), contact = list.contact();
