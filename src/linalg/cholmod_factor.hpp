@@ -13,10 +13,10 @@ namespace jamsim::linalg {
 
 /// A_ii = z_i + δ, A_ij = −1 per contact, as a simplicial LDLᵀ factor:
 ///  - a fresh factor orders (METIS nested dissection, or AMD) the pattern of every candidate
-///    pair (the neighbour list, explicit zeros for pairs not touching), so no contact that
-///    forms before the next list rebuild needs new fill;
+///    pair (explicit zeros for pairs not touching), so no contact that forms before the next
+///    candidate list needs new fill;
 ///  - `factorize` computes the numeric factor of a contact set from scratch;
-///  - `adopt` carries the factor over a list rebuild (rows renumbered by the re-sorting of
+///  - `adopt` carries the factor over a new candidate list (rows renumbered by the re-sorting of
 ///    the disks; contacts formed later may then add fill, which CHOLMOD's update makes);
 ///  - `follow` brings the factor to a new contact set: each contact that formed is a rank-one
 ///    update A + w wᵀ, each that broke a downdate, w = e_i − e_j. They are applied in place,
@@ -36,7 +36,7 @@ class CholmodUpdatedFactor {
     CholmodUpdatedFactor(const CholmodUpdatedFactor&) = delete;
     CholmodUpdatedFactor& operator=(const CholmodUpdatedFactor&) = delete;
 
-    /// A new candidate list (a list rebuild; the rows may be renumbered, `labels` gives each
+    /// A new candidate list (the rows may be renumbered, `labels` gives each
     /// row's lasting identity). The factor is carried over when it can be: the elimination
     /// order stays that of the same disks, so L is unchanged and only the permutation is
     /// renumbered; contacts of the factor missing from `pairs` are downdated. Carried over

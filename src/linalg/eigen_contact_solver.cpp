@@ -15,7 +15,7 @@ namespace {
 /// can be modified in place: a contact (i, j) forming adds (e_i − e_j)(e_i − e_j)ᵀ to A,
 /// breaking subtracts it. Rank-one update/downdate by method C1 of Gill, Golub, Murray and
 /// Saunders (1974), restricted to the elimination-tree paths from P i and P j (Davis and
-/// Hager 1999). The symbolic pattern was analysed for every neighbour-list pair, so a change
+/// Hager 1999). The symbolic pattern was analysed for every candidate pair, so a change
 /// of contacts among them never needs fill outside it.
 struct UpdatableLdlt {
     std::vector<int> perm;      // perm[i] = row of P A Pᵀ holding original row i
@@ -163,7 +163,7 @@ struct EigenContactSolver::Impl {
         double* v = A.valuePtr();
         for (auto s : diag_slot) v[s] = delta;
         for (std::size_t k = 0; k < pairs.size(); ++k) {
-            // duplicate pairs cannot occur (the neighbour list lists each pair once)
+            // duplicate pairs cannot occur (the candidate list lists each pair once)
             const double c = in_contact[k] ? 1.0 : 0.0;
             v[pair_slot[k]] = -c;
             v[diag_slot[static_cast<std::size_t>(pairs[k].i)]] += c;

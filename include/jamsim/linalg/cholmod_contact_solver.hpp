@@ -8,8 +8,8 @@ namespace jamsim::linalg {
 /// The CD0 contact matrix solved with CHOLMOD (SuiteSparse, PETSc's own sparse direct package
 /// in Debian) as a simplicial LDLᵀ factor that is modified in place as contacts form and break:
 ///  - the symbolic analysis (fill-reducing ordering: METIS nested dissection by default, AMD
-///    on request) is done on the neighbour list's pattern, so every pair that may touch
-///    before the next rebuild lies in the factor's pattern; at a rebuild the factor is carried
+///    on request) is done on the candidate pairs' pattern, so every pair that may touch
+///    before the next candidate list lies in the factor's pattern; at a new list it is carried
 ///    over by relabelling its rows (CholmodUpdatedFactor::adopt);
 ///  - a step's contact changes (contacts that formed: A + w wᵀ, that broke: A − w wᵀ) are
 ///    applied in place in one pass along the union of their elimination-tree paths (the method
@@ -22,7 +22,7 @@ namespace jamsim::linalg {
 ///    changes makes it miss.
 /// The factor itself (analysis, updates, solves) is CholmodUpdatedFactor, shared with the
 /// PETSc backend's default preconditioner. Below φ_J the contact graph falls apart into
-/// clusters, but the factor's pattern is the neighbour list's, which stays connected: an
+/// clusters, but the factor's pattern is the candidates', which stays connected: an
 /// update walks the whole elimination-tree path of its rows (measured costs: README, CD0).
 /// Everything is sequential and deterministic (no threads, fixed ordering seed).
 class CholmodContactSolver final : public ContactSolver {

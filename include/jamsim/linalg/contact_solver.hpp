@@ -8,7 +8,8 @@
 
 namespace jamsim::linalg {
 
-/// One candidate pair of the CD0 contact matrix (a neighbour-list pair).
+/// One candidate pair of the CD0 contact matrix: a pair that may touch before the candidate
+/// list changes (the CD0 model passes its SubList of the neighbour list).
 struct ContactPair {
     std::int32_t i, j;
 };
@@ -53,9 +54,9 @@ class ContactSolver {
     virtual ~ContactSolver() = default;
     /// Solve A u_x = b_x and A u_y = b_y; u_x, u_y hold the initial guess on entry.
     /// `pairs` are the candidate pairs, `in_contact[k]` says whether pair k touches now;
-    /// `pattern_version` changes whenever `pairs` changes (the list's build count).
+    /// `pattern_version` changes whenever `pairs` changes (the candidate list's build count).
     /// `labels[i]` is row i's lasting identity (the disk's tag, a permutation of 0 … n−1):
-    /// rows are renumbered when the disks are re-sorted at a list rebuild, and a backend that
+    /// rows are renumbered when the disks are re-sorted at a neighbour-list rebuild, and a backend that
     /// keeps a factor carries it over by relabelling instead of factorising anew.
     /// Throws std::runtime_error naming the reason when a solve fails.
     virtual SolveInfo solve(std::span<const ContactPair> pairs,

@@ -7,14 +7,14 @@ namespace jamsim::linalg {
 
 /// The CD0 contact matrix solved with a sparse LDLᵀ factorisation (Eigen's SimplicialLDLT
 /// with AMD ordering for the analysis and fresh factorisations). The matrix depends only on
-/// the contact set (entries are integers plus δ), and the pattern analysed at a neighbour-list
-/// rebuild holds every pair that may touch, so:
+/// the contact set (entries are integers plus δ), and the pattern analysed for a new candidate
+/// list holds every pair that may touch, so:
 ///  - a solve is one pass of triangular solves for both right-hand sides;
 ///  - a contact that forms or breaks is a rank-one change of A, applied to the factor in place
 ///    (update/downdate along the elimination tree) instead of refactorising;
 ///  - after changes the true residual ‖b − A u‖ ≤ rtol ‖b‖ is checked, and the factor is
 ///    rebuilt from scratch if round-off accumulated by the changes makes it miss;
-///  - a new neighbour-list pattern starts with a fresh analysis and factorisation.
+///  - a new candidate list starts with a fresh analysis and factorisation.
 /// Same interface and matrix as ContactSolver (PETSc).
 class EigenContactSolver final : public ContactSolver {
   public:

@@ -10,12 +10,12 @@ namespace jamsim::linalg {
 ///
 /// The KSP solves both right-hand sides at once, as one system of 2n unknowns with the matrix
 /// diag(A, A) (SeqAIJ), each half of the right-hand side scaled to unit norm. The Mat has the
-/// pattern of the *neighbour list* (every pair that may touch before the next rebuild, explicit
+/// pattern of the *candidate pairs* (every pair that may touch before the next list, explicit
 /// zeros for pairs not touching); a step writes only the entries of contacts that formed or
 /// broke, in place.
 ///
 /// Default (no options): Richardson iteration (iterative refinement) preconditioned by a
-/// PCSHELL that applies a CHOLMOD LDLᵀ factor of A (METIS ordering of the neighbour list's
+/// PCSHELL that applies a CHOLMOD LDLᵀ factor of A (METIS ordering of the candidates'
 /// pattern) kept equal to A by multiple-rank updates and downdates as contacts change
 /// (CholmodUpdatedFactor). After changes the factor is applied once (PCApply) and the true
 /// residual ‖b − A u‖ ≤ rtol ‖b‖ checked for u_x and u_y in one pass (rtol = 1e-10, the KSP's
