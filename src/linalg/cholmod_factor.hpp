@@ -16,8 +16,8 @@ namespace jamsim::linalg {
 ///    pair (explicit zeros for pairs not touching), so no contact that forms before the next
 ///    candidate list needs new fill;
 ///  - `factorize` computes the numeric factor of a contact set from scratch;
-///  - `adopt` carries the factor over a new candidate list (rows renumbered by the re-sorting of
-///    the disks; contacts formed later may then add fill, which CHOLMOD's update makes);
+///  - `adopt` carries the factor over a new candidate list (rows renumbered by the re-sorting
+///    of the disks; contacts formed later may then add fill, which CHOLMOD's update makes);
 ///  - `follow` brings the factor to a new contact set: each contact that formed is a rank-one
 ///    update A + w wᵀ, each that broke a downdate, w = e_i − e_j. They are applied in place,
 ///    all of a step's changes in one pass along the union of their elimination-tree paths

@@ -165,22 +165,28 @@ void NeighborList::build_with_cells(std::span<const double> x, std::span<const d
     }
 }
 
-bool NeighborList::needs_rebuild(std::span<const double> x, std::span<const double> y,
-                                 const Box& box) const {
-    if (!valid_ || x.size() != x_ref_.size()) return true;
-    const double gamma = box.strain();
-    // 2 max|M(γ)δs| + |Δγ|(d_max + skin) > skin  ⇔  some |M(γ)δs|² > ((skin − affine)/2)²
-    const double affine = std::abs(gamma - strain_ref_) * (max_diameter_ + skin_);
-    const double allowed = 0.5 * (skin_ - affine);
+bool verlet_rule_broken(std::span<const double> x, std::span<const double> y,
+                        std::span<const double> x_ref, std::span<const double> y_ref,
+                        double strain, double strain_ref, double reach, double skin) {
+    if (x.size() != x_ref.size()) return true;
+    // 2 max|M(γ)δs| + |Δγ| reach > skin  ⇔  some |M(γ)δs|² > ((skin − affine)/2)²
+    const double affine = std::abs(strain - strain_ref) * reach;
+    const double allowed = 0.5 * (skin - affine);
     if (allowed <= 0.0) return true;
     const double allowed2 = allowed * allowed;
     int moved_too_far = 0;  // an OR over all particles, written to vectorise (no early exit)
     for (std::size_t i = 0; i < x.size(); ++i) {
-        const double dy = y[i] - y_ref_[i];
-        const double dx = x[i] - x_ref_[i] + gamma * dy;
+        const double dy = y[i] - y_ref[i];
+        const double dx = x[i] - x_ref[i] + strain * dy;
         moved_too_far |= (dx * dx + dy * dy > allowed2);
     }
     return moved_too_far != 0;
+}
+
+bool NeighborList::needs_rebuild(std::span<const double> x, std::span<const double> y,
+                                 const Box& box) const {
+    return !valid_ || verlet_rule_broken(x, y, x_ref_, y_ref_, box.strain(), strain_ref_,
+                                         max_diameter_ + skin_, skin_);
 }
 
 std::vector<std::int32_t> spatial_order(const Particles& p, const Box& box, double cell) {

@@ -5,28 +5,14 @@
 
 namespace jamsim {
 
-bool SubList::moved_too_far(const Box& box, std::span<const double> x,
-                            std::span<const double> y) const {
-    if (x.size() != x_ref_.size()) return true;
-    const double gamma = box.strain();
-    // The parent's test with this skin (NeighborList::needs_rebuild); max_contact_ bounds
-    // |s_y| of a pair that touches, as d_max does there.
-    const double affine = std::abs(gamma - strain_ref_) * (max_contact_ + skin_);
-    const double allowed = 0.5 * (skin_ - affine);
-    if (allowed <= 0.0) return true;
-    const double allowed2 = allowed * allowed;
-    int moved = 0;  // an OR over all disks, written to vectorise (no early exit)
-    for (std::size_t i = 0; i < x.size(); ++i) {
-        const double dy = y[i] - y_ref_[i];
-        const double dx = x[i] - x_ref_[i] + gamma * dy;
-        moved |= (dx * dx + dy * dy > allowed2);
-    }
-    return moved != 0;
-}
-
 bool SubList::update(const NeighborList& parent, const Box& box, std::span<const double> x,
                      std::span<const double> y) {
-    if (parent.builds() == parent_builds_ && !moved_too_far(box, x, y)) return false;
+    // The parent's rule with this skin; max_contact_ bounds |s_y| of a pair that touches, as
+    // d_max does there.
+    if (parent.builds() == parent_builds_ &&
+        !verlet_rule_broken(x, y, x_ref_, y_ref_, box.strain(), strain_ref_,
+                            max_contact_ + skin_, skin_))
+        return false;
     const auto owner = parent.owner(), neighbor = parent.neighbor();
     const auto sx = parent.shift_x(), sy = parent.shift_y(), contact = parent.contact();
     owner_.clear();
@@ -36,7 +22,8 @@ bool SubList::update(const NeighborList& parent, const Box& box, std::span<const
     contact_.clear();
     max_contact_ = 0.0;
     for (std::size_t k = 0; k < parent.size(); ++k) {
-        const auto i = static_cast<std::size_t>(owner[k]), j = static_cast<std::size_t>(neighbor[k]);
+        const auto i = static_cast<std::size_t>(owner[k]);
+        const auto j = static_cast<std::size_t>(neighbor[k]);
         max_contact_ = std::max(max_contact_, contact[k]);
         const Vec2 r = box.lab(x[i] - x[j] + sx[k], y[i] - y[j] + sy[k]);
         const double reach = contact[k] + skin_;

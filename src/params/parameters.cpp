@@ -182,7 +182,8 @@ const ParamInfo kParameters[] = {
      "large/small diameter of the 50:50 mixture (1: monodisperse)", &R::size_ratio, kPhys,
      JAMSIM_CHECK(std::isfinite(p.size_ratio) && p.size_ratio >= 1.0, "size_ratio >= 1"),
      "size_ratio >= 1"},
-    {"skin", "system", "skin", "--skin", "d_s", "neighbour-list skin", &R::skin, kNum,
+    {"skin", "system", "skin", "--skin", "d_s",
+     "neighbour-list skin (CD0's contact matrix: candidate pairs within skin/3)", &R::skin, kNum,
      JAMSIM_CHECK(positive(p.skin), "skin > 0"), "skin > 0"},
 };
 #undef JAMSIM_CHECK

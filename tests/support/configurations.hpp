@@ -3,7 +3,11 @@
 // not use the code under test (no Box::min_image, no neighbour list).
 #include <cmath>
 #include <cstdint>
+#include <set>
+#include <utility>
 #include <vector>
+
+#include <gtest/gtest.h>
 
 #include "jamsim/core/rng.hpp"
 #include "jamsim/core/system.hpp"
@@ -47,6 +51,60 @@ inline Pair image_separation(const System& s, std::size_t i, std::size_t j, int 
     const double dy = s.particles.y[i] - (s.particles.y[j] + n * L);
     const double dx = s.particles.x[i] - (s.particles.x[j] + m * L);
     return {dx + g * dy, dy};
+}
+
+/// `sys` randomly moved for trial `trial` of a Verlet-rule property test: every disk
+/// displaced by up to ±s/2 in x and y (s uniform in [0, max_step) per trial), and the strain
+/// set uniformly within strain ± spread/2.
+inline System randomly_moved(const System& sys, const RngStream& rng, std::uint32_t trial,
+                             double max_step, double strain, double spread) {
+    System moved = sys;
+    const double scale = max_step * rng.uniform2(trial, 999)[0];
+    for (std::size_t i = 0; i < moved.particles.size(); ++i) {
+        const auto u = rng.uniform2(trial, static_cast<std::uint32_t>(i));
+        moved.particles.x[i] += scale * (u[0] - 0.5);
+        moved.particles.y[i] += scale * (u[1] - 0.5);
+    }
+    moved.box.set_strain_unwrapped(strain + spread * (rng.uniform2(trial, 998)[0] - 0.5));
+    return moved;
+}
+
+/// Unordered pairs (i < j).
+using PairSet = std::set<std::pair<std::size_t, std::size_t>>;
+
+/// Pairs with some image closer than `extra` + d_ij (brute force over images |m|, |n| ≤ 2).
+inline PairSet pairs_within(const System& s, double extra) {
+    PairSet out;
+    for (std::size_t i = 0; i < s.particles.size(); ++i)
+        for (std::size_t j = i + 1; j < s.particles.size(); ++j)
+            for (int m = -2; m <= 2; ++m)
+                for (int n = -2; n <= 2; ++n) {
+                    const auto r = image_separation(s, i, j, m, n);
+                    const double range =
+                        0.5 * (s.particles.diameter[i] + s.particles.diameter[j]) + extra;
+                    if (r.rx * r.rx + r.ry * r.ry < range * range) out.insert({i, j});
+                }
+    return out;
+}
+
+/// The pairs of a NeighborList or SubList (owner/neighbour entries); a pair listed twice
+/// fails the calling test.
+template <class List> PairSet listed_pairs(const List& list) {
+    PairSet s;
+    for (std::size_t k = 0; k < list.size(); ++k) {
+        const auto i = static_cast<std::size_t>(list.owner()[k]);
+        const auto j = static_cast<std::size_t>(list.neighbor()[k]);
+        EXPECT_TRUE(s.insert({std::min(i, j), std::max(i, j)}).second) << "pair listed twice";
+    }
+    return s;
+}
+
+/// Whether `list` holds every pair of `s` that touches (brute force over images).
+template <class List> bool lists_every_contact(const List& list, const System& s) {
+    const PairSet listed = listed_pairs(list);
+    for (const auto& pair : pairs_within(s, 0.0))
+        if (!listed.count(pair)) return false;
+    return true;
 }
 
 /// Brute force over explicit images |m|, |n| ≤ 2: energy, forces, virial, contacts.

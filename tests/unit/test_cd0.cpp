@@ -140,7 +140,8 @@ TEST(Cd0, StaleFactorSolvesMeetTheTolerance) {
         EXPECT_GT(stale_solves, 10) << solver << options << ": the stale-factor/update path was not exercised";
         EXPECT_EQ(checked, 20);
         if (std::string(options).empty()) {  // updates kept the factor exact: only new patterns
-            EXPECT_LE(refactored, static_cast<int>(model.candidate_lists())) << solver << ": updates missed the tolerance";
+            EXPECT_LE(refactored, static_cast<int>(model.candidate_lists()))
+                << solver << ": updates missed the tolerance";
         }
         // The CHOLMOD factor (default PC, cholmod backends) is carried over list rebuilds.
         if (std::string(options).empty() && std::string(solver) != "eigen") {

@@ -56,8 +56,8 @@ class ContactSolver {
     /// `pairs` are the candidate pairs, `in_contact[k]` says whether pair k touches now;
     /// `pattern_version` changes whenever `pairs` changes (the candidate list's build count).
     /// `labels[i]` is row i's lasting identity (the disk's tag, a permutation of 0 … n−1):
-    /// rows are renumbered when the disks are re-sorted at a neighbour-list rebuild, and a backend that
-    /// keeps a factor carries it over by relabelling instead of factorising anew.
+    /// rows are renumbered when the disks are re-sorted at a neighbour-list rebuild, and a
+    /// backend that keeps a factor carries it over by relabelling instead of factorising anew.
     /// Throws std::runtime_error naming the reason when a solve fails.
     virtual SolveInfo solve(std::span<const ContactPair> pairs,
                             std::span<const std::uint8_t> in_contact, std::size_t pattern_version,

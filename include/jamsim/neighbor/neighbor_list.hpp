@@ -78,6 +78,14 @@ class NeighborList {
     double strain_ref_ = 0.0;
 };
 
+/// The Verlet rule of a list with `skin` built at sheared positions (x_ref, y_ref) and strain
+/// `strain_ref`: true when a pair left out may touch at (x, y) and `strain`, i.e. when
+/// 2 max_i |M(γ)δs_i| + |Δγ| reach > skin, `reach` bounding |s_y| of any pair that can touch
+/// (d_max + skin; see NeighborList).
+bool verlet_rule_broken(std::span<const double> x, std::span<const double> y,
+                        std::span<const double> x_ref, std::span<const double> y_ref,
+                        double strain, double strain_ref, double reach, double skin);
+
 /// Order that sorts particles by their cell in sheared coordinates (cells of side ≥ cell);
 /// apply with Particles::permute to keep neighbours close in memory.
 std::vector<std::int32_t> spatial_order(const Particles& p, const Box& box, double cell);

@@ -39,8 +39,6 @@ class SubList {
     std::span<const double> shift_y() const { return shift_y_; }
 
   private:
-    bool moved_too_far(const Box& box, std::span<const double> x, std::span<const double> y) const;
-
     double skin_;
     std::size_t builds_ = 0;
     std::size_t parent_builds_ = static_cast<std::size_t>(-1);
