@@ -20,8 +20,6 @@ void Cd0::solve(const ForceField& forces, const Box& box, std::span<const double
         pairs_version_ = list.builds();
     }
     in_contact_.resize(list.size());
-    contact_rx_.resize(list.size());
-    contact_ry_.resize(list.size());
     bx_.resize(n);
     by_.resize(n);
     const double inv_kd = 1.0 / kd_;
@@ -30,16 +28,12 @@ void Cd0::solve(const ForceField& forces, const Box& box, std::span<const double
         by_[i] = fy[i] * inv_kd;
     }
     // Contacts and the affine part of the contact drag: −γ̇ Σ_j [y_i − y_j] (k_d cancels).
-    // Every pair is written, touching or not (for_each_pair: no branch on the contact test),
-    // the affine term multiplied by the 0/1 contact flag. Raw pointers: the compiler need not
-    // reload the vectors' storage after each store.
-    double* const rx_out = contact_rx_.data();
-    double* const ry_out = contact_ry_.data();
+    // Every pair's flag is written, touching or not (for_each_pair: no branch on the contact
+    // test), the affine term multiplied by the 0/1 contact flag. Raw pointers: the compiler
+    // need not reload the vectors' storage after each store.
     std::uint8_t* const touching_out = in_contact_.data();
     double* const bx = bx_.data();
     for_each_pair(list, box, x, y, [=](std::size_t k, std::size_t i, std::size_t j, Vec2 r, bool touching) {
-        rx_out[k] = r.x;
-        ry_out[k] = r.y;
         touching_out[k] = static_cast<std::uint8_t>(touching);
         const double affine = rate * r.y * static_cast<double>(touching);
         bx[i] -= affine;
@@ -76,17 +70,19 @@ Dissipation Cd0::dissipation(const System& sys, const ForceField& /*forces*/,
     const Particles& p = sys.particles;
     Dissipation d;
     double vxx = 0, vyy = 0, vyx = 0;
-    for (std::size_t k = 0; k < pairs_.size(); ++k) {
-        if (!in_contact_[k]) continue;
-        const auto i = static_cast<std::size_t>(pairs_[k].i), j = static_cast<std::size_t>(pairs_[k].j);
-        const double wx = p.ux[i] - p.ux[j] + rate * contact_ry_[k];  // relative lab velocity
+    // The contacts of the last solve, whose positions these still are (dissipation() follows
+    // prepare()): their separations computed again here, at samples, rather than stored by
+    // every solve.
+    for_each_pair(candidates_, sys.box, p.x, p.y, [&](std::size_t k, std::size_t i, std::size_t j, Vec2 r, bool) {
+        if (!in_contact_[k]) return;
+        const double wx = p.ux[i] - p.ux[j] + rate * r.y;  // relative lab velocity
         const double wy = p.uy[i] - p.uy[j];
         d.power += kd_ * (wx * wx + wy * wy);
         const double fx = -kd_ * wx, fy = -kd_ * wy;  // on i from j
-        vxx += contact_rx_[k] * fx;
-        vyy += contact_ry_[k] * fy;
-        vyx += contact_ry_[k] * fx;
-    }
+        vxx += r.x * fx;
+        vyy += r.y * fy;
+        vyx += r.y * fx;
+    });
     d.power += kd_ * delta_ * static_cast<double>(p.size()) * mean_square_velocity(p);
     d.pressure = 0.5 * (vxx + vyy) / sys.box.area();
     d.shear_stress = -vyx / sys.box.area();

@@ -63,7 +63,6 @@ class Cd0 final : public Model {
     SubList candidates_;
     std::vector<linalg::ContactPair> pairs_;
     std::vector<std::uint8_t> in_contact_;
-    std::vector<double> contact_rx_, contact_ry_;  // lab separation of each touching pair
     std::size_t pairs_version_ = static_cast<std::size_t>(-1);
     OverdampedScratch scratch_;
     std::vector<double> bx_, by_, fx1_, fy1_, ux1_, uy1_;
