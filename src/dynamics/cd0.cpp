@@ -73,7 +73,7 @@ Dissipation Cd0::dissipation(const System& sys, const ForceField& /*forces*/,
     // The contacts of the last solve, whose positions these still are (dissipation() follows
     // prepare()): their separations computed again here, at samples, rather than stored by
     // every solve.
-    for_each_pair(candidates_, sys.box, p.x, p.y, [&](std::size_t k, std::size_t i, std::size_t j, Vec2 r, bool) {
+    const auto contact_term = [&](std::size_t k, std::size_t i, std::size_t j, Vec2 r, bool) {
         if (!in_contact_[k]) return;
         const double wx = p.ux[i] - p.ux[j] + rate * r.y;  // relative lab velocity
         const double wy = p.uy[i] - p.uy[j];
@@ -82,7 +82,8 @@ Dissipation Cd0::dissipation(const System& sys, const ForceField& /*forces*/,
         vxx += r.x * fx;
         vyy += r.y * fy;
         vyx += r.y * fx;
-    });
+    };
+    for_each_pair(candidates_, sys.box, p.x, p.y, contact_term);
     d.power += kd_ * delta_ * static_cast<double>(p.size()) * mean_square_velocity(p);
     d.pressure = 0.5 * (vxx + vyy) / sys.box.area();
     d.shear_stress = -vyx / sys.box.area();
