@@ -23,22 +23,36 @@ void Cd0::solve(const ForceField& forces, const Box& box, std::span<const double
     bx_.resize(n);
     by_.resize(n);
     const double inv_kd = 1.0 / kd_;
+    // Contacts and the affine part of the contact drag: −γ̇ Σ_j [y_i − y_j] (k_d cancels),
+    // from the force loop's record of this very evaluation when it made one (the usual case:
+    // the pairs are not walked again), else from a pass over the candidates that computes
+    // the same flags and sums (the same bits: the same separations and tests, the sums in
+    // the same order, a non-touching pair adding r_y · 0).
+    const auto recorded = forces.recorded_contacts(box, x, y);
+    const double* sum_ry = nullptr;
+    if (recorded && list.parent_builds() == forces.list().builds()) {
+        const std::uint8_t* const parent_touching = recorded->touching.data();
+        const std::uint32_t* const parent_entry = list.parent_entry().data();
+        std::uint8_t* const touching_out = in_contact_.data();
+        for (std::size_t k = 0; k < list.size(); ++k) touching_out[k] = parent_touching[parent_entry[k]];
+        sum_ry = recorded->sum_ry.data();
+    } else {
+        sum_ry_.assign(n, 0.0);
+        // Raw pointers: the compiler need not reload the vectors' storage after each store.
+        std::uint8_t* const touching_out = in_contact_.data();
+        double* const sums = sum_ry_.data();
+        for_each_pair(list, box, x, y, [=](std::size_t k, std::size_t i, std::size_t j, Vec2 r, bool touches) {
+            touching_out[k] = static_cast<std::uint8_t>(touches);
+            const double ry_touching = r.y * static_cast<double>(touches);
+            sums[i] += ry_touching;
+            sums[j] -= ry_touching;
+        });
+        sum_ry = sum_ry_.data();
+    }
     for (std::size_t i = 0; i < n; ++i) {
-        bx_[i] = fx[i] * inv_kd;
+        bx_[i] = fx[i] * inv_kd - rate * sum_ry[i];
         by_[i] = fy[i] * inv_kd;
     }
-    // Contacts and the affine part of the contact drag: −γ̇ Σ_j [y_i − y_j] (k_d cancels).
-    // Every pair's flag is written, touching or not (for_each_pair: no branch on the contact
-    // test), the affine term multiplied by the 0/1 contact flag. Raw pointers: the compiler
-    // need not reload the vectors' storage after each store.
-    std::uint8_t* const touching_out = in_contact_.data();
-    double* const bx = bx_.data();
-    for_each_pair(list, box, x, y, [=](std::size_t k, std::size_t i, std::size_t j, Vec2 r, bool touching) {
-        touching_out[k] = static_cast<std::uint8_t>(touching);
-        const double affine = rate * r.y * static_cast<double>(touching);
-        bx[i] -= affine;
-        bx[j] += affine;
-    });
     if (!solver_) solver_ = linalg::make_contact_solver(backend_, n, delta_, petsc_options_);
     last_ = solver_->solve(pairs_, in_contact_, pairs_version_, tag, bx_, by_, ux, uy);
 }
@@ -47,6 +61,7 @@ double Cd0::candidate_skin(const ReplicaParams& params) { return params.skin / 3
 
 void Cd0::prepare(System& sys, ForceField& forces, double rate) {
     Particles& p = sys.particles;
+    forces.record_contacts();  // from the next evaluation on (this one may not have)
     solve(forces, sys.box, p.x, p.y, p.tag, p.fx, p.fy, rate, p.ux, p.uy);
 }
 

@@ -35,9 +35,17 @@ ForceResult compute_pair_forces(const potential::SoftSphere& pot, const Neighbor
                                 const Box& box, std::span<const double> x,
                                 std::span<const double> y,
                                 std::span<double> fx, std::span<double> fy,
-                                PairScratch& scratch, Tally tally) {
+                                PairScratch& scratch, Tally tally, ContactRecord record) {
+    const bool recording = record.touching != nullptr && record.sum_ry != nullptr;
     return std::visit(
         [&](const auto& eval) {
+            using E = std::decay_t<decltype(eval)>;
+            if (recording)
+                return tally == Tally::Full
+                           ? accumulate_pair_forces<Tally::Full, E, false, true>(
+                                 eval, list, box, x, y, fx, fy, scratch, nullptr, nullptr, record)
+                           : accumulate_pair_forces<Tally::ForcesOnly, E, false, true>(
+                                 eval, list, box, x, y, fx, fy, scratch, nullptr, nullptr, record);
             return tally == Tally::Full
                        ? accumulate_pair_forces<Tally::Full>(eval, list, box, x, y, fx,
                                                             fy, scratch)

@@ -17,6 +17,7 @@ bool SubList::update(const NeighborList& parent, const Box& box, std::span<const
     const auto sx = parent.shift_x(), sy = parent.shift_y(), contact = parent.contact();
     owner_.clear();
     neighbor_.clear();
+    parent_entry_.clear();
     shift_x_.clear();
     shift_y_.clear();
     contact_.clear();
@@ -30,6 +31,7 @@ bool SubList::update(const NeighborList& parent, const Box& box, std::span<const
         if (r.x * r.x + r.y * r.y >= reach * reach) continue;
         owner_.push_back(owner[k]);
         neighbor_.push_back(neighbor[k]);
+        parent_entry_.push_back(static_cast<std::uint32_t>(k));
         shift_x_.push_back(sx[k]);
         shift_y_.push_back(sy[k]);
         contact_.push_back(contact[k]);

@@ -102,6 +102,33 @@ TEST(Cd0, ContactSolveMatchesDenseEigen) {
         }
 }
 
+// CD0 takes its contacts and affine drag from the force loop's record of the same
+// evaluation (ForceField::recorded_contacts) and walks its candidate pairs itself only when
+// there is none (its first solve, before it asked for records): both ways give the same
+// velocities, bitwise, on every backend.
+TEST(Cd0, RecordedContactsGiveTheBitsOfThePairWalk) {
+    for (const auto& [solver, options] : kBackends)
+        for (double gamma : {-0.45, 0.3}) {
+            System sys = random_configuration(300, 0.85, gamma, 31);
+            ForceField ff(potential::make_soft_sphere(2.0), 0.3);
+            ReplicaParams params{.integrator = "euler", .kd = 1.0, .delta = 1e-3};
+            params.solver = solver;
+            params.petsc_options = options;
+            ff.compute(sys);
+            Cd0 walked(params);
+            ASSERT_FALSE(ff.recorded_contacts(sys.box, sys.particles.x, sys.particles.y));
+            walked.prepare(sys, ff, 1e-2);  // no record: the candidates are walked
+            const std::vector<double> ux(sys.particles.ux.begin(), sys.particles.ux.end());
+            const std::vector<double> uy(sys.particles.uy.begin(), sys.particles.uy.end());
+            ff.compute(sys);  // the same state, now recorded (prepare asked for it)
+            ASSERT_TRUE(ff.recorded_contacts(sys.box, sys.particles.x, sys.particles.y));
+            Cd0 recorded(params);
+            recorded.prepare(sys, ff, 1e-2);
+            EXPECT_EQ(std::vector<double>(sys.particles.ux.begin(), sys.particles.ux.end()), ux) << solver << options;
+            EXPECT_EQ(std::vector<double>(sys.particles.uy.begin(), sys.particles.uy.end()), uy) << solver << options;
+        }
+}
+
 TEST(Cd0, StaleFactorSolvesMeetTheTolerance) {
     // Both backends keep their factorisation while contacts form and break: PETSc reaches
     // the tolerance with CG preconditioned by the stale factor, Eigen updates the factor by

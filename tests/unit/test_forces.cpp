@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <vector>
 
 #include "jamsim/force/force_field.hpp"
 #include "support/configurations.hpp"
@@ -142,4 +144,60 @@ TEST(PairForces, WrappedTwinIsIdentical) {
     EXPECT_NEAR(fa.energy, fb.energy, 1e-12);
     EXPECT_NEAR(fa.pressure(a.box), fb.pressure(b.box), 1e-13);
     EXPECT_NEAR(fa.shear_stress(a.box), fb.shear_stress(b.box), 1e-13);
+}
+
+// The force loop's contact record (ContactRecord, which CD0 reads instead of walking the
+// pairs again) against a walk of the same list with for_each_pair: the same flags and the
+// same sums, bitwise, at strains with pairs across the sheared boundary; the forces are those
+// of an evaluation that records nothing; and a record is offered only for the positions and
+// strain it was made at.
+TEST(PairForces, ContactRecordEqualsPairWalk) {
+    for (double gamma : {-0.45, 0.0, 0.3})
+        for (Tally tally : {Tally::Full, Tally::ForcesOnly}) {
+            System sys = random_configuration(400, 0.86, gamma, 23);
+            System plain = sys;
+            ForceField ff(potential::make_soft_sphere(2.0), 0.3);
+            ff.compute(sys, tally);
+            EXPECT_FALSE(ff.recorded_contacts(sys.box, sys.particles.x, sys.particles.y))
+                << "a record before recording was asked for";
+            ff.record_contacts();
+            ff.compute(sys, tally);
+            const Particles& p = sys.particles;
+            const auto record = ff.recorded_contacts(sys.box, p.x, p.y);
+            ASSERT_TRUE(record);
+            ASSERT_EQ(record->touching.size(), ff.list().size());
+            ASSERT_EQ(record->sum_ry.size(), p.size());
+            std::vector<std::uint8_t> touching(ff.list().size());
+            std::vector<double> sum_ry(p.size(), 0.0);
+            std::size_t contacts = 0, crossing = 0;
+            for_each_pair(ff.list(), sys.box, p.x, p.y,
+                          [&](std::size_t k, std::size_t i, std::size_t j, Vec2 r, bool touches) {
+                              touching[k] = touches;
+                              sum_ry[i] += r.y * static_cast<double>(touches);
+                              sum_ry[j] -= r.y * static_cast<double>(touches);
+                              contacts += touches;
+                              crossing += touches && ff.list().shift_y()[k] != 0.0;
+                          });
+            ASSERT_GT(contacts, p.size());
+            ASSERT_GT(crossing, 0u) << "no contact across the sheared boundary";
+            for (std::size_t k = 0; k < touching.size(); ++k) ASSERT_EQ(record->touching[k], touching[k]) << k;
+            for (std::size_t i = 0; i < p.size(); ++i)
+                ASSERT_EQ(std::memcmp(&record->sum_ry[i], &sum_ry[i], sizeof(double)), 0)
+                    << "disk " << i << ": " << record->sum_ry[i] << " against " << sum_ry[i];
+            // Recording leaves the forces' bits alone.
+            ForceField quiet(potential::make_soft_sphere(2.0), 0.3);
+            quiet.compute(plain, tally);
+            ASSERT_EQ(plain.particles.tag, p.tag);
+            EXPECT_EQ(plain.particles.fx, p.fx);
+            EXPECT_EQ(plain.particles.fy, p.fy);
+            // Other positions, another strain, or a minimiser's evaluation: no record.
+            std::vector<double> x_copy(p.x.begin(), p.x.end());
+            EXPECT_FALSE(ff.recorded_contacts(sys.box, x_copy, p.y));
+            Box sheared = sys.box;
+            sheared.set_strain_unwrapped(gamma + 1e-6);
+            EXPECT_FALSE(ff.recorded_contacts(sheared, p.x, p.y));
+            std::vector<double> zero(p.size(), 0.0), fx(p.size()), fy(p.size());
+            ff.compute_split(sys.box, p.x, p.y, p.x, p.y, zero, zero, p.diameter, fx, fy, tally);
+            EXPECT_FALSE(ff.recorded_contacts(sys.box, p.x, p.y));
+        }
 }

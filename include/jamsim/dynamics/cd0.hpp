@@ -65,7 +65,7 @@ class Cd0 final : public Model {
     std::vector<std::uint8_t> in_contact_;
     std::size_t pairs_version_ = static_cast<std::size_t>(-1);
     OverdampedScratch scratch_;
-    std::vector<double> bx_, by_, fx1_, fy1_, ux1_, uy1_;
+    std::vector<double> bx_, by_, fx1_, fy1_, ux1_, uy1_, sum_ry_;
 };
 
 /// Registration (src/run/model_registry.cpp).

@@ -1,5 +1,8 @@
 #pragma once
+#include <cstdint>
+#include <optional>
 #include <span>
+#include <vector>
 
 #include "jamsim/core/system.hpp"
 #include "jamsim/force/pair_forces.hpp"
@@ -38,16 +41,45 @@ class ForceField {
                               double displacement_bound = -1.0);
 
     /// Forget the list (after a Lees–Edwards wrap remapped the positions).
-    void invalidate() { list_.invalidate(); }
+    void invalidate() {
+        list_.invalidate();
+        recorded_ = false;
+    }
+
+    /// From the next evaluation on, compute() and compute_at() also record which list
+    /// entries touch and each disk's Σ r_y over its contacts (ContactRecord): CD0 reads them
+    /// instead of walking the pairs again.
+    void record_contacts() { recording_ = true; }
+
+    /// The contacts recorded by the last evaluation, when it recorded them and was at these
+    /// very positions (the same arrays, at the box's current strain); else null.
+    /// touching: shape [list().size()], sum_ry: shape [N].
+    struct RecordedContacts {
+        std::span<const std::uint8_t> touching;
+        std::span<const double> sum_ry;
+    };
+    std::optional<RecordedContacts> recorded_contacts(const Box& box, std::span<const double> x,
+                                                      std::span<const double> y) const;
 
     const NeighborList& list() const { return list_; }
     std::size_t builds() const { return list_.builds(); }
     const potential::SoftSphere& potential() const { return pot_; }
 
   private:
+    /// The record's storage for an evaluation at (x, y), or {} when not recording.
+    ContactRecord start_record(const Box& box, std::span<const double> x, std::span<const double> y);
+
     potential::SoftSphere pot_;
     NeighborList list_;
     PairScratch scratch_;
+    bool recording_ = false;
+    bool recorded_ = false;  // the last evaluation recorded, at the positions below
+    const double* recorded_x_ = nullptr;
+    const double* recorded_y_ = nullptr;
+    double recorded_strain_ = 0.0;
+    std::size_t recorded_builds_ = 0;  // the list's build the record indexes
+    std::vector<std::uint8_t> touching_;
+    std::vector<double> sum_ry_;
 };
 
 /// Move sheared positions with a lab-frame non-affine velocity field (v_x, v_y) at strain γ

@@ -69,6 +69,16 @@ void evaluate_block(const potential::Harmonic& eval, const double* r2, const dou
 void evaluate_block(const potential::Hertzian& eval, const double* r2, const double* contact,
                     double* f_over_r, double* energy, std::size_t m);
 
+/// What the force loop may record of the contacts it meets, for a model that needs them in
+/// the same step (CD0's contact matrix and its affine drag), so that it need not walk the
+/// pairs again: `touching[k]` = 1 when list entry k touches (r_ij < d_ij), else 0 (shape
+/// [list size]), and `sum_ry[i]` = Σ_{j touching i} r_ij,y, the lab y separations r_i − r_j
+/// of disk i's contacts in list order (shape [N], d_s).
+struct ContactRecord {
+    std::uint8_t* touching = nullptr;
+    double* sum_ry = nullptr;
+};
+
 /// The one neighbour loop: forces (written into fx, fy), energy, virial and contact count
 /// for positions (x, y) at the box's current strain, with pair evaluator `eval`.
 /// The list must be valid for these positions (NeighborList::needs_rebuild is false).
@@ -83,15 +93,20 @@ void evaluate_block(const potential::Hertzian& eval, const double* r2, const dou
 /// as (x_i − x_j + shift) + (ox_i − ox_j): a minimiser keeps x fixed (the base) and moves the
 /// small offsets, so every disk gets the same absolute positional resolution, ~ε |offset|,
 /// instead of ~ε |x| growing across the cell (thesis §4.7).
-template <Tally kTally, class Evaluator, bool kOffsets = false>
+///
+/// With kRecord the loop also fills `record` (ContactRecord), with no branch on the contact
+/// test: a non-touching pair adds r_y · 0 to the sums, which leaves them unchanged.
+template <Tally kTally, class Evaluator, bool kOffsets = false, bool kRecord = false>
 ForceResult accumulate_pair_forces(const Evaluator& eval, const NeighborList& list,
                                    const Box& box, std::span<const double> x,
                                    std::span<const double> y,
                                    std::span<double> fx, std::span<double> fy,
                                    PairScratch& scratch, const double* ox = nullptr,
-                                   const double* oy = nullptr) {
+                                   const double* oy = nullptr, ContactRecord record = {}) {
     const std::size_t n = x.size();
     for (std::size_t i = 0; i < n; ++i) fx[i] = fy[i] = 0.0;
+    if constexpr (kRecord)
+        for (std::size_t i = 0; i < n; ++i) record.sum_ry[i] = 0.0;
     const std::int32_t* owner = list.owner().data();
     const std::int32_t* neighbor = list.neighbor().data();
     const double* shift_x = list.shift_x().data();
@@ -132,6 +147,13 @@ ForceResult accumulate_pair_forces(const Evaluator& eval, const NeighborList& li
             fy[i] += py;
             fx[j] -= px;
             fy[j] -= py;
+            if constexpr (kRecord) {
+                const bool touching = r2[k] < dc[k] * dc[k];
+                record.touching[k0 + k] = static_cast<std::uint8_t>(touching);
+                const double ry_touching = ry[k] * static_cast<double>(touching);
+                record.sum_ry[i] += ry_touching;
+                record.sum_ry[j] -= ry_touching;
+            }
             if constexpr (kTally == Tally::Full) {
                 energy += en[k];
                 vxx += rx[k] * px;
@@ -188,12 +210,14 @@ void for_each_contact(const NeighborList& list, const Box& box, std::span<const 
 std::vector<Contact> find_contacts(const NeighborList& list, const Box& box,
                                    std::span<const double> x, std::span<const double> y);
 
-/// Run-time dispatch over the registered evaluators (one instantiation each).
+/// Run-time dispatch over the registered evaluators (one instantiation each). With a
+/// `record` (both pointers set) the contacts are recorded too (ContactRecord).
 ForceResult compute_pair_forces(const potential::SoftSphere& pot, const NeighborList& list,
                                 const Box& box, std::span<const double> x,
                                 std::span<const double> y,
                                 std::span<double> fx, std::span<double> fy,
-                                PairScratch& scratch, Tally tally = Tally::Full);
+                                PairScratch& scratch, Tally tally = Tally::Full,
+                                ContactRecord record = {});
 
 /// The same with positions split as base (x, y) + offset (ox, oy); see accumulate_pair_forces.
 ForceResult compute_pair_forces_split(const potential::SoftSphere& pot, const NeighborList& list,

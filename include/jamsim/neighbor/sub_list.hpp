@@ -37,6 +37,11 @@ class SubList {
     std::span<const double> contact() const { return contact_; }
     std::span<const double> shift_x() const { return shift_x_; }
     std::span<const double> shift_y() const { return shift_y_; }
+    /// Entry k's position in the parent list (at the parent build this list was filtered
+    /// from): what the parent's per-entry results (ForceField::recorded_contacts) say of it.
+    std::span<const std::uint32_t> parent_entry() const { return parent_entry_; }
+    /// The parent build this list was filtered from (NeighborList::builds()).
+    std::size_t parent_builds() const { return parent_builds_; }
 
   private:
     double skin_;
@@ -44,6 +49,7 @@ class SubList {
     std::size_t parent_builds_ = static_cast<std::size_t>(-1);
     double max_contact_ = 0.0;
     std::vector<std::int32_t> owner_, neighbor_;
+    std::vector<std::uint32_t> parent_entry_;
     std::vector<double> shift_x_, shift_y_, contact_;
     std::vector<double> x_ref_, y_ref_;
     double strain_ref_ = 0.0;
