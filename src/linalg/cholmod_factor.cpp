@@ -72,6 +72,7 @@ struct CholmodUpdatedFactor::Impl {
     std::vector<std::uint64_t> on_path;
     static constexpr std::uint64_t kVisited = std::uint64_t{1} << 63;
     std::vector<int> path_union;
+    std::vector<std::uint64_t> union_bits;  // sweep: the union as a bitmap of columns (zero between sweeps)
     bool sweep_failed = false;
     Counts counts;
     bool timing = false;  // a ScopeTimer is counting
@@ -121,6 +122,7 @@ struct CholmodUpdatedFactor::Impl {
         const auto un = static_cast<std::size_t>(n);
         if (on_path.size() != un) {
             on_path.assign(un, 0);
+            union_bits.assign((un + 63) / 64, 0);
             slot_of.assign(un, 0);
             slot_rows.resize(un);
         }
@@ -129,19 +131,25 @@ struct CholmodUpdatedFactor::Impl {
         double alpha[kSweepRank];
         for (std::size_t start = 0; start < rows.size(); start += kSweepRank) {
             const int rank = static_cast<int>(std::min<std::size_t>(kSweepRank, rows.size() - start));
-            path_union.clear();
+            int lowest = n;
             for (int t = 0; t < rank; ++t) {
                 const int a = rows[start + static_cast<std::size_t>(t)].first;
                 alpha[t] = start + static_cast<std::size_t>(t) < n_up ? 1.0 : -1.0;
                 // The path from a to the root, as far as an earlier change's path (whose
                 // columns pass their changes on to their parents while they are processed).
                 on_path[static_cast<std::size_t>(a)] |= std::uint64_t{1} << t;
+                lowest = std::min(lowest, a);
                 for (int j = a; j >= 0 && !(on_path[static_cast<std::size_t>(j)] & kVisited); j = parent(j)) {
                     on_path[static_cast<std::size_t>(j)] |= kVisited;
-                    path_union.push_back(j);
+                    union_bits[static_cast<std::size_t>(j) / 64] |= std::uint64_t{1} << (j % 64);
                 }
             }
-            std::sort(path_union.begin(), path_union.end());
+            // The union in ascending order from its bitmap: paths run upwards (a column's parent
+            // comes after it), so the words from the lowest start to the end.
+            path_union.clear();
+            for (std::size_t word = static_cast<std::size_t>(lowest) / 64; word < union_bits.size(); ++word)
+                for (std::uint64_t bits = std::exchange(union_bits[word], 0); bits; bits &= bits - 1)
+                    path_union.push_back(static_cast<int>(64 * word) + __builtin_ctzll(bits));
             // The workspace holds only the rows of the union (every row a change reaches is
             // on its path), in the union's order (slot_of): small enough for the cache, and
             // consecutive rows keep consecutive slots.
