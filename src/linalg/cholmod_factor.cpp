@@ -574,9 +574,13 @@ void CholmodUpdatedFactor::solve(const double* b, double* x) {
         for (; p > begin + 1; --p) s0 += Lx[p - 1] * load(y + 2 * Li[p - 1]);
         store(y + 2 * j, load(y + 2 * j) / Lx[begin] - ((s0 + s1) + (s2 + s3)));
     }
-    for (int k = 0; k < n; ++k) {
-        x[perm[k]] = y[2 * k];
-        x[n + perm[k]] = y[2 * k + 1];
+    // Out through pinv (row of each disk): sequential stores and one (x, y) load per disk,
+    // where storing through perm wrote two scattered lines per row.
+    const int* pinv = m.pinv.data();
+    for (int i = 0; i < n; ++i) {
+        const Pair xi = load(y + 2 * pinv[i]);
+        x[i] = xi[0];
+        x[n + i] = xi[1];
     }
 }
 
