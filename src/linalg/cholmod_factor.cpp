@@ -113,9 +113,8 @@ struct CholmodUpdatedFactor::Impl {
     /// separators at the top of the tree, where every path ends and most of the work is) runs
     /// as contiguous loops the compiler vectorises. Two columns of a supernode (the second's
     /// rows are the first's after its first) take their changes together, row by row, so
-    /// that each workspace entry is loaded and stored once for both (a fifth less time per
-    /// sweep at N = 16384 and 65536 than column after column, the same bits; four columns
-    /// together were slower). Sets sweep_failed when a downdate meets a pivot that is not
+    /// that each workspace entry is loaded and stored once for both (the same bits as
+    /// column after column). Sets sweep_failed when a downdate meets a pivot that is not
     /// positive (the caller refactors).
     static constexpr int kSweepRank = 63;
     void sweep(std::span<const std::pair<int, int>> rows, std::size_t n_up) {
@@ -168,9 +167,30 @@ struct CholmodUpdatedFactor::Impl {
             }
             for (std::size_t slot = 0; slot < slots; ++slot) {
                 const int j = path_union[slot];
-                const int count = pivots(j, slot, slots, alpha, step_p, step_beta, step_w);
-                const int len = Lnz[j] - 1;  // entries below the diagonal
+                const std::uint64_t here = on_path[static_cast<std::size_t>(j)] & ~kVisited;
+                on_path[static_cast<std::size_t>(j)] = 0;
+                if (const int up = parent(j); up >= 0) on_path[static_cast<std::size_t>(up)] |= here;
+                // The pivot's recurrence, change after change; then each entry of the column
+                // takes every change in turn (its arithmetic is that of one change at a time).
                 const int begin = Lp[j];
+                int count = 0;
+                for (std::uint64_t active = here; active; active &= active - 1) {
+                    const int t = __builtin_ctzll(active);
+                    double* wt = w.data() + static_cast<std::size_t>(t) * slots;
+                    const double p = wt[slot];
+                    if (p == 0.0) continue;
+                    const double d = Lx[begin];
+                    const double dbar = d + alpha[t] * p * p;
+                    if (!(dbar > 0.0)) sweep_failed = true;
+                    const double inv = 1.0 / dbar;
+                    step_p[count] = p;
+                    step_beta[count] = p * alpha[t] * inv;
+                    step_w[count] = wt;
+                    ++count;
+                    alpha[t] *= d * inv;
+                    Lx[begin] = dbar;
+                }
+                const int len = Lnz[j] - 1;  // entries below the diagonal
                 double* l = Lx + begin + 1;
                 // Column j + 1 nests in column j (a supernode: its rows are j's after the
                 // first) and is next in the union: after j's first entry (row j + 1, which
@@ -178,11 +198,10 @@ struct CholmodUpdatedFactor::Impl {
                 // workspace entry loaded and stored once for both. Every entry gets the same
                 // operations in the same order as column after column, so the same bits.
                 if (nests_next[static_cast<std::size_t>(j)] && slot + 1 < slots && path_union[slot + 1] == j + 1) {
-                    if (count > 0) apply_entry(l[0], static_cast<int>(slot) + 1, count, step_p, step_beta, step_w);
-                    const int count2 = pivots(j + 1, slot + 1, slots, alpha, step_p2, step_beta2, step_w2);
+                    if (count > 0) apply_entry(l[0], static_cast<int>(slot) + 1, count);
+                    const int count2 = second_pivots(j + 1, slot + 1, slots, alpha);
                     ++slot;
                     const int len2 = len - 1;
-                    if (len2 == 0) continue;
                     const int* rows_j = Li + begin + 2;
                     int* slots_j = slot_rows.data();
                     for (int e = 0; e < len2; ++e) slots_j[e] = slot_of[static_cast<std::size_t>(rows_j[e])];
@@ -193,13 +212,19 @@ struct CholmodUpdatedFactor::Impl {
                         else apply_scattered2(l + 1, l2, slots_j, len2, count);
                         continue;
                     }
-                    if (count > 0) {
-                        if (consecutive) apply_consecutive(l + 1, slots_j[0], len2, count, step_p, step_beta, step_w);
-                        else apply_scattered(l + 1, slots_j, len2, count, step_p, step_beta, step_w);
-                    }
-                    if (count2 > 0) {
-                        if (consecutive) apply_consecutive(l2, slots_j[0], len2, count2, step_p2, step_beta2, step_w2);
-                        else apply_scattered(l2, slots_j, len2, count2, step_p2, step_beta2, step_w2);
+                    // Different changes in the two columns (another child's reach j + 1):
+                    // column after column.
+                    for (int which = 0; which < 2; ++which) {
+                        if (which == 1) {
+                            std::copy(step_p2, step_p2 + count2, step_p);
+                            std::copy(step_beta2, step_beta2 + count2, step_beta);
+                            std::copy(step_w2, step_w2 + count2, step_w);
+                        }
+                        const int cnt = which == 0 ? count : count2;
+                        double* col = which == 0 ? l + 1 : l2;
+                        if (cnt == 0) continue;
+                        if (consecutive) apply_consecutive(col, slots_j[0], len2, cnt);
+                        else apply_scattered(col, slots_j, len2, cnt);
                     }
                     continue;
                 }
@@ -207,17 +232,15 @@ struct CholmodUpdatedFactor::Impl {
                 const int* rows_j = Li + begin + 1;
                 int* slots_j = slot_rows.data();
                 for (int e = 0; e < len; ++e) slots_j[e] = slot_of[static_cast<std::size_t>(rows_j[e])];
-                if (slots_j[len - 1] - slots_j[0] == len - 1) apply_consecutive(l, slots_j[0], len, count, step_p, step_beta, step_w);
-                else apply_scattered(l, slots_j, len, count, step_p, step_beta, step_w);
+                if (slots_j[len - 1] - slots_j[0] == len - 1) apply_consecutive(l, slots_j[0], len, count);
+                else apply_scattered(l, slots_j, len, count);
             }
         }
     }
 
-    /// Column j's pivot (at workspace place `slot`) through its changes in turn, the changes
-    /// passed on to its parent, and the changes' coefficients for its entries (returns how
-    /// many: changes whose w is exactly zero here skip the column).
-    int pivots(int j, std::size_t slot, std::size_t slots, double* alpha, double* ps, double* betas,
-               double** ws) {
+    /// The pivots of column j (workspace place `slot`), the second of a pair in `sweep`, as
+    /// there: its changes' coefficients into step_p2, step_beta2, step_w2 (returns how many).
+    int second_pivots(int j, std::size_t slot, std::size_t slots, double* alpha) {
         auto* Lx = static_cast<double*>(L->x);
         const int begin = static_cast<const int*>(L->p)[j];
         const std::uint64_t here = on_path[static_cast<std::size_t>(j)] & ~kVisited;
@@ -233,9 +256,9 @@ struct CholmodUpdatedFactor::Impl {
             const double dbar = d + alpha[t] * p * p;
             if (!(dbar > 0.0)) sweep_failed = true;
             const double inv = 1.0 / dbar;
-            ps[count] = p;
-            betas[count] = p * alpha[t] * inv;
-            ws[count] = wt;
+            step_p2[count] = p;
+            step_beta2[count] = p * alpha[t] * inv;
+            step_w2[count] = wt;
             ++count;
             alpha[t] *= d * inv;
             Lx[begin] = dbar;
@@ -264,41 +287,38 @@ struct CholmodUpdatedFactor::Impl {
     std::vector<int> slot_of;    // sweep: a row's place in the workspace
     std::vector<int> slot_rows;  // sweep: a column's rows as places in the workspace
 
-    // The changes of one column (ps, betas, ws: coefficients and workspace columns, in
-    // order) applied to its entries l[0, len), whose rows are given as places in the workspace
-    // (`row0` for consecutive ones, `rows` otherwise), kBlock entries at a time (independent
-    // chains the processor overlaps): for each change in order, w_r ← w_r − p l_r, then
-    // l_r ← l_r + β w_r. The "2" variants do the same for two columns over the same rows,
-    // the first column's change before the second's on each w_r (the order of column after
-    // column). The second column's coefficients are in step_p2, step_beta2.
+    // The changes of one column (step_p, step_beta, step_w) applied to its entries l[0, len),
+    // whose rows are given as places in the workspace (`row0` for consecutive ones, `rows`
+    // otherwise), kBlock entries at a time (independent chains the processor overlaps): for
+    // each change in order, w_r ← w_r − p l_r, then l_r ← l_r + β w_r.
     static constexpr int kBlock = 8;
-    double step_p[kSweepRank], step_beta[kSweepRank], step_p2[kSweepRank], step_beta2[kSweepRank];
+    double step_p[kSweepRank], step_beta[kSweepRank];
     double* step_w[kSweepRank];
+    // The second column of a pair (see `sweep`): its changes' coefficients.
+    double step_p2[kSweepRank], step_beta2[kSweepRank];
     double* step_w2[kSweepRank];
 
     /// One entry (in workspace row `row`) alone.
-    static void apply_entry(double& entry, int row, int count, const double* ps, const double* betas,
-                            double* const* ws) {
+    void apply_entry(double& entry, int row, int count) const {
         double v = entry;
         for (int s = 0; s < count; ++s) {
-            double& wr = ws[s][row];
-            const double wk = wr - ps[s] * v;
+            double& wr = step_w[s][row];
+            const double wk = wr - step_p[s] * v;
             wr = wk;
-            v += betas[s] * wk;
+            v += step_beta[s] * wk;
         }
         entry = v;
     }
 
-    static void apply_consecutive(double* l, int row0, int len, int count, const double* ps,
-                                  const double* betas, double* const* ws) {
+    void apply_consecutive(double* l, int row0, int len, int count) const {
         constexpr int kPairs = 8;  // 16 entries at a time
         int k = 0;
         for (; k + 2 * kPairs <= len; k += 2 * kPairs) {
             Pair v[kPairs];
             for (int u = 0; u < kPairs; ++u) v[u] = load(l + k + 2 * u);
             for (int s = 0; s < count; ++s) {
-                double* wr = ws[s] + row0 + k;
-                const double p = ps[s], beta = betas[s];
+                double* wr = step_w[s] + row0 + k;
+                const double p = step_p[s], beta = step_beta[s];
                 for (int u = 0; u < kPairs; ++u) {
                     const Pair wk = load(wr + 2 * u) - p * v[u];
                     store(wr + 2 * u, wk);
@@ -307,11 +327,10 @@ struct CholmodUpdatedFactor::Impl {
             }
             for (int u = 0; u < kPairs; ++u) store(l + k + 2 * u, v[u]);
         }
-        for (; k < len; ++k) apply_entry(l[k], row0 + k, count, ps, betas, ws);
+        for (; k < len; ++k) apply_entry(l[k], row0 + k, count);
     }
 
-    static void apply_scattered(double* l, const int* rows, int len, int count, const double* ps,
-                                const double* betas, double* const* ws) {
+    void apply_scattered(double* l, const int* rows, int len, int count) const {
         int k = 0;
         for (; k + kBlock <= len; k += kBlock) {
             double v[kBlock];
@@ -321,8 +340,8 @@ struct CholmodUpdatedFactor::Impl {
                 r[u] = rows[k + u];
             }
             for (int s = 0; s < count; ++s) {
-                double* wt = ws[s];
-                const double p = ps[s], beta = betas[s];
+                double* wt = step_w[s];
+                const double p = step_p[s], beta = step_beta[s];
                 for (int u = 0; u < kBlock; ++u) {
                     const double wk = wt[r[u]] - p * v[u];
                     wt[r[u]] = wk;
@@ -331,9 +350,12 @@ struct CholmodUpdatedFactor::Impl {
             }
             for (int u = 0; u < kBlock; ++u) l[k + u] = v[u];
         }
-        for (; k < len; ++k) apply_entry(l[k], rows[k], count, ps, betas, ws);
+        for (; k < len; ++k) apply_entry(l[k], rows[k], count);
     }
 
+    // Two columns of a pair over the same rows, each with its own coefficients (step_p,
+    // step_beta; step_p2, step_beta2) and the same changes (step_w): per workspace entry and
+    // change, the first column's step before the second's, as column after column.
     void apply_entry2(double& e1, double& e2, int row, int count) const {
         double v1 = e1, v2 = e2;
         for (int s = 0; s < count; ++s) {
