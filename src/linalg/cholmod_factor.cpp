@@ -167,29 +167,10 @@ struct CholmodUpdatedFactor::Impl {
             }
             for (std::size_t slot = 0; slot < slots; ++slot) {
                 const int j = path_union[slot];
-                const std::uint64_t here = on_path[static_cast<std::size_t>(j)] & ~kVisited;
-                on_path[static_cast<std::size_t>(j)] = 0;
-                if (const int up = parent(j); up >= 0) on_path[static_cast<std::size_t>(up)] |= here;
                 // The pivot's recurrence, change after change; then each entry of the column
                 // takes every change in turn (its arithmetic is that of one change at a time).
                 const int begin = Lp[j];
-                int count = 0;
-                for (std::uint64_t active = here; active; active &= active - 1) {
-                    const int t = __builtin_ctzll(active);
-                    double* wt = w.data() + static_cast<std::size_t>(t) * slots;
-                    const double p = wt[slot];
-                    if (p == 0.0) continue;
-                    const double d = Lx[begin];
-                    const double dbar = d + alpha[t] * p * p;
-                    if (!(dbar > 0.0)) sweep_failed = true;
-                    const double inv = 1.0 / dbar;
-                    step_p[count] = p;
-                    step_beta[count] = p * alpha[t] * inv;
-                    step_w[count] = wt;
-                    ++count;
-                    alpha[t] *= d * inv;
-                    Lx[begin] = dbar;
-                }
+                const int count = column_pivots<0>(j, slot, slots, alpha);
                 const int len = Lnz[j] - 1;  // entries below the diagonal
                 double* l = Lx + begin + 1;
                 // Column j + 1 nests in column j (a supernode: its rows are j's after the
@@ -199,7 +180,7 @@ struct CholmodUpdatedFactor::Impl {
                 // operations in the same order as column after column, so the same bits.
                 if (nests_next[static_cast<std::size_t>(j)] && slot + 1 < slots && path_union[slot + 1] == j + 1) {
                     if (count > 0) apply_entry(l[0], static_cast<int>(slot) + 1, count);
-                    const int count2 = second_pivots(j + 1, slot + 1, slots, alpha);
+                    const int count2 = column_pivots<1>(j + 1, slot + 1, slots, alpha);
                     ++slot;
                     const int len2 = len - 1;
                     const int* rows_j = Li + begin + 2;
@@ -238,9 +219,15 @@ struct CholmodUpdatedFactor::Impl {
         }
     }
 
-    /// The pivots of column j (workspace place `slot`), the second of a pair in `sweep`, as
-    /// there: its changes' coefficients into step_p2, step_beta2, step_w2 (returns how many).
-    int second_pivots(int j, std::size_t slot, std::size_t slots, double* alpha) {
+    /// Column j's pivot (at workspace place `slot`) through its changes in turn, the changes
+    /// passed on to its parent, and the coefficients of the changes (those whose w is not
+    /// exactly zero here) for its entries: into step_p, step_beta, step_w (Second = 0) or
+    /// step_p2, step_beta2, step_w2 (1, the second column of a pair). Returns how many.
+    template <int Second>
+    [[gnu::always_inline]] int column_pivots(int j, std::size_t slot, std::size_t slots, double* alpha) {
+        double* const ps = Second ? step_p2 : step_p;
+        double* const betas = Second ? step_beta2 : step_beta;
+        double** const ws = Second ? step_w2 : step_w;
         auto* Lx = static_cast<double*>(L->x);
         const int begin = static_cast<const int*>(L->p)[j];
         const std::uint64_t here = on_path[static_cast<std::size_t>(j)] & ~kVisited;
@@ -256,9 +243,9 @@ struct CholmodUpdatedFactor::Impl {
             const double dbar = d + alpha[t] * p * p;
             if (!(dbar > 0.0)) sweep_failed = true;
             const double inv = 1.0 / dbar;
-            step_p2[count] = p;
-            step_beta2[count] = p * alpha[t] * inv;
-            step_w2[count] = wt;
+            ps[count] = p;
+            betas[count] = p * alpha[t] * inv;
+            ws[count] = wt;
             ++count;
             alpha[t] *= d * inv;
             Lx[begin] = dbar;
