@@ -558,37 +558,47 @@ bool CholmodUpdatedFactor::adopt(std::span<const ContactPair> pairs,
         m.pinv[i] = row;
         perm[row] = static_cast<int>(i);
     }
-    // The factor's contacts in the new numbering, matched against the new candidate pairs.
-    auto key = [](int a, int b) {
-        return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | static_cast<std::uint32_t>(std::max(a, b));
-    };
-    std::vector<std::uint64_t> held;
+    // The factor's contacts in the new numbering, grouped by their lower disk (a disk has a
+    // few), then matched against the new candidate pairs.
     const std::span<const ContactPair> factor_contacts = contacts();
-    held.reserve(factor_contacts.size());
-    std::vector<ContactPair> renamed;
-    renamed.reserve(factor_contacts.size());
-    for (const ContactPair& c : factor_contacts) {
+    const std::size_t held = factor_contacts.size();
+    std::vector<ContactPair> renamed(held);
+    std::vector<int> first(n + 1, 0);  // held contacts of lower disk d: [first[d], first[d + 1])
+    for (std::size_t t = 0; t < held; ++t) {
+        const ContactPair& c = factor_contacts[t];
         const int a = new_index[static_cast<std::size_t>(m.labels[static_cast<std::size_t>(c.i)])];
         const int b = new_index[static_cast<std::size_t>(m.labels[static_cast<std::size_t>(c.j)])];
-        renamed.push_back({a, b});
-        held.push_back(key(a, b));
+        renamed[t] = {a, b};
+        ++first[static_cast<std::size_t>(std::min(a, b)) + 1];
     }
-    std::vector<std::uint64_t> sorted = held;
-    std::sort(sorted.begin(), sorted.end());
-    std::vector<std::uint8_t> found(sorted.size(), 0);
+    for (std::size_t d = 0; d < n; ++d) first[d + 1] += first[d];
+    std::vector<int> upper(held);        // the other disk of each grouped contact
+    std::vector<std::size_t> which(held);  // and its place in `renamed`
+    {
+        std::vector<int> next(first.begin(), first.end() - 1);
+        for (std::size_t t = 0; t < held; ++t) {
+            const auto [a, b] = renamed[t];
+            const auto at = static_cast<std::size_t>(next[static_cast<std::size_t>(std::min(a, b))]++);
+            upper[at] = std::max(a, b);
+            which[at] = t;
+        }
+    }
+    std::vector<std::uint8_t> found(held, 0);
     m.factored.assign(pairs.size(), 0);
     for (std::size_t k = 0; k < pairs.size(); ++k) {
-        const auto at = std::lower_bound(sorted.begin(), sorted.end(), key(pairs[k].i, pairs[k].j));
-        if (at == sorted.end() || *at != key(pairs[k].i, pairs[k].j)) continue;
-        m.factored[k] = 1;
-        found[static_cast<std::size_t>(at - sorted.begin())] = 1;
+        const auto lo = static_cast<std::size_t>(std::min(pairs[k].i, pairs[k].j));
+        const int hi = std::max(pairs[k].i, pairs[k].j);
+        for (int at = first[lo]; at < first[lo + 1]; ++at) {
+            if (upper[static_cast<std::size_t>(at)] != hi) continue;
+            m.factored[k] = 1;
+            found[which[static_cast<std::size_t>(at)]] = 1;
+            break;
+        }
     }
     // Contacts of the factor that are no candidates any more (they broke): downdated now.
     std::vector<std::size_t> gone;
-    for (std::size_t t = 0; t < renamed.size(); ++t) {
-        const auto at = std::lower_bound(sorted.begin(), sorted.end(), held[t]);
-        if (!found[static_cast<std::size_t>(at - sorted.begin())]) gone.push_back(t);
-    }
+    for (std::size_t t = 0; t < held; ++t)
+        if (!found[t]) gone.push_back(t);
     m.modify(false, renamed, gone);
     m.contacts.clear();
     for (std::size_t k = 0; k < pairs.size(); ++k)
