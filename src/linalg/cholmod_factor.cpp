@@ -182,6 +182,7 @@ struct CholmodUpdatedFactor::Impl {
                     if (count > 0) apply_entry(l[0], static_cast<int>(slot) + 1, count);
                     const int count2 = column_pivots<1>(j + 1, slot + 1, slots, alpha);
                     ++slot;
+                    if (count == 0 && count2 == 0) continue;
                     const int len2 = len - 1;
                     const int* rows_j = Li + begin + 2;
                     int* slots_j = slot_rows.data();
@@ -193,19 +194,15 @@ struct CholmodUpdatedFactor::Impl {
                         else apply_scattered2(l + 1, l2, slots_j, len2, count);
                         continue;
                     }
-                    // Different changes in the two columns (another child's reach j + 1):
-                    // column after column.
-                    for (int which = 0; which < 2; ++which) {
-                        if (which == 1) {
-                            std::copy(step_p2, step_p2 + count2, step_p);
-                            std::copy(step_beta2, step_beta2 + count2, step_beta);
-                            std::copy(step_w2, step_w2 + count2, step_w);
-                        }
-                        const int cnt = which == 0 ? count : count2;
-                        double* col = which == 0 ? l + 1 : l2;
-                        if (cnt == 0) continue;
-                        if (consecutive) apply_consecutive(col, slots_j[0], len2, cnt);
-                        else apply_scattered(col, slots_j, len2, cnt);
+                    // Different changes in the two columns (another child of j + 1 brings its
+                    // own): column after column, the second column's coefficients moved into
+                    // the first's arrays, which the single-column kernels read.
+                    if (count > 0) apply_column(l + 1, consecutive, slots_j, len2, count);
+                    if (count2 > 0) {
+                        std::copy(step_p2, step_p2 + count2, step_p);
+                        std::copy(step_beta2, step_beta2 + count2, step_beta);
+                        std::copy(step_w2, step_w2 + count2, step_w);
+                        apply_column(l2, consecutive, slots_j, len2, count2);
                     }
                     continue;
                 }
@@ -213,8 +210,7 @@ struct CholmodUpdatedFactor::Impl {
                 const int* rows_j = Li + begin + 1;
                 int* slots_j = slot_rows.data();
                 for (int e = 0; e < len; ++e) slots_j[e] = slot_of[static_cast<std::size_t>(rows_j[e])];
-                if (slots_j[len - 1] - slots_j[0] == len - 1) apply_consecutive(l, slots_j[0], len, count);
-                else apply_scattered(l, slots_j, len, count);
+                apply_column(l, slots_j[len - 1] - slots_j[0] == len - 1, slots_j, len, count);
             }
         }
     }
@@ -284,6 +280,13 @@ struct CholmodUpdatedFactor::Impl {
     // The second column of a pair (see `sweep`): its changes' coefficients.
     double step_p2[kSweepRank], step_beta2[kSweepRank];
     double* step_w2[kSweepRank];
+
+    /// A column's `count` changes (step_p, step_beta, step_w) on its entries l[0, len), whose
+    /// workspace rows are `rows` (consecutive: rows[0] onwards).
+    void apply_column(double* l, bool consecutive, const int* rows, int len, int count) const {
+        if (consecutive) apply_consecutive(l, rows[0], len, count);
+        else apply_scattered(l, rows, len, count);
+    }
 
     /// One entry (in workspace row `row`) alone.
     void apply_entry(double& entry, int row, int count) const {
