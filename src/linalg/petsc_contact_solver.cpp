@@ -329,19 +329,23 @@ SolveInfo PetscContactSolver::Impl::run(std::span<const ContactPair> pairs,
             m.refresh = false;
         }
     }
-    // Each right-hand side scaled to unit norm (a zero one stays zero).
-    double norm_x = 0, norm_y = 0;
-    for (std::size_t i = 0; i < nn; ++i) {
-        norm_x += b_x[i] * b_x[i];
-        norm_y += b_y[i] * b_y[i];
-    }
-    const double sx = norm_x > 0 ? 1 / std::sqrt(norm_x) : 1.0, sy = norm_y > 0 ? 1 / std::sqrt(norm_y) : 1.0;
     // The default PC after contact changes: one application of the updated factor, whose
     // true residual is checked here for each half in one pass (as the cholmod backend does);
     // only when it misses the tolerance does the KSP refine, from that solution.
     const bool check_here = m.shell && !m.factor_exact && m.norm_type != KSP_NORM_NONE;
     const bool shortcut = m.shell && (m.factor_exact || check_here) && m.norm_type != KSP_NORM_NONE;
-    {
+    // A KSP solves the system with each right-hand side scaled to unit norm, so that its
+    // joint convergence test bounds each half; one application of the factor (the shortcut)
+    // needs no scaling, and its result is then the cholmod backend's, bit for bit.
+    double sx = 1.0, sy = 1.0;
+    const auto scale_system = [&](bool with_guess) {
+        double norm_x = 0, norm_y = 0;
+        for (std::size_t i = 0; i < nn; ++i) {
+            norm_x += b_x[i] * b_x[i];
+            norm_y += b_y[i] * b_y[i];
+        }
+        sx = norm_x > 0 ? 1 / std::sqrt(norm_x) : 1.0;  // a zero half stays zero
+        sy = norm_y > 0 ? 1 / std::sqrt(norm_y) : 1.0;
         PetscScalar* pb = nullptr;
         check(VecGetArrayWrite(m.b, &pb), "VecGetArrayWrite");
         for (std::size_t i = 0; i < nn; ++i) {
@@ -349,8 +353,7 @@ SolveInfo PetscContactSolver::Impl::run(std::span<const ContactPair> pairs,
             pb[nn + i] = b_y[i] * sy;
         }
         check(VecRestoreArrayWrite(m.b, &pb), "VecRestoreArrayWrite");
-    }
-    if (!shortcut) {  // the guess, read by a KSP with a nonzero initial guess (PCApply overwrites x)
+        if (!with_guess) return;  // the guess, read by a KSP with a nonzero initial guess
         PetscScalar* px = nullptr;
         check(VecGetArrayWrite(m.x, &px), "VecGetArrayWrite");
         for (std::size_t i = 0; i < nn; ++i) {
@@ -358,6 +361,15 @@ SolveInfo PetscContactSolver::Impl::run(std::span<const ContactPair> pairs,
             px[nn + i] = u_y[i] * sy;
         }
         check(VecRestoreArrayWrite(m.x, &px), "VecRestoreArrayWrite");
+    };
+    if (shortcut) {
+        PetscScalar* pb = nullptr;
+        check(VecGetArrayWrite(m.b, &pb), "VecGetArrayWrite");
+        std::copy(b_x.begin(), b_x.end(), pb);
+        std::copy(b_y.begin(), b_y.end(), pb + nn);
+        check(VecRestoreArrayWrite(m.b, &pb), "VecRestoreArrayWrite");
+    } else {
+        scale_system(true);
     }
     PetscInt its = m.run_ksp(shortcut);
     if (check_here) {
@@ -372,7 +384,15 @@ SolveInfo PetscContactSolver::Impl::run(std::span<const ContactPair> pairs,
             check(VecRestoreArrayRead(m.x, &px), "VecRestoreArrayRead");
             check(VecRestoreArrayRead(m.b, &pb), "VecRestoreArrayRead");
         }
-        if (!within) {  // refinement by the KSP from the factor's solution
+        if (!within) {  // refinement by the KSP from the factor's solution, scaled
+            {
+                const PetscScalar* px = nullptr;
+                check(VecGetArrayRead(m.x, &px), "VecGetArrayRead");
+                std::copy(px, px + nn, u_x.begin());
+                std::copy(px + nn, px + 2 * nn, u_y.begin());
+                check(VecRestoreArrayRead(m.x, &px), "VecRestoreArrayRead");
+            }
+            scale_system(true);
             check(KSPSetInitialGuessNonzero(m.ksp, PETSC_TRUE), "KSPSetInitialGuessNonzero");
             const PetscInt more = m.run_ksp(false);
             check(KSPSetInitialGuessNonzero(m.ksp, PETSC_FALSE), "KSPSetInitialGuessNonzero");
@@ -380,6 +400,7 @@ SolveInfo PetscContactSolver::Impl::run(std::span<const ContactPair> pairs,
         }
     }
     if (its < 0 && m.shell && !info.refactored) {  // round-off of many updates: start afresh
+        if (shortcut && sx == 1.0 && sy == 1.0) scale_system(false);
         m.factor->factorize(pairs, in_contact);
         info.refactored = true;
         check(VecSet(m.x, 0.0), "VecSet");
@@ -399,9 +420,14 @@ SolveInfo PetscContactSolver::Impl::run(std::span<const ContactPair> pairs,
     info.iterations_x = info.iterations_y = static_cast<int>(its);
     const PetscScalar* px = nullptr;
     check(VecGetArrayRead(m.x, &px), "VecGetArrayRead");
-    for (std::size_t i = 0; i < nn; ++i) {
-        u_x[i] = px[i] / sx;
-        u_y[i] = px[nn + i] / sy;
+    if (sx == 1.0 && sy == 1.0) {  // unscaled (dividing by 1 would give the same bits)
+        std::copy(px, px + nn, u_x.begin());
+        std::copy(px + nn, px + 2 * nn, u_y.begin());
+    } else {
+        for (std::size_t i = 0; i < nn; ++i) {
+            u_x[i] = px[i] / sx;
+            u_y[i] = px[nn + i] / sy;
+        }
     }
     check(VecRestoreArrayRead(m.x, &px), "VecRestoreArrayRead");
     return info;
