@@ -338,7 +338,9 @@ SolveInfo PetscContactSolver::Impl::run(std::span<const ContactPair> pairs,
     // joint convergence test bounds each half; one application of the factor (the shortcut)
     // needs no scaling, and its result is then the cholmod backend's, bit for bit.
     double sx = 1.0, sy = 1.0;
+    bool scaled = false;
     const auto scale_system = [&](bool with_guess) {
+        scaled = true;
         double norm_x = 0, norm_y = 0;
         for (std::size_t i = 0; i < nn; ++i) {
             norm_x += b_x[i] * b_x[i];
@@ -399,8 +401,8 @@ SolveInfo PetscContactSolver::Impl::run(std::span<const ContactPair> pairs,
             its = more < 0 ? -1 : std::max<PetscInt>(2, more + 1);
         }
     }
+    // (A negative count comes from a KSP, so the system is scaled by now.)
     if (its < 0 && m.shell && !info.refactored) {  // round-off of many updates: start afresh
-        if (shortcut && sx == 1.0 && sy == 1.0) scale_system(false);
         m.factor->factorize(pairs, in_contact);
         info.refactored = true;
         check(VecSet(m.x, 0.0), "VecSet");
@@ -420,7 +422,7 @@ SolveInfo PetscContactSolver::Impl::run(std::span<const ContactPair> pairs,
     info.iterations_x = info.iterations_y = static_cast<int>(its);
     const PetscScalar* px = nullptr;
     check(VecGetArrayRead(m.x, &px), "VecGetArrayRead");
-    if (sx == 1.0 && sy == 1.0) {  // unscaled (dividing by 1 would give the same bits)
+    if (!scaled) {
         std::copy(px, px + nn, u_x.begin());
         std::copy(px + nn, px + 2 * nn, u_y.begin());
     } else {
