@@ -287,13 +287,13 @@ TEST(Cd0, PetscDefaultGivesTheCholmodBackendsBits) {
     EXPECT_GE(ffa.list().builds(), 3u);
 }
 
-// A tolerance near round-off, which one application of the updated factor sometimes misses
-// (4e-16 ‖b‖ at this size): the KSP refines
-// from the factor's solution (the system then scaled, each half to unit norm) and must
-// reach the tolerance for the current contacts, checked against the dense system.
+// A tolerance near round-off (4e-16 ‖b‖ at this size), which one application of the updated
+// factor misses in about one solve of ten here: the KSP refines from the factor's solution (the system then scaled,
+// each half to unit norm) and must reach the tolerance for the current contacts, checked
+// against the dense system.
 TEST(Cd0, RefinedSolvesMeetTheTolerance) {
-    const double rtol = 3e-16, rate = 1e-3, kd = 1.0, delta = 1e-3;
-    ASSERT_EQ(PetscOptionsSetValue(nullptr, "-cd0_ksp_rtol", "3e-16"), 0);
+    const double rtol = 4e-16, rate = 1e-3, kd = 1.0, delta = 1e-3;
+    ASSERT_EQ(PetscOptionsSetValue(nullptr, "-cd0_ksp_rtol", "4e-16"), 0);
     System sys = random_configuration(300, 0.84, 0.0, 23);
     ForceField ff(potential::make_soft_sphere(2.0), 0.3);
     ReplicaParams params{.integrator = "euler", .kd = kd, .delta = delta};
