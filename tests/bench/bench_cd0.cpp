@@ -4,7 +4,7 @@
 // γ̇ = 1e-4 to strain 0.2 (10⁴ steps, made once per (N, φ) and reused). Contacts change
 // per step at a rate that depends on the flow's history: right after the random start's
 // quench 2-3x more often than under shear, and in a state sheared by RD0 (this benchmark's
-// start before) still 1.3x (N = 16384) to 1.6x (65536) more often at φ = 0.80 after 200
+// start before) still 1.4x (N = 16384) to 1.7x (65536) more often at φ = 0.80 after 200
 // CD0 steps, relaxing to CD0's own rate over a strain of 0.1-0.2. Each
 // CD0 benchmark also times RD0
 // steps from the same configuration in the same process right before and after its own timed
