@@ -13,18 +13,13 @@ struct CholmodContactSolver::Impl {
     CholmodUpdatedFactor factor;
     double delta, rtol;
     std::size_t version = static_cast<std::size_t>(-1);
-    std::vector<double> b, u, rx, ry;  // n × 2 (x half, y half); residual scratch
+    std::vector<double> rx, ry;  // residual scratch
     Impl(std::size_t n, double d, CholmodUpdatedFactor::Ordering o, double r)
-        : factor(n, d, o), delta(d), rtol(r), b(2 * n), u(2 * n) {}
+        : factor(n, d, o), delta(d), rtol(r) {}
 
     void solve(std::span<const double> bx, std::span<const double> by, std::span<double> ux,
                std::span<double> uy) {
-        const std::size_t n = bx.size();
-        std::copy(bx.begin(), bx.end(), b.begin());
-        std::copy(by.begin(), by.end(), b.begin() + static_cast<std::ptrdiff_t>(n));
-        factor.solve(b.data(), u.data());
-        std::copy(u.begin(), u.begin() + static_cast<std::ptrdiff_t>(n), ux.begin());
-        std::copy(u.begin() + static_cast<std::ptrdiff_t>(n), u.end(), uy.begin());
+        factor.solve(bx.data(), by.data(), ux.data(), uy.data());
     }
     /// The backend's solve (CholmodContactSolver::solve adds the factor's timings).
     SolveInfo run(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,

@@ -680,6 +680,11 @@ int CholmodUpdatedFactor::follow(std::span<const ContactPair> pairs,
 }
 
 void CholmodUpdatedFactor::solve(const double* b, double* x) {
+    const auto n = static_cast<std::size_t>(impl_->n);
+    solve(b, b + n, x, x + n);
+}
+
+void CholmodUpdatedFactor::solve(const double* b_x, const double* b_y, double* u_x, double* u_y) {
     // x = Pᵀ L⁻ᵀ D⁻¹ L⁻¹ P b on both right-hand sides at once: row r of `y` holds (x, y) as
     // one SIMD pair, so each entry of L is read once per pass for both.
     Impl& m = *impl_;
@@ -693,8 +698,8 @@ void CholmodUpdatedFactor::solve(const double* b, double* x) {
     m.xy.resize(2 * static_cast<std::size_t>(n));
     double* y = m.xy.data();  // row r at y + 2 r
     for (int k = 0; k < n; ++k) {
-        y[2 * k] = b[perm[k]];
-        y[2 * k + 1] = b[n + perm[k]];
+        y[2 * k] = b_x[perm[k]];
+        y[2 * k + 1] = b_y[perm[k]];
     }
     for (int j = 0; j < n; ++j) {  // L z = P b, column by column
         const Pair yj = load(y + 2 * j);
@@ -732,8 +737,8 @@ void CholmodUpdatedFactor::solve(const double* b, double* x) {
     const int* pinv = m.pinv.data();
     for (int i = 0; i < n; ++i) {
         const Pair xi = load(y + 2 * pinv[i]);
-        x[i] = xi[0];
-        x[n + i] = xi[1];
+        u_x[i] = xi[0];
+        u_y[i] = xi[1];
     }
 }
 

@@ -50,7 +50,9 @@ class CholmodUpdatedFactor {
     void factorize(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact);
     /// Updates the factor to `in_contact`; returns the number of contacts formed or broken.
     int follow(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact);
-    /// x = A⁻¹ b for b, x of n × 2 (x half then y half); b and x may not overlap.
+    /// (u_x, u_y) = A⁻¹ (b_x, b_y), each of n; no input may overlap an output.
+    void solve(const double* b_x, const double* b_y, double* u_x, double* u_y);
+    /// x = A⁻¹ b for b, x of n × 2 (x half then y half).
     void solve(const double* b, double* x);
 
     bool has_factor() const;

@@ -208,23 +208,8 @@ struct PetscContactSolver::Impl {
     }
 
     /// One KSPSolve of the scaled system; returns its iterations, or −1 when it diverged.
-    /// `shortcut`: the factor is exact for this very matrix, so any KSP would return the
-    /// preconditioner's application after one iteration: the PC is applied alone (no norms,
-    /// no KSP set-up), the same bits as one Richardson step from a zero guess.
-    PetscInt run_ksp(bool shortcut) {
+    PetscInt run_ksp() {
         apply_error.clear();
-        if (shortcut) {
-            PC pc;
-            check(KSPGetPC(ksp, &pc), "KSPGetPC");
-            const PetscErrorCode rc = PCApply(pc, b, x);
-            if (rc != 0) {
-                std::string text = petsc::error_text(rc);
-                if (!apply_error.empty()) text += ": " + apply_error;
-                throw std::runtime_error("PETSc: PCApply failed: " + text);
-            }
-            last_reason = KSP_CONVERGED_ITS;
-            return 1;
-        }
         const PetscErrorCode rc = KSPSolve(ksp, b, x);
         if (rc != 0) {
             std::string text = petsc::error_text(rc);
@@ -364,49 +349,33 @@ SolveInfo PetscContactSolver::Impl::run(std::span<const ContactPair> pairs,
         }
         check(VecRestoreArrayWrite(m.x, &px), "VecRestoreArrayWrite");
     };
+    // The shortcut: the factor is exact for this very matrix (or its residual is checked
+    // next), so any KSP would return the PC's application after one iteration; the shell's
+    // factor is applied alone, on the caller's arrays (no norms, no KSP set-up, no copies
+    // into PETSc's Vecs): the same bits as one Richardson step from a zero guess.
+    PetscInt its = 1;
     if (shortcut) {
-        PetscScalar* pb = nullptr;
-        check(VecGetArrayWrite(m.b, &pb), "VecGetArrayWrite");
-        std::copy(b_x.begin(), b_x.end(), pb);
-        std::copy(b_y.begin(), b_y.end(), pb + nn);
-        check(VecRestoreArrayWrite(m.b, &pb), "VecRestoreArrayWrite");
+        m.factor->solve(b_x.data(), b_y.data(), u_x.data(), u_y.data());
+        m.last_reason = KSP_CONVERGED_ITS;
     } else {
         scale_system(true);
+        its = m.run_ksp();
     }
-    PetscInt its = m.run_ksp(shortcut);
-    if (check_here) {
-        bool within = false;
-        {
-            const PetscScalar *pb = nullptr, *px = nullptr;
-            check(VecGetArrayRead(m.b, &pb), "VecGetArrayRead");
-            check(VecGetArrayRead(m.x, &px), "VecGetArrayRead");
-            const std::span<const double> b_all(pb, 2 * nn), x_all(px, 2 * nn);
-            within = contact_residual_within(b_all.first(nn), b_all.last(nn), x_all.first(nn), x_all.last(nn),
-                                             m.delta, m.factor->contacts(), m.half_rtol, m.rx, m.ry);
-            check(VecRestoreArrayRead(m.x, &px), "VecRestoreArrayRead");
-            check(VecRestoreArrayRead(m.b, &pb), "VecRestoreArrayRead");
-        }
-        if (!within) {  // refinement by the KSP from the factor's solution, scaled
-            {
-                const PetscScalar* px = nullptr;
-                check(VecGetArrayRead(m.x, &px), "VecGetArrayRead");
-                std::copy(px, px + nn, u_x.begin());
-                std::copy(px + nn, px + 2 * nn, u_y.begin());
-                check(VecRestoreArrayRead(m.x, &px), "VecRestoreArrayRead");
-            }
-            scale_system(true);
-            check(KSPSetInitialGuessNonzero(m.ksp, PETSC_TRUE), "KSPSetInitialGuessNonzero");
-            const PetscInt more = m.run_ksp(false);
-            check(KSPSetInitialGuessNonzero(m.ksp, PETSC_FALSE), "KSPSetInitialGuessNonzero");
-            its = more < 0 ? -1 : std::max<PetscInt>(2, more + 1);
-        }
+    if (check_here && !contact_residual_within(b_x, b_y, u_x, u_y, m.delta, m.factor->contacts(),
+                                               m.half_rtol, m.rx, m.ry)) {
+        // Refinement by the KSP from the factor's solution, scaled.
+        scale_system(true);
+        check(KSPSetInitialGuessNonzero(m.ksp, PETSC_TRUE), "KSPSetInitialGuessNonzero");
+        const PetscInt more = m.run_ksp();
+        check(KSPSetInitialGuessNonzero(m.ksp, PETSC_FALSE), "KSPSetInitialGuessNonzero");
+        its = more < 0 ? -1 : std::max<PetscInt>(2, more + 1);
     }
     // (A negative count comes from a KSP, so the system is scaled by now.)
     if (its < 0 && m.shell && !info.refactored) {  // round-off of many updates: start afresh
         m.factor->factorize(pairs, in_contact);
         info.refactored = true;
         check(VecSet(m.x, 0.0), "VecSet");
-        its = m.run_ksp(false);
+        its = m.run_ksp();
     }
     if (its < 0)
         throw std::runtime_error(std::string("CD0 contact solve did not converge: ") +
@@ -420,16 +389,12 @@ SolveInfo PetscContactSolver::Impl::run(std::span<const ContactPair> pairs,
         m.refresh = true;
     }
     info.iterations_x = info.iterations_y = static_cast<int>(its);
+    if (!scaled) return info;  // the shortcut's solution is in (u_x, u_y) already
     const PetscScalar* px = nullptr;
     check(VecGetArrayRead(m.x, &px), "VecGetArrayRead");
-    if (!scaled) {
-        std::copy(px, px + nn, u_x.begin());
-        std::copy(px + nn, px + 2 * nn, u_y.begin());
-    } else {
-        for (std::size_t i = 0; i < nn; ++i) {
-            u_x[i] = px[i] / sx;
-            u_y[i] = px[nn + i] / sy;
-        }
+    for (std::size_t i = 0; i < nn; ++i) {
+        u_x[i] = px[i] / sx;
+        u_y[i] = px[nn + i] / sy;
     }
     check(VecRestoreArrayRead(m.x, &px), "VecRestoreArrayRead");
     return info;
