@@ -31,7 +31,11 @@ namespace jamsim::linalg {
 class CholmodUpdatedFactor {
   public:
     enum class Ordering { metis, amd };
-    CholmodUpdatedFactor(std::size_t n, double delta, Ordering ordering);
+    /// The vectors of the update's kernels for consecutive rows: `best` takes AVX2 where the
+    /// processor has it, `sse2` keeps to the x86-64 baseline. Both give the same bits (no
+    /// contraction into FMAs, element-wise operations): `sse2` is there to test that.
+    enum class Vectors { best, sse2 };
+    CholmodUpdatedFactor(std::size_t n, double delta, Ordering ordering, Vectors vectors = Vectors::best);
     ~CholmodUpdatedFactor();
     CholmodUpdatedFactor(const CholmodUpdatedFactor&) = delete;
     CholmodUpdatedFactor& operator=(const CholmodUpdatedFactor&) = delete;
@@ -56,6 +60,8 @@ class CholmodUpdatedFactor {
     void solve(const double* b, double* x);
 
     bool has_factor() const;
+    /// Whether the update runs its consecutive-row kernels on AVX2 vectors.
+    bool avx2_kernels() const;
     /// Entries of L over those of the last fresh factor at which `adopt` analyses afresh
     /// (downdates keep their entries, and the order ages as the disks move apart).
     static constexpr double kFillGrowth = 1.3;
@@ -64,8 +70,10 @@ class CholmodUpdatedFactor {
     /// factorisations after a downdate met a pivot that was not positive.
     /// Also the wall-clock seconds spent keeping the factor (factorize, adopt, follow) and in
     /// its solves, for benchmarks.
+    /// `block_updates`: entry updates (entries × changes) made by the consecutive-row kernels
+    /// on whole blocks of rows, the part that `Vectors` selects.
     struct Counts {
-        long swept = 0, filled = 0, refactored = 0;
+        long swept = 0, filled = 0, refactored = 0, block_updates = 0;
         double upkeep_seconds = 0, solve_seconds = 0;
     };
     Counts counts() const;
