@@ -13,7 +13,7 @@ struct CholmodContactSolver::Impl {
     CholmodUpdatedFactor factor;
     double delta, rtol;
     std::size_t version = static_cast<std::size_t>(-1);
-    std::vector<double> rx, ry;  // residual scratch
+    std::vector<double> residual;  // scratch of the residual check
     Impl(std::size_t n, double d, CholmodUpdatedFactor::Ordering o, double r)
         : factor(n, d, o), delta(d), rtol(r) {}
 
@@ -66,7 +66,7 @@ SolveInfo CholmodContactSolver::Impl::run(std::span<const ContactPair> pairs,
         m.solve(b_x, b_y, u_x, u_y);
         if (info.factor_updates == 0 && !info.relabelled) return info;
         if (contact_residual_within(b_x, b_y, u_x, u_y, m.delta, m.factor.contacts(), m.rtol,
-                                    m.rx, m.ry))
+                                    m.residual))
             return info;
     }
     m.factor.factorize(pairs, in_contact);

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
+#include <cstring>
 #include <sstream>
 #include <stdexcept>
 
@@ -135,31 +136,43 @@ std::unique_ptr<ContactSolver> make_contact_solver(std::string_view backend, std
 bool contact_residual_within(std::span<const double> bx, std::span<const double> by,
                              std::span<const double> ux, std::span<const double> uy, double delta,
                              std::span<const ContactPair> contacts, double rtol,
-                             std::vector<double>& rx, std::vector<double>& ry) {
+                             std::vector<double>& scratch) {
+    // The residual of disk i as the pair (r_x, r_y) at scratch[2i]: a contact then updates
+    // its two disks with one 16-byte load and store each, where separate x and y arrays took
+    // two of each (the contacts' pass is most of the check). Every sum is taken in the same
+    // order as with separate arrays, so the same bits.
+    using Pair = double __attribute__((vector_size(16)));
     const std::size_t size = bx.size();
-    rx.resize(size);
-    ry.resize(size);
+    scratch.resize(2 * size);
+    double* const r = scratch.data();
+    double b2x = 0, b2y = 0;
     for (std::size_t i = 0; i < size; ++i) {
-        rx[i] = bx[i] - delta * ux[i];
-        ry[i] = by[i] - delta * uy[i];
-    }
-    for (const auto& c : contacts) {
-        const auto i = static_cast<std::size_t>(c.i), j = static_cast<std::size_t>(c.j);
-        const double dx = ux[i] - ux[j], dy = uy[i] - uy[j];
-        rx[i] -= dx;
-        rx[j] += dx;
-        ry[i] -= dy;
-        ry[j] += dy;
-    }
-    double r2x = 0, r2y = 0, b2x = 0, b2y = 0;
-    for (std::size_t i = 0; i < size; ++i) {
-        r2x += rx[i] * rx[i];
-        r2y += ry[i] * ry[i];
+        r[2 * i] = bx[i] - delta * ux[i];
+        r[2 * i + 1] = by[i] - delta * uy[i];
         b2x += bx[i] * bx[i];
         b2y += by[i] * by[i];
     }
+    const double* const px = ux.data();
+    const double* const py = uy.data();
+    for (const auto& c : contacts) {
+        const auto i = static_cast<std::size_t>(c.i), j = static_cast<std::size_t>(c.j);
+        const Pair d{px[i] - px[j], py[i] - py[j]};
+        Pair ri, rj;
+        std::memcpy(&ri, r + 2 * i, sizeof ri);
+        ri -= d;
+        std::memcpy(r + 2 * i, &ri, sizeof ri);
+        std::memcpy(&rj, r + 2 * j, sizeof rj);
+        rj += d;
+        std::memcpy(r + 2 * j, &rj, sizeof rj);
+    }
+    Pair r2{0.0, 0.0};
+    for (std::size_t i = 0; i < size; ++i) {
+        Pair ri;
+        std::memcpy(&ri, r + 2 * i, sizeof ri);
+        r2 += ri * ri;
+    }
     const double tol2 = rtol * rtol;
-    return r2x <= tol2 * b2x && r2y <= tol2 * b2y;
+    return r2[0] <= tol2 * b2x && r2[1] <= tol2 * b2y;
 }
 
 } // namespace jamsim::linalg

@@ -129,7 +129,7 @@ struct EigenContactSolver::Impl {
     std::vector<std::uint8_t> factored;              // contact set the factor represents
     bool have_factor = false;
     std::vector<ContactPair> contacts;  // current contacts, compacted for the residual check
-    std::vector<double> rx, ry;
+    std::vector<double> residual;  // scratch of the residual check
 
     Eigen::Index slot(Eigen::Index row, Eigen::Index col) const {
         const auto* outer = A.outerIndexPtr();
@@ -181,7 +181,7 @@ struct EigenContactSolver::Impl {
     /// (A u)_i = δ u_i + Σ_{j in contact} (u_i − u_j).
     bool converged(std::span<const double> bx, std::span<const double> by,
                    std::span<const double> ux, std::span<const double> uy) {
-        return contact_residual_within(bx, by, ux, uy, delta, contacts, rtol, rx, ry);
+        return contact_residual_within(bx, by, ux, uy, delta, contacts, rtol, residual);
     }
 };
 

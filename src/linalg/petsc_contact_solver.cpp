@@ -36,7 +36,7 @@ struct PetscContactSolver::Impl {
     PetscInt half = 0;
     bool factor_exact = false;  // the factor solves the Mat to round-off (fresh or verified)
     double half_rtol = 0;       // the KSP's rtol (default or -cd0_ksp_rtol): each half's bound
-    std::vector<double> rx, ry; // residual scratch
+    std::vector<double> residual;  // scratch of the residual check
     bool refresh = true;        // factorise afresh (shell) / recompute the PC (others) next
     KSPConvergedReason last_reason = KSP_CONVERGED_ITERATING;  // of the last KSPSolve
 
@@ -362,7 +362,7 @@ SolveInfo PetscContactSolver::Impl::run(std::span<const ContactPair> pairs,
         its = m.run_ksp();
     }
     if (check_here && !contact_residual_within(b_x, b_y, u_x, u_y, m.delta, m.factor->contacts(),
-                                               m.half_rtol, m.rx, m.ry)) {
+                                               m.half_rtol, m.residual)) {
         // Refinement by the KSP from the factor's solution, scaled.
         scale_system(true);
         check(KSPSetInitialGuessNonzero(m.ksp, PETSC_TRUE), "KSPSetInitialGuessNonzero");
