@@ -308,8 +308,7 @@ struct CholmodUpdatedFactor::Impl {
                     double* l2 = Lx + Lp[j + 1] + 1;
                     const bool consecutive = slots_j[len2 - 1] - slots_j[0] == len2 - 1;
                     if (count > 0 && count == count2 && std::equal(step_w, step_w + count, step_w2)) {
-                        if (consecutive) apply_consecutive2(l + 1, l2, slots_j[0], len2, count);
-                        else apply_scattered2(l + 1, l2, slots_j, len2, count);
+                        apply_pair(l + 1, l2, consecutive, slots_j, len2, count);
                         continue;
                     }
                     // Different changes in the two columns (another child of j + 1 brings its
@@ -405,8 +404,53 @@ struct CholmodUpdatedFactor::Impl {
     /// A column's `count` changes (step_p, step_beta, step_w) on its entries l[0, len), whose
     /// workspace rows are `rows` (consecutive: rows[0] onwards).
     void apply_column(double* l, bool consecutive, const int* rows, int len, int count) {
-        if (consecutive) apply_consecutive(l, rows[0], len, count);
-        else apply_scattered(l, rows, len, count);
+        if (consecutive) {
+            apply_consecutive(l, rows[0], len, count);
+            return;
+        }
+        by_runs(rows, len, [&](int from, int to) {
+            const int k = consecutive_kernel(ColumnChanges{step_p, step_beta, step_w}, l + from, rows[from], to - from, count);
+            counts.block_updates += static_cast<long>(k) * count;
+            return from + k;
+        }, [&](int from, int to) { apply_scattered(l + from, rows + from, to - from, count); });
+    }
+
+    /// The two columns of a pair (see `apply_consecutive2`) on rows given as places.
+    void apply_pair(double* l1, double* l2, bool consecutive, const int* rows, int len, int count) {
+        if (consecutive) {
+            apply_consecutive2(l1, l2, rows[0], len, count);
+            return;
+        }
+        by_runs(rows, len, [&](int from, int to) {
+            const int k = consecutive2_kernel(ColumnChanges{step_p, step_beta, step_w},
+                                              ColumnChanges{step_p2, step_beta2, step_w}, l1 + from, l2 + from,
+                                              rows[from], to - from, count);
+            counts.block_updates += 2L * k * count;
+            return from + k;
+        }, [&](int from, int to) { apply_scattered2(l1 + from, l2 + from, rows + from, to - from, count); });
+    }
+
+    /// A column's entries [0, len) split by their places in the workspace: runs of at least
+    /// kMinRun consecutive places go to the consecutive-row kernel (`whole(from, to)`, which
+    /// does whole blocks and returns where it stopped), everything else, the rest of a run
+    /// included, to the scattered kernel (`scattered(from, to)`). Two thirds of the scattered
+    /// columns' entry updates lie in such runs at N = 65536, φ = 0.80 (a lower separator's
+    /// rows in its own chain and in the separators above it). Each entry gets the same
+    /// operations in the same order whichever kernel takes it, so the same bits.
+    static constexpr int kMinRun = 16;
+    template <class Whole, class Scattered>
+    static void by_runs(const int* rows, int len, Whole&& whole, Scattered&& scattered) {
+        int rest = 0;  // entries from `rest` on are not done yet
+        for (int e = 0; e < len;) {
+            int f = e + 1;
+            while (f < len && rows[f] == rows[f - 1] + 1) ++f;
+            if (f - e >= kMinRun) {
+                if (e > rest) scattered(rest, e);
+                rest = whole(e, f);
+            }
+            e = f;
+        }
+        if (len > rest) scattered(rest, len);
     }
 
     /// One entry (in workspace row `row`) alone.
