@@ -131,35 +131,60 @@ template <class V, int kVecs>
 using ConsecutiveKernel = int (*)(ColumnChanges, double*, int, int, int);
 using Consecutive2Kernel = int (*)(ColumnChanges, ColumnChanges, double*, double*, int, int, int);
 
+// Blocks of 16 rows, then of 8 (runs of 8 or more rows take these kernels, see by_runs).
 int consecutive_sse2(ColumnChanges c, double* l, int row0, int len, int count) {
-    return consecutive_blocks<Pair, 8>(c, l, row0, len, count);
+    const int k = consecutive_blocks<Pair, 8>(c, l, row0, len, count);
+    return k + consecutive_blocks<Pair, 4>(c, l + k, row0 + k, len - k, count);
 }
 int consecutive2_sse2(ColumnChanges a, ColumnChanges b, double* l1, double* l2, int row0, int len, int count) {
     return consecutive2_blocks<Pair, 4>(a, b, l1, l2, row0, len, count);
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
-#define JAMSIM_HAVE_AVX2_KERNELS 1
+#define JAMSIM_HAVE_WIDE_KERNELS 1
 using Quad = double __attribute__((vector_size(32)));
+using Oct = double __attribute__((vector_size(64)));
 __attribute__((target("avx2"))) int consecutive_avx2(ColumnChanges c, double* l, int row0, int len, int count) {
-    return consecutive_blocks<Quad, 4>(c, l, row0, len, count);
+    const int k = consecutive_blocks<Quad, 4>(c, l, row0, len, count);
+    return k + consecutive_blocks<Quad, 2>(c, l + k, row0 + k, len - k, count);
 }
 __attribute__((target("avx2"))) int consecutive2_avx2(ColumnChanges a, ColumnChanges b, double* l1, double* l2,
                                                       int row0, int len, int count) {
-    return consecutive2_blocks<Quad, 4>(a, b, l1, l2, row0, len, count);
+    const int k = consecutive2_blocks<Quad, 4>(a, b, l1, l2, row0, len, count);
+    return k + consecutive2_blocks<Quad, 2>(a, b, l1 + k, l2 + k, row0 + k, len - k, count);
+}
+// AVX-512: 32 vector registers, so 16 rows of both columns of a pair fit in two vectors each.
+__attribute__((target("avx512f"))) int consecutive_avx512(ColumnChanges c, double* l, int row0, int len, int count) {
+    const int k = consecutive_blocks<Oct, 2>(c, l, row0, len, count);
+    return k + consecutive_blocks<Oct, 1>(c, l + k, row0 + k, len - k, count);
+}
+__attribute__((target("avx512f"))) int consecutive2_avx512(ColumnChanges a, ColumnChanges b, double* l1, double* l2,
+                                                          int row0, int len, int count) {
+    const int k = consecutive2_blocks<Oct, 2>(a, b, l1, l2, row0, len, count);
+    return k + consecutive2_blocks<Oct, 1>(a, b, l1 + k, l2 + k, row0 + k, len - k, count);
 }
 #endif
 
-/// Whether the sweep runs its consecutive-row kernels on AVX2 (4-wide) vectors.
-bool use_avx2(CholmodUpdatedFactor::Vectors vectors) {
-#ifdef JAMSIM_HAVE_AVX2_KERNELS
-    if (vectors == CholmodUpdatedFactor::Vectors::sse2) return false;
+/// The consecutive-row kernels of the widest vectors that `vectors` allows and the
+/// processor has (the operating system's support of the registers included).
+struct WideKernels {
+    ConsecutiveKernel one = consecutive_sse2;
+    Consecutive2Kernel two = consecutive2_sse2;
+    const char* name = "sse2";
+};
+WideKernels choose_kernels(CholmodUpdatedFactor::Vectors vectors) {
+    using Vectors = CholmodUpdatedFactor::Vectors;
+    WideKernels k;
+#ifdef JAMSIM_HAVE_WIDE_KERNELS
     __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2");
+    if (vectors == Vectors::best && __builtin_cpu_supports("avx512f"))
+        return {consecutive_avx512, consecutive2_avx512, "avx512f"};
+    if (vectors != Vectors::sse2 && __builtin_cpu_supports("avx2"))
+        return {consecutive_avx2, consecutive2_avx2, "avx2"};
 #else
     (void)vectors;
-    return false;
 #endif
+    return k;
 }
 } // namespace
 
@@ -392,7 +417,7 @@ struct CholmodUpdatedFactor::Impl {
     // otherwise), kBlock entries at a time (independent chains the processor overlaps): for
     // each change in order, w_r ← w_r − p l_r, then l_r ← l_r + β w_r.
     static constexpr int kBlock = 8;
-    bool avx2 = false;  // the kernels below are the AVX2 ones
+    const char* vector_kernels = "sse2";  // the vectors of the kernels below
     ConsecutiveKernel consecutive_kernel = consecutive_sse2;
     Consecutive2Kernel consecutive2_kernel = consecutive2_sse2;
     double step_p[kSweepRank], step_beta[kSweepRank];
@@ -437,7 +462,7 @@ struct CholmodUpdatedFactor::Impl {
     /// columns' entry updates lie in such runs at N = 65536, φ = 0.80 (a lower separator's
     /// rows in its own chain and in the separators above it). Each entry gets the same
     /// operations in the same order whichever kernel takes it, so the same bits.
-    static constexpr int kMinRun = 16;
+    static constexpr int kMinRun = 8;
     template <class Whole, class Scattered>
     static void by_runs(const int* rows, int len, Whole&& whole, Scattered&& scattered) {
         int rest = 0;  // entries from `rest` on are not done yet
@@ -585,15 +610,10 @@ CholmodUpdatedFactor::CholmodUpdatedFactor(std::size_t n, double delta, Ordering
     Impl& m = *impl_;
     m.n = static_cast<int>(n);
     m.delta = delta;
-#ifdef JAMSIM_HAVE_AVX2_KERNELS
-    if (use_avx2(vectors)) {
-        m.consecutive_kernel = consecutive_avx2;
-        m.consecutive2_kernel = consecutive2_avx2;
-        m.avx2 = true;
-    }
-#else
-    (void)use_avx2(vectors);
-#endif
+    const WideKernels kernels = choose_kernels(vectors);
+    m.consecutive_kernel = kernels.one;
+    m.consecutive2_kernel = kernels.two;
+    m.vector_kernels = kernels.name;
     cholmod_start(&m.c);
     m.c.print = 0;
     m.c.error_handler = nullptr;
@@ -611,7 +631,7 @@ CholmodUpdatedFactor::~CholmodUpdatedFactor() {
     cholmod_finish(&m.c);
 }
 
-bool CholmodUpdatedFactor::avx2_kernels() const { return impl_->avx2; }
+const char* CholmodUpdatedFactor::vector_kernels() const { return impl_->vector_kernels; }
 
 bool CholmodUpdatedFactor::has_factor() const { return impl_->have_factor; }
 

@@ -31,10 +31,11 @@ namespace jamsim::linalg {
 class CholmodUpdatedFactor {
   public:
     enum class Ordering { metis, amd };
-    /// The vectors of the update's kernels for consecutive rows: `best` takes AVX2 where the
-    /// processor has it, `sse2` keeps to the x86-64 baseline. Both give the same bits (no
-    /// contraction into FMAs, element-wise operations): `sse2` is there to test that.
-    enum class Vectors { best, sse2 };
+    /// The vectors of the update's kernels for consecutive rows: `best` takes AVX-512 or AVX2
+    /// where the processor has them, `avx2` at most AVX2, `sse2` the x86-64 baseline. All
+    /// give the same bits (no contraction into FMAs, element-wise operations): the narrower
+    /// ones are there to test that.
+    enum class Vectors { best, avx2, sse2 };
     CholmodUpdatedFactor(std::size_t n, double delta, Ordering ordering, Vectors vectors = Vectors::best);
     ~CholmodUpdatedFactor();
     CholmodUpdatedFactor(const CholmodUpdatedFactor&) = delete;
@@ -60,8 +61,8 @@ class CholmodUpdatedFactor {
     void solve(const double* b, double* x);
 
     bool has_factor() const;
-    /// Whether the update runs its consecutive-row kernels on AVX2 vectors.
-    bool avx2_kernels() const;
+    /// The vectors the update's consecutive-row kernels run on: "avx512f", "avx2" or "sse2".
+    const char* vector_kernels() const;
     /// Entries of L over those of the last fresh factor at which `adopt` analyses afresh
     /// (downdates keep their entries, and the order ages as the disks move apart).
     static constexpr double kFillGrowth = 1.3;

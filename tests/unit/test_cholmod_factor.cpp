@@ -5,6 +5,8 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <string>
+#include <memory>
 #include <cstring>
 #include <random>
 #include <vector>
@@ -166,19 +168,28 @@ TEST(CholmodFactor, UpdatesAndSolvesAreBitwiseReproducible) {
     EXPECT_EQ(run(), run());
 }
 
-// The update's kernels for consecutive rows (the dense separators at the top of the tree) on
-// AVX2 vectors give the bits of the x86-64 baseline's (SSE2) kernels: the same element-wise
-// operations in the same order, no FMA. Two factors, one of each, follow the same contact
-// changes (several hundred per step, over many steps); every solve must agree bit for bit.
-// 1500 points with about six neighbours each: the top separators have dozens of columns,
-// so whole 16-row blocks of the wide kernels run (counted).
-TEST(CholmodFactor, Avx2KernelsGiveTheBaselineBits) {
+// The update's kernels for consecutive rows (the dense separators at the top of the tree and
+// the runs of consecutive rows in other columns) on AVX2 or AVX-512 vectors give the bits of
+// the x86-64 baseline's (SSE2) kernels: the same element-wise operations in the same order,
+// no FMA. Factors with each width the processor has follow the same contact changes (several
+// hundred per step, over many steps) beside one with the baseline's; every solve must agree
+// bit for bit. 1500 points with about six neighbours each: the top separators have dozens of
+// columns, so whole blocks of the wide kernels run (counted).
+TEST(CholmodFactor, WideVectorKernelsGiveTheBaselineBits) {
+    using Vectors = CholmodUpdatedFactor::Vectors;
     const int n = 1500;
-    CholmodUpdatedFactor wide(static_cast<std::size_t>(n), kDelta, CholmodUpdatedFactor::Ordering::metis);
-    if (!wide.avx2_kernels()) GTEST_SKIP() << "this processor has no AVX2";
-    CholmodUpdatedFactor baseline(static_cast<std::size_t>(n), kDelta, CholmodUpdatedFactor::Ordering::metis,
-                                  CholmodUpdatedFactor::Vectors::sse2);
-    ASSERT_FALSE(baseline.avx2_kernels());
+    CholmodUpdatedFactor baseline(static_cast<std::size_t>(n), kDelta, CholmodUpdatedFactor::Ordering::metis, Vectors::sse2);
+    ASSERT_STREQ(baseline.vector_kernels(), "sse2");
+    std::vector<std::unique_ptr<CholmodUpdatedFactor>> wide;
+    for (const Vectors v : {Vectors::best, Vectors::avx2}) {
+        auto f = std::make_unique<CholmodUpdatedFactor>(static_cast<std::size_t>(n), kDelta,
+                                                        CholmodUpdatedFactor::Ordering::metis, v);
+        const std::string name = f->vector_kernels();
+        if (name == "sse2") continue;
+        if (std::any_of(wide.begin(), wide.end(), [&](const auto& g) { return name == g->vector_kernels(); })) continue;
+        wide.push_back(std::move(f));
+    }
+    if (wide.empty()) GTEST_SKIP() << "this processor has neither AVX2 nor AVX-512";
     std::mt19937_64 rng(17);
     const std::vector<ContactPair> pairs = neighbour_pairs(n, 0.036, rng);
     std::vector<std::int32_t> labels(static_cast<std::size_t>(n));
@@ -186,26 +197,33 @@ TEST(CholmodFactor, Avx2KernelsGiveTheBaselineBits) {
     std::vector<std::uint8_t> in_contact(pairs.size());
     std::bernoulli_distribution half(0.5);
     for (auto& c : in_contact) c = half(rng);
-    for (auto* f : {&wide, &baseline}) {
+    baseline.adopt(pairs, labels);
+    baseline.factorize(pairs, in_contact);
+    for (auto& f : wide) {
         f->adopt(pairs, labels);
         f->factorize(pairs, in_contact);
     }
     std::normal_distribution<double> g;
     std::vector<double> b(2 * static_cast<std::size_t>(n)), x_wide(b.size()), x_base(b.size());
-    int differing_steps = 0;
+    std::vector<int> differing_steps(wide.size(), 0);
     for (int step = 0; step < 30; ++step) {
         std::bernoulli_distribution flip(step % 2 == 0 ? 0.03 : 0.005);
         for (auto& c : in_contact)
             if (flip(rng)) c = !c;
-        const int changes = wide.follow(pairs, in_contact);
-        ASSERT_EQ(baseline.follow(pairs, in_contact), changes);
+        const int changes = baseline.follow(pairs, in_contact);
         for (double& v : b) v = g(rng);
-        wide.solve(b.data(), x_wide.data());
         baseline.solve(b.data(), x_base.data());
-        differing_steps += std::memcmp(x_wide.data(), x_base.data(), b.size() * sizeof(double)) != 0;
+        for (std::size_t k = 0; k < wide.size(); ++k) {
+            ASSERT_EQ(wide[k]->follow(pairs, in_contact), changes);
+            wide[k]->solve(b.data(), x_wide.data());
+            differing_steps[k] += std::memcmp(x_wide.data(), x_base.data(), b.size() * sizeof(double)) != 0;
+        }
     }
-    EXPECT_EQ(differing_steps, 0);
-    // The wide kernels ran on whole blocks (16 rows; the baseline's pairs kernel takes 8).
-    EXPECT_GT(wide.counts().block_updates, 10000);
-    EXPECT_EQ(wide.counts().refactored, 0);
+    for (std::size_t k = 0; k < wide.size(); ++k) {
+        SCOPED_TRACE(wide[k]->vector_kernels());
+        EXPECT_EQ(differing_steps[k], 0);
+        // The wide kernels ran on whole blocks.
+        EXPECT_GT(wide[k]->counts().block_updates, 10000);
+        EXPECT_EQ(wide[k]->counts().refactored, 0);
+    }
 }
