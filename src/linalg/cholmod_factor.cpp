@@ -59,8 +59,9 @@ struct ColumnChanges {
 // arithmetic without contraction into FMAs, so every vector width gives the same bits as
 // scalar code: the width is only a matter of speed. Each entry's chain of operations runs
 // through all the column's changes in turn, so a block needs enough independent rows to
-// hide that chain's latency: 16 rows (8 SSE2 pairs, or 4 AVX2 quads) for one column, and for
-// two 8 (4 pairs) or 16 (4 quads), the most the 16 vector registers hold.
+// hide that chain's latency: blocks of 16 rows (8 SSE2 pairs, 4 AVX2 quads or 2 AVX-512
+// octets per column; for two columns with SSE2 only 8, the most its 16 registers hold), then
+// a tier of 8 rows.
 // (Loads and stores by memcpy written out in the kernels: a helper returning a 32-byte
 // vector would be a default-target function with an AVX ABI.)
 #define JAMSIM_LOAD(V, dst, at) std::memcpy(&(dst), (at), sizeof(V))
@@ -252,9 +253,9 @@ struct CholmodUpdatedFactor::Impl {
     /// modifications in sequence (method C1 of Gill, Golub, Murray and Saunders, as CHOLMOD
     /// uses) interleaved in one pass over the union of their elimination-tree paths, column by
     /// column (a column's ancestors come later), up to kSweepRank at a time (bit 63 of a
-    /// column's mask marks the union). A column whose rows are consecutive (the dense
-    /// separators at the top of the tree, where every path ends and most of the work is) runs
-    /// as contiguous loops the compiler vectorises. Two columns of a supernode (the second's
+    /// column's mask marks the union). A column's runs of consecutive rows (all of a dense
+    /// separator's at the top of the tree, where every path ends, and most of the others')
+    /// run as contiguous vector loops (`by_runs`). Two columns of a supernode (the second's
     /// rows are the first's after its first) take their changes together, row by row, so
     /// that each workspace entry is loaded and stored once for both (the same bits as
     /// column after column). Sets sweep_failed when a downdate meets a pivot that is not
@@ -331,20 +332,19 @@ struct CholmodUpdatedFactor::Impl {
                     int* slots_j = slot_rows.data();
                     for (int e = 0; e < len2; ++e) slots_j[e] = slot_of[static_cast<std::size_t>(rows_j[e])];
                     double* l2 = Lx + Lp[j + 1] + 1;
-                    const bool consecutive = slots_j[len2 - 1] - slots_j[0] == len2 - 1;
                     if (count > 0 && count == count2 && std::equal(step_w, step_w + count, step_w2)) {
-                        apply_pair(l + 1, l2, consecutive, slots_j, len2, count);
+                        apply_pair(l + 1, l2, slots_j, len2, count);
                         continue;
                     }
                     // Different changes in the two columns (another child of j + 1 brings its
                     // own): column after column, the second column's coefficients moved into
                     // the first's arrays, which the single-column kernels read.
-                    if (count > 0) apply_column(l + 1, consecutive, slots_j, len2, count);
+                    if (count > 0) apply_column(l + 1, slots_j, len2, count);
                     if (count2 > 0) {
                         std::copy(step_p2, step_p2 + count2, step_p);
                         std::copy(step_beta2, step_beta2 + count2, step_beta);
                         std::copy(step_w2, step_w2 + count2, step_w);
-                        apply_column(l2, consecutive, slots_j, len2, count2);
+                        apply_column(l2, slots_j, len2, count2);
                     }
                     continue;
                 }
@@ -352,7 +352,7 @@ struct CholmodUpdatedFactor::Impl {
                 const int* rows_j = Li + begin + 1;
                 int* slots_j = slot_rows.data();
                 for (int e = 0; e < len; ++e) slots_j[e] = slot_of[static_cast<std::size_t>(rows_j[e])];
-                apply_column(l, slots_j[len - 1] - slots_j[0] == len - 1, slots_j, len, count);
+                apply_column(l, slots_j, len, count);
             }
         }
     }
@@ -413,9 +413,10 @@ struct CholmodUpdatedFactor::Impl {
     std::vector<int> slot_rows;  // sweep: a column's rows as places in the workspace
 
     // The changes of one column (step_p, step_beta, step_w) applied to its entries l[0, len),
-    // whose rows are given as places in the workspace (`row0` for consecutive ones, `rows`
-    // otherwise), kBlock entries at a time (independent chains the processor overlaps): for
-    // each change in order, w_r ← w_r − p l_r, then l_r ← l_r + β w_r.
+    // whose rows are given as places in the workspace: for each change in order,
+    // w_r ← w_r − p l_r, then l_r ← l_r + β w_r. Runs of consecutive places go to the
+    // consecutive-row kernels (`consecutive_kernel`, `consecutive2_kernel`, chosen by vector
+    // width), the other entries kBlock at a time (independent chains the processor overlaps).
     static constexpr int kBlock = 8;
     const char* vector_kernels = "sse2";  // the vectors of the kernels below
     ConsecutiveKernel consecutive_kernel = consecutive_sse2;
@@ -427,12 +428,8 @@ struct CholmodUpdatedFactor::Impl {
     double* step_w2[kSweepRank];
 
     /// A column's `count` changes (step_p, step_beta, step_w) on its entries l[0, len), whose
-    /// workspace rows are `rows` (consecutive: rows[0] onwards).
-    void apply_column(double* l, bool consecutive, const int* rows, int len, int count) {
-        if (consecutive) {
-            apply_consecutive(l, rows[0], len, count);
-            return;
-        }
+    /// workspace rows are `rows`.
+    void apply_column(double* l, const int* rows, int len, int count) {
         by_runs(rows, len, [&](int from, int to) {
             const int k = consecutive_kernel(ColumnChanges{step_p, step_beta, step_w}, l + from, rows[from], to - from, count);
             counts.block_updates += static_cast<long>(k) * count;
@@ -440,12 +437,10 @@ struct CholmodUpdatedFactor::Impl {
         }, [&](int from, int to) { apply_scattered(l + from, rows + from, to - from, count); });
     }
 
-    /// The two columns of a pair (see `apply_consecutive2`) on rows given as places.
-    void apply_pair(double* l1, double* l2, bool consecutive, const int* rows, int len, int count) {
-        if (consecutive) {
-            apply_consecutive2(l1, l2, rows[0], len, count);
-            return;
-        }
+    /// The two columns of a pair on the same rows (the second column's coefficients in
+    /// step_p2, step_beta2; the same changes): per entry and change, the first column's step
+    /// before the second's, as column after column.
+    void apply_pair(double* l1, double* l2, const int* rows, int len, int count) {
         by_runs(rows, len, [&](int from, int to) {
             const int k = consecutive2_kernel(ColumnChanges{step_p, step_beta, step_w},
                                               ColumnChanges{step_p2, step_beta2, step_w}, l1 + from, l2 + from,
@@ -490,12 +485,6 @@ struct CholmodUpdatedFactor::Impl {
         entry = v;
     }
 
-    void apply_consecutive(double* l, int row0, int len, int count) {
-        int k = consecutive_kernel(ColumnChanges{step_p, step_beta, step_w}, l, row0, len, count);
-        counts.block_updates += static_cast<long>(k) * count;
-        for (; k < len; ++k) apply_entry(l[k], row0 + k, count);
-    }
-
     void apply_scattered(double* l, const int* rows, int len, int count) const {
         int k = 0;
         for (; k + kBlock <= len; k += kBlock) {
@@ -534,13 +523,6 @@ struct CholmodUpdatedFactor::Impl {
         }
         e1 = v1;
         e2 = v2;
-    }
-
-    void apply_consecutive2(double* l1, double* l2, int row0, int len, int count) {
-        int k = consecutive2_kernel(ColumnChanges{step_p, step_beta, step_w},
-                                    ColumnChanges{step_p2, step_beta2, step_w}, l1, l2, row0, len, count);
-        counts.block_updates += 2L * k * count;
-        for (; k < len; ++k) apply_entry2(l1[k], l2[k], row0 + k, count);
     }
 
     void apply_scattered2(double* l1, double* l2, const int* rows, int len, int count) const {
