@@ -132,37 +132,44 @@ template <class V, int kVecs>
 using ConsecutiveKernel = int (*)(ColumnChanges, double*, int, int, int);
 using Consecutive2Kernel = int (*)(ColumnChanges, ColumnChanges, double*, double*, int, int, int);
 
-// Blocks of 16 rows, then of 8 (runs of 8 or more rows take these kernels, see by_runs).
+/// Blocks of kVecs vectors (16 rows), then a tier of half as many (8 rows): runs of 8 or more
+/// rows take these kernels (see by_runs).
+template <class V, int kVecs>
+[[gnu::always_inline]] inline int tiered_blocks(ColumnChanges c, double* l, int row0, int len, int count) {
+    const int k = consecutive_blocks<V, kVecs>(c, l, row0, len, count);
+    return k + consecutive_blocks<V, kVecs / 2>(c, l + k, row0 + k, len - k, count);
+}
+template <class V, int kVecs>
+[[gnu::always_inline]] inline int tiered_blocks2(ColumnChanges a, ColumnChanges b, double* l1, double* l2, int row0,
+                                                int len, int count) {
+    const int k = consecutive2_blocks<V, kVecs>(a, b, l1, l2, row0, len, count);
+    return k + consecutive2_blocks<V, kVecs / 2>(a, b, l1 + k, l2 + k, row0 + k, len - k, count);
+}
+
 int consecutive_sse2(ColumnChanges c, double* l, int row0, int len, int count) {
-    const int k = consecutive_blocks<Pair, 8>(c, l, row0, len, count);
-    return k + consecutive_blocks<Pair, 4>(c, l + k, row0 + k, len - k, count);
+    return tiered_blocks<Pair, 8>(c, l, row0, len, count);
 }
 int consecutive2_sse2(ColumnChanges a, ColumnChanges b, double* l1, double* l2, int row0, int len, int count) {
-    return consecutive2_blocks<Pair, 4>(a, b, l1, l2, row0, len, count);
+    return consecutive2_blocks<Pair, 4>(a, b, l1, l2, row0, len, count);  // 8 rows already
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #define JAMSIM_HAVE_WIDE_KERNELS 1
 using Quad = double __attribute__((vector_size(32)));
-using Oct = double __attribute__((vector_size(64)));
+using Oct = double __attribute__((vector_size(64)));  // AVX-512's 32 registers hold 2 per column of a pair
 __attribute__((target("avx2"))) int consecutive_avx2(ColumnChanges c, double* l, int row0, int len, int count) {
-    const int k = consecutive_blocks<Quad, 4>(c, l, row0, len, count);
-    return k + consecutive_blocks<Quad, 2>(c, l + k, row0 + k, len - k, count);
+    return tiered_blocks<Quad, 4>(c, l, row0, len, count);
 }
 __attribute__((target("avx2"))) int consecutive2_avx2(ColumnChanges a, ColumnChanges b, double* l1, double* l2,
                                                       int row0, int len, int count) {
-    const int k = consecutive2_blocks<Quad, 4>(a, b, l1, l2, row0, len, count);
-    return k + consecutive2_blocks<Quad, 2>(a, b, l1 + k, l2 + k, row0 + k, len - k, count);
+    return tiered_blocks2<Quad, 4>(a, b, l1, l2, row0, len, count);
 }
-// AVX-512: 32 vector registers, so 16 rows of both columns of a pair fit in two vectors each.
 __attribute__((target("avx512f"))) int consecutive_avx512(ColumnChanges c, double* l, int row0, int len, int count) {
-    const int k = consecutive_blocks<Oct, 2>(c, l, row0, len, count);
-    return k + consecutive_blocks<Oct, 1>(c, l + k, row0 + k, len - k, count);
+    return tiered_blocks<Oct, 2>(c, l, row0, len, count);
 }
 __attribute__((target("avx512f"))) int consecutive2_avx512(ColumnChanges a, ColumnChanges b, double* l1, double* l2,
                                                           int row0, int len, int count) {
-    const int k = consecutive2_blocks<Oct, 2>(a, b, l1, l2, row0, len, count);
-    return k + consecutive2_blocks<Oct, 1>(a, b, l1 + k, l2 + k, row0 + k, len - k, count);
+    return tiered_blocks2<Oct, 2>(a, b, l1, l2, row0, len, count);
 }
 #endif
 
