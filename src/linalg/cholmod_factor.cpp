@@ -468,6 +468,11 @@ struct CholmodUpdatedFactor::Impl {
     template <class Whole, class Scattered>
     static void by_runs(const int* rows, int len, Whole&& whole, Scattered&& scattered) {
         int rest = 0;  // entries from `rest` on are not done yet
+        if (len > 0 && rows[len - 1] - rows[0] == len - 1) {  // one run (places ascend): no scan
+            rest = len >= kMinRun ? whole(0, len) : 0;
+            if (len > rest) scattered(rest, len);
+            return;
+        }
         for (int e = 0; e < len;) {
             int f = e + 1;
             while (f < len && rows[f] == rows[f - 1] + 1) ++f;

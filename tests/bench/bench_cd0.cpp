@@ -23,18 +23,17 @@
 #include <benchmark/benchmark.h>
 #include <petscsys.h>
 
-#include <cstdio>
 #include <cstdlib>
 #include <ctime>
-#include <fstream>
+#include <filesystem>
 #include <map>
-#include <optional>
 #include <stdexcept>
 #include <string>
 
 #include "jamsim/dynamics/cd0.hpp"
 #include "jamsim/dynamics/rd0.hpp"
 #include "jamsim/force/force_field.hpp"
+#include "jamsim/io/checkpoint_file.hpp"
 #include "jamsim/run/replica.hpp"
 
 using namespace jamsim;
@@ -74,50 +73,15 @@ double rd0_step_seconds(const System& start, const ReplicaParams& p) {
 }
 
 /// Where the sheared states are kept between runs: the directory named by the environment
-/// variable JAMSIM_BENCH_CD0_STATES (made by the caller), or none. A state is the state of
-/// this build of the code; remove the files after a change of CD0 or of the start.
+/// variable JAMSIM_BENCH_CD0_STATES (made by the caller), or none. Each is a replica
+/// checkpoint file (io/checkpoint_file.hpp: written atomically, format checked on reading);
+/// a state is the state of this build of the code, so remove the files after a change of CD0
+/// or of the start.
 std::string state_path(const ReplicaParams& p) {
     const char* dir = std::getenv("JAMSIM_BENCH_CD0_STATES");
     if (!dir || !*dir) return {};
     return std::string(dir) + "/cd0_flow_N" + std::to_string(p.n) + "_phi" +
-           std::to_string(std::lround(p.phi * 100)) + ".bin";
-}
-
-/// Raw dump of a System: N, side, strain, then x, y, diameter, ux, uy (N doubles each) and tag
-/// (N int32), in this machine's byte order. Not an archive format: a benchmark's cache only.
-void save_state(const std::string& path, const System& sys) {
-    const Particles& q = sys.particles;
-    const std::int64_t n = static_cast<std::int64_t>(q.size());
-    const std::string partial = path + ".partial";
-    std::ofstream out(partial, std::ios::binary);
-    const double box[2] = {sys.box.side(), sys.box.strain()};
-    out.write(reinterpret_cast<const char*>(&n), sizeof n);
-    out.write(reinterpret_cast<const char*>(box), sizeof box);
-    for (const auto* v : {&q.x, &q.y, &q.diameter, &q.ux, &q.uy})
-        out.write(reinterpret_cast<const char*>(v->data()), static_cast<std::streamsize>(n * 8));
-    out.write(reinterpret_cast<const char*>(q.tag.data()), static_cast<std::streamsize>(n * 4));
-    out.close();
-    if (!out || std::rename(partial.c_str(), path.c_str()) != 0)
-        throw std::runtime_error("bench_cd0: cannot write the state cache " + path);
-}
-
-/// The cached state at `path` if it is there and of N disks, else nothing.
-std::optional<System> load_state(const std::string& path, std::int64_t n_expected) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return std::nullopt;
-    std::int64_t n = 0;
-    double box[2] = {0, 0};
-    in.read(reinterpret_cast<char*>(&n), sizeof n);
-    in.read(reinterpret_cast<char*>(box), sizeof box);
-    if (!in || n != n_expected) throw std::runtime_error("bench_cd0: " + path + " is not a state of N = " + std::to_string(n_expected));
-    System sys{Particles{}, Box(box[0], box[1])};
-    Particles& q = sys.particles;
-    q.resize(static_cast<std::size_t>(n));
-    for (auto* v : {&q.x, &q.y, &q.diameter, &q.ux, &q.uy})
-        in.read(reinterpret_cast<char*>(v->data()), static_cast<std::streamsize>(n * 8));
-    in.read(reinterpret_cast<char*>(q.tag.data()), static_cast<std::streamsize>(n * 4));
-    if (!in) throw std::runtime_error("bench_cd0: the state cache " + path + " is cut short");
-    return sys;
+           std::to_string(std::lround(p.phi * 100)) + ".h5";
 }
 
 /// The random start sheared by CD0 to strain 0.2 at the benchmark's rate: the same state for
@@ -129,8 +93,12 @@ System sheared_start(const ReplicaParams& p) {
     const std::pair<long, long> key{static_cast<long>(p.n), std::lround(p.phi * 100)};
     if (const auto at = made.find(key); at != made.end()) return at->second;
     const std::string cached = state_path(p);
-    if (!cached.empty())
-        if (auto sys = load_state(cached, p.n)) return made.emplace(key, std::move(*sys)).first->second;
+    if (!cached.empty() && std::filesystem::exists(cached)) {
+        System sys = read_state_system(cached);
+        if (static_cast<std::int64_t>(sys.particles.size()) != p.n)
+            throw std::runtime_error("bench_cd0: " + cached + " is not a state of N = " + std::to_string(p.n));
+        return made.emplace(key, std::move(sys)).first->second;
+    }
     System sys = initial_system(p);
     ForceField ff(potential::make_soft_sphere(2.0), p.skin);
     ReplicaParams flow = p;
@@ -139,7 +107,7 @@ System sheared_start(const ReplicaParams& p) {
     Cd0 model(flow);
     const auto steps = static_cast<int>(0.2 / (p.rate * p.dt));
     for (int s = 0; s < steps; ++s) step(model, sys, ff, flow);
-    if (!cached.empty()) save_state(cached, sys);
+    if (!cached.empty()) write_checkpoint(cached, p, ReplicaState{.system = sys});
     return made.emplace(key, sys).first->second;
 }
 
