@@ -153,7 +153,8 @@ std::string check_output(const std::string& path, const CampaignSpec& spec, Outp
 }
 
 /// Every checkpoint beside the archive must belong to one of this campaign's replicas, so a
-/// stale or foreign one stops the run before any work (it is left as it is).
+/// stale or foreign one stops the run before any work (it is left as it is). A damaged one
+/// (unreadable) is left to its replica, which warns, removes it and starts again.
 std::string check_checkpoints(const std::string& output, const CampaignSpec& spec) {
     namespace fs = std::filesystem;
     std::error_code ec;
@@ -171,6 +172,8 @@ std::string check_checkpoints(const std::string& output, const CampaignSpec& spe
                    std::to_string(spec.replicas.size()) + ": remove it or choose another output";
         try {
             check_checkpoint_header(entry.path().string(), spec.replicas[static_cast<std::size_t>(id)]);
+        } catch (const CheckpointUnreadable&) {
+            continue;  // damaged: its replica removes it with a warning and starts again
         } catch (const CheckpointError& e) {
             return spec.path + ": " + e.what();
         }

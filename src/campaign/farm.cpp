@@ -243,6 +243,22 @@ class Dispatcher {
     Clock::time_point start_, last_print_;
 };
 
+/// The checkpoint of replica `id` when it can be used; a damaged one (unreadable, arrays that
+/// do not fit the replica, non-finite values, a checksum that disagrees) is removed with a
+/// warning naming the file and why, and the replica starts again from its start.
+std::optional<ReplicaState> usable_checkpoint(const std::string& path, const ReplicaParams& params,
+                                              std::int64_t id) {
+    try {
+        return read_checkpoint(path, params);
+    } catch (const CheckpointError& e) {
+        std::fprintf(stderr, "jamsim run: warning: %s; replica %lld starts again from its start\n", e.what(),
+                     static_cast<long long>(id));
+        std::error_code ignored;
+        std::filesystem::remove(path, ignored);
+        return std::nullopt;
+    }
+}
+
 /// Run one replica (from its checkpoint, if it has one) and record it.
 /// `has_successor`: a rate ladder continues from this replica's end state.
 Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, Archive& archive, int rank,
@@ -259,10 +275,24 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, A
     };
     const std::string checkpoint = checkpoint_path(options.archive_path, id);
     std::optional<ReplicaState> resume;
-    if (fs::exists(checkpoint)) timed([&] { resume = read_checkpoint(checkpoint, params); });
     std::optional<System> initial;
-    if (options.initial_states && !resume) timed([&] { initial = options.initial_states->load(params, id); });
     const std::int64_t before = spec.predecessor.empty() ? -1 : spec.predecessor[static_cast<std::size_t>(id)];
+    Outcome outcome = Outcome::Done;
+    try {  // preparing: a failure here fails this replica, never the campaign
+        if (fs::exists(checkpoint)) timed([&] { resume = usable_checkpoint(checkpoint, params, id); });
+        if (options.initial_states && !resume) timed([&] { initial = options.initial_states->load(params, id); });
+        if (before >= 0 && !resume)  // a rate ladder: start where the predecessor ended
+            timed([&] { initial = read_state_system(end_state_path(options.archive_path, before), params); });
+    } catch (const h5::Error&) {
+        throw;
+    } catch (const std::exception& e) {
+        outcome = Outcome::Failed;
+        timed([&] { archive.write_failed(id, e.what(), seconds_since(t0), rank); });
+        summary.io_seconds += io;
+        ++summary.ran;
+        ++summary.failed;
+        return outcome;
+    }
     timed([&] { archive.mark_running(id, rank, resume.has_value()); });
     auto last_save = Clock::now();
     std::size_t rows_saved = resume ? resume->series.size() : 0;  // already in the archive
@@ -279,11 +309,8 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, A
                 last_save = Clock::now();
             },
         .stop = stop};
-    Outcome outcome = Outcome::Done;
     std::shared_ptr<const ReplicaState> last_checkpoint;
     try {
-        if (before >= 0 && !resume)  // a rate ladder: start where the predecessor ended
-            timed([&] { initial = read_state_system(end_state_path(options.archive_path, before)); });
         const ReplicaResult result = run_replica(
             params, RunContext{.after_sample = between,
                                // Each frame straight into its place in the archive: frames

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <exception>
 #include <filesystem>
 #include <limits>
 #include <sstream>
@@ -525,5 +526,9 @@ void Archive::stamp(const std::string& attribute) {
 }
 
 void Archive::close() { file_.close("archive"); }
+
+Archive::~Archive() {
+    if (std::uncaught_exceptions() > 0) file_.abandon();
+}
 
 } // namespace jamsim

@@ -3,7 +3,10 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <cmath>
+#include <cstring>
 #include <filesystem>
+#include <optional>
 
 #include "jamsim/core/version.hpp"
 #include "jamsim/io/hdf5.hpp"
@@ -38,6 +41,59 @@ template <class T> void write_vector(hid_t g, const std::string& name, const std
                    H5Dclose, "create " + name);
     if (!v.empty()) h5::check(H5Dwrite(set.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), "write " + name);
     set.close(name);
+}
+
+/// A 64-bit digest of everything a checkpoint holds (its scalars, then every array in file
+/// order), word by word: FNV-1a's scheme on 8-byte words, then a final avalanche. Stored as
+/// the attribute "checksum", so a file edited or damaged after it was written (an edited
+/// step, a column a row short, zeros where data were) is recognised before it is used.
+class StateDigest {
+  public:
+    void add(std::uint64_t word) { h_ = (h_ ^ word) * 0x100000001b3ULL; }
+    void add(double v) {
+        std::uint64_t w;
+        std::memcpy(&w, &v, sizeof w);
+        add(w);
+    }
+    void add(std::int64_t v) { add(static_cast<std::uint64_t>(v)); }
+    template <class T> void add(const std::vector<T>& v) {
+        add(static_cast<std::uint64_t>(v.size()));
+        for (const T x : v) add(x);
+    }
+    void add(const std::vector<std::int32_t>& v) {
+        add(static_cast<std::uint64_t>(v.size()));
+        for (const std::int32_t x : v) add(static_cast<std::uint64_t>(static_cast<std::uint32_t>(x)));
+    }
+    std::int64_t value() const {  // splitmix64's finaliser
+        std::uint64_t z = h_;
+        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+        z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+        return static_cast<std::int64_t>(z ^ (z >> 31));
+    }
+
+  private:
+    std::uint64_t h_ = 0xcbf29ce484222325ULL;
+};
+
+std::int64_t digest_of(const ReplicaState& state) {
+    StateDigest d;
+    d.add(state.step);
+    d.add(state.steps);
+    d.add(state.force_evaluations);
+    d.add(state.list_builds);
+    d.add(state.wall_seconds);
+    d.add(state.system.box.side());
+    d.add(state.system.box.strain());
+    const Particles& q = state.system.particles;
+    for (const auto* v : {&q.x, &q.y, &q.diameter, &q.fx, &q.fy, &q.ux, &q.uy}) d.add(*v);
+    d.add(q.tag);
+    for (const auto& c : kSampleColumns) d.add(state.series.column(c.member));
+    d.add(state.correlation.sum);
+    d.add(state.correlation.count);
+    d.add(state.correlation.uy2_sum);
+    d.add(state.correlation.uy2_count);
+    d.add(state.protocol);
+    return d.value();
 }
 
 } // namespace
@@ -96,6 +152,7 @@ void write_checkpoint(const std::string& path, const ReplicaParams& p, const Rep
             g.close("correlation");
         }
         write_vector(f, "protocol", state.protocol, H5T_NATIVE_DOUBLE);
+        h5::write_attribute(f, "checksum", digest_of(state));
         h5::check(H5Fflush(f, H5F_SCOPE_GLOBAL), "flush '" + tmp + "'");
         file.close("checkpoint '" + tmp + "'");
         if (!final) sync_file(tmp);
@@ -109,9 +166,43 @@ void write_checkpoint(const std::string& path, const ReplicaParams& p, const Rep
 }
 
 namespace {
-/// Everything in the file; checks its format and the lengths of its arrays.
-ReplicaState read_state(const std::string& path) {
+bool all_finite(const std::vector<double>& v) {
+    for (const double x : v)
+        if (!std::isfinite(x)) return false;
+    return true;
+}
+
+/// Why the state read from a checkpoint cannot be a state of a replica of `n` disks ("" when
+/// it can): array lengths, finite values, a step within the run, tags that are disk indices.
+std::string body_problem(const ReplicaState& s, std::int64_t n) {
+    const Particles& q = s.system.particles;
+    const auto size = static_cast<std::size_t>(n);
+    for (const auto& [name, v] : {std::pair{"x", &q.x}, {"y", &q.y}, {"diameter", &q.diameter},
+                                  {"fx", &q.fx}, {"fy", &q.fy}, {"ux", &q.ux}, {"uy", &q.uy}}) {
+        if (v->size() != size)
+            return std::string("particles/") + name + " holds " + std::to_string(v->size()) + " values, the replica has N = " +
+                   std::to_string(n);
+        if (!all_finite(*v)) return std::string("particles/") + name + " holds a value that is not finite";
+    }
+    if (q.tag.size() != size)
+        return "particles/tag holds " + std::to_string(q.tag.size()) + " values, the replica has N = " + std::to_string(n);
+    for (const std::int32_t t : q.tag)
+        if (t < 0 || t >= n) return "particles/tag holds " + std::to_string(t) + ", not a disk index below N = " + std::to_string(n);
+    for (const double d : q.diameter)
+        if (!(d > 0)) return "particles/diameter holds a diameter that is not positive";
+    const double side = s.system.box.side(), strain = s.system.box.strain();
+    if (!(side > 0) || !std::isfinite(side) || !std::isfinite(strain)) return "the box (side, strain) is not finite and positive";
+    if (s.step < 0 || s.steps < 0 || s.step > s.steps)
+        return "step " + std::to_string(s.step) + " is not within the run's " + std::to_string(s.steps) + " steps";
+    return "";
+}
+
+/// Everything in the file; checks its format, the lengths of its arrays and (where the file
+/// has one) its checksum; with `n` >= 0 also the body against a replica of n disks.
+ReplicaState read_state(const std::string& path, std::int64_t n = -1) {
     h5::quiet_errors();
+    ReplicaState s{.system = System{Particles{}, Box(1.0)}};  // the box is read below
+    std::optional<std::int64_t> checksum;
     try {
         const h5::Handle file = h5::open_file_readonly(path);
         const hid_t f = file.get();
@@ -119,13 +210,13 @@ ReplicaState read_state(const std::string& path) {
         if (format != kFormat)
             throw CheckpointError("checkpoint '" + path + "' has format \"" + format +
                                   "\", this jamsim reads \"" + kFormat + "\": remove it to start the replica again");
-        ReplicaState s{.system = System{Particles{}, Box(h5::read_double_attribute(f, "box_side"),
-                                                         h5::read_double_attribute(f, "box_strain"))}};
+        s.system = System{Particles{}, Box(h5::read_double_attribute(f, "box_side"), h5::read_double_attribute(f, "box_strain"))};
         s.step = h5::read_int64_attribute(f, "step");
         s.steps = h5::read_int64_attribute(f, "steps");
         s.force_evaluations = h5::read_int64_attribute(f, "force_evaluations");
         s.list_builds = h5::read_int64_attribute(f, "list_builds");
         s.wall_seconds = h5::read_double_attribute(f, "wall_seconds");
+        if (H5Aexists(f, "checksum") > 0) checksum = h5::read_int64_attribute(f, "checksum");
         Particles& q = s.system.particles;
         for (const auto& [name, v] : {std::pair{"x", &q.x}, {"y", &q.y}, {"diameter", &q.diameter},
                                       {"fx", &q.fx}, {"fy", &q.fy}, {"ux", &q.ux}, {"uy", &q.uy}})
@@ -136,9 +227,12 @@ ReplicaState read_state(const std::string& path) {
                 throw CheckpointError("checkpoint '" + path + "' is damaged: particle arrays differ in length");
         std::vector<std::vector<double>> columns;
         for (const auto& c : kSampleColumns) columns.push_back(h5::read_dataset(f, std::string("timeseries/") + c.name));
+        for (const auto& c : columns)
+            if (c.size() != columns.front().size())
+                throw CheckpointError("checkpoint '" + path + "' is damaged: its timeseries columns differ in length");
         for (std::size_t row = 0; row < columns.front().size(); ++row) {
             Sample sample{};
-            for (std::size_t k = 0; k < columns.size(); ++k) sample.*(kSampleColumns[k].member) = columns[k].at(row);
+            for (std::size_t k = 0; k < columns.size(); ++k) sample.*(kSampleColumns[k].member) = columns[k][row];
             s.series.push(sample);
         }
         s.correlation.sum = h5::read_dataset(f, "correlation/sum");
@@ -147,10 +241,17 @@ ReplicaState read_state(const std::string& path) {
         s.correlation.uy2_sum = h5::read_double_attribute(g.get(), "uy2_sum");
         s.correlation.uy2_count = h5::read_double_attribute(g.get(), "uy2_count");
         s.protocol = h5::read_dataset(f, "protocol");
-        return s;
     } catch (const h5::Error& e) {
         throw CheckpointError("checkpoint '" + path + "' cannot be read: " + e.what());
+    } catch (const std::invalid_argument& e) {  // a box that cannot be (Box's own check)
+        throw CheckpointError("checkpoint '" + path + "' is damaged: " + e.what());
     }
+    if (checksum && *checksum != digest_of(s))
+        throw CheckpointError("checkpoint '" + path + "' is damaged: its checksum does not match what it holds");
+    if (n >= 0)
+        if (const std::string why = body_problem(s, n); !why.empty())
+            throw CheckpointError("checkpoint '" + path + "' is damaged: " + why);
+    return s;
 }
 
 } // namespace
@@ -163,10 +264,13 @@ ReplicaState read_checkpoint(const std::string& path, const ReplicaParams& p) {
     } catch (const h5::Error& e) {
         throw CheckpointError("checkpoint '" + path + "' cannot be read: " + e.what());
     }
-    ReplicaState s = read_state(path);
+    ReplicaState s = read_state(path, p.n);
     if (replica != describe_without_run_length(p))
         throw CheckpointError("checkpoint '" + path + "' belongs to another replica (\"" + replica +
                               "\", this campaign's is \"" + describe_without_run_length(p) + "\")");
+    if (s.series.size() > static_cast<std::size_t>(std::max<std::int64_t>(sample_count(p), 0)))
+        throw CheckpointError("checkpoint '" + path + "' is damaged: it holds " + std::to_string(s.series.size()) +
+                              " rows, this replica samples " + std::to_string(sample_count(p)));
     if (!model_of(p).open_ended && s.step > checkpointed_steps(p))
         throw CheckpointError("checkpoint '" + path + "' is at step " + std::to_string(s.step) +
                               ", beyond this replica's " + std::to_string(checkpointed_steps(p)) +
@@ -176,6 +280,8 @@ ReplicaState read_checkpoint(const std::string& path, const ReplicaParams& p) {
 
 System read_state_system(const std::string& path) { return read_state(path).system; }
 
+System read_state_system(const std::string& path, const ReplicaParams& p) { return read_state(path, p.n).system; }
+
 void check_checkpoint_header(const std::string& path, const ReplicaParams& p) {
     h5::quiet_errors();
     std::string format, replica;
@@ -184,7 +290,7 @@ void check_checkpoint_header(const std::string& path, const ReplicaParams& p) {
         format = h5::read_string_attribute(f.get(), "format");
         replica = h5::read_string_attribute(f.get(), "replica");
     } catch (const h5::Error& e) {
-        throw CheckpointError("checkpoint '" + path + "' cannot be read: " + e.what());
+        throw CheckpointUnreadable("checkpoint '" + path + "' cannot be read: " + e.what());
     }
     if (format != kFormat)
         throw CheckpointError("checkpoint '" + path + "' has format \"" + format + "\", this jamsim reads \"" +

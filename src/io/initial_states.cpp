@@ -46,12 +46,25 @@ InitialStates::InitialStates(const std::string& source) : source_(source) {
         n_ = h5::read_dataset(f.get(), "/replicas/N");
         phi_ = h5::read_dataset(f.get(), "/replicas/phi");
         seed_ = h5::read_dataset(f.get(), "/replicas/seed");
+        if (H5Lexists(f.get(), "/replicas/size_ratio", H5P_DEFAULT) > 0)
+            size_ratio_ = h5::read_dataset(f.get(), "/replicas/size_ratio");
     } catch (const h5::Error& e) {
         throw InitialStateError(allowed + e.what() + ")");
     }
 }
 
 std::int64_t InitialStates::match(const ReplicaParams& p, std::int64_t id) const {
+    const std::int64_t k = find(p, id);
+    const auto at = static_cast<std::size_t>(k);
+    if (!lammps_ && at < size_ratio_.size() && std::isfinite(size_ratio_[at]) && size_ratio_[at] != p.size_ratio)
+        throw InitialStateError("[run] initial = \"" + source_ + "\": replica " + std::to_string(k) +
+                                " has size_ratio = " + show(size_ratio_[at]) + ", replica " + std::to_string(id) +
+                                " here size_ratio = " + show(p.size_ratio) +
+                                ": its disks would have other diameters (start from a source of the same mixture)");
+    return k;
+}
+
+std::int64_t InitialStates::find(const ReplicaParams& p, std::int64_t id) const {
     const std::string where = "[run] initial = \"" + source_ + "\": ";
     if (lammps_) {
         try {

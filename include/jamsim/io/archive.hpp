@@ -121,6 +121,13 @@ class Archive {
     /// Collective close.
     void close();
 
+    Archive(Archive&&) noexcept = default;
+    Archive& operator=(Archive&&) = delete;
+    /// Closes the file (collective), except while an exception unwinds: then the other ranks
+    /// may never reach the close, so the file is left to the abort that follows (its data
+    /// were written before any status that validates them; see above).
+    ~Archive();
+
   private:
     Archive(h5::Handle file, MPI_Comm comm, ArchiveLayout layout)
         : file_(std::move(file)), comm_(comm), layout_(std::move(layout)) {}

@@ -16,12 +16,18 @@ struct CheckpointError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
+/// A checkpoint file that HDF5 cannot read at all (truncated, zeroed): damaged, not foreign.
+struct CheckpointUnreadable : CheckpointError {
+    using CheckpointError::CheckpointError;
+};
+
 /// Folder of an archive's checkpoints, and the file of replica `id`.
 std::string checkpoint_folder(const std::string& archive_path);
 std::string checkpoint_path(const std::string& archive_path, std::int64_t id);
 
 /// The cheap part of read_checkpoint's checks (format and replica, from two attributes), for
-/// scanning many checkpoints before a run; throws CheckpointError.
+/// scanning many checkpoints before a run; throws CheckpointError (CheckpointUnreadable for a
+/// file HDF5 cannot open or read).
 void check_checkpoint_header(const std::string& path, const ReplicaParams& p);
 
 /// The end state of a replica of a rate ladder, which its successor starts from.
@@ -29,6 +35,9 @@ std::string end_state_path(const std::string& archive_path, std::int64_t id);
 
 /// The configuration saved in a checkpoint or end-state file (format checked only).
 System read_state_system(const std::string& path);
+/// The same, its body checked against a replica with parameters `p` (N disks, finite values,
+/// checksum); throws CheckpointError naming the file and what is wrong.
+System read_state_system(const std::string& path, const ReplicaParams& p);
 
 /// Write `state` of the replica with parameters `p` (atomically: tmp, fsync, rename). A
 /// `final` checkpoint is the last checkpoint step of a finished replica, kept so that a
@@ -39,7 +48,9 @@ void write_checkpoint(const std::string& path, const ReplicaParams& p, const Rep
 
 /// Read a checkpoint and check that it belongs to a replica with parameters `p` (up to the
 /// run length, which may have grown) written by this version's checkpoint format, at a step
-/// within the replica's run; throws CheckpointError otherwise.
+/// within the replica's run, and that its body is whole: every particle array N long, finite
+/// values, and the checksum over its contents (files written since it was kept) the same as
+/// at writing; throws CheckpointError otherwise.
 ReplicaState read_checkpoint(const std::string& path, const ReplicaParams& p);
 
 } // namespace jamsim

@@ -50,6 +50,11 @@ class Handle {
         }
     }
 
+    /// Forget the id without closing it: for a collective handle (an archive opened through
+    /// MPI-IO) while an error unwinds on one rank, where a close would wait for ranks that
+    /// never call it; the process is about to abort.
+    void abandon() noexcept { id_ = H5I_INVALID_HID; }
+
   private:
     void reset() noexcept {
         if (id_ >= 0) close_(std::exchange(id_, H5I_INVALID_HID));

@@ -27,7 +27,8 @@ class InitialStates {
 
     /// The source replica that starts replica `id` with parameters `p` (0 for a LAMMPS data
     /// file, after checking that it fits p: N, types, diameters, cell); throws
-    /// InitialStateError when none (or, matching by parameters, more than one) fits.
+    /// InitialStateError when none (or, matching by parameters, more than one) fits, or when
+    /// it holds another mixture (size_ratio) than p.
     std::int64_t match(const ReplicaParams& p, std::int64_t id) const;
 
     /// That replica's final configuration (or the data file's; disks in creation order,
@@ -39,7 +40,10 @@ class InitialStates {
     std::string source_;
     std::optional<LammpsData> lammps_;  ///< set when the source is a LAMMPS data file
     std::vector<std::int8_t> status_;
+    /// The source replica for (p, id) by id or by (N, phi, seed), before the mixture check.
+    std::int64_t find(const ReplicaParams& p, std::int64_t id) const;
     std::vector<double> n_, phi_, seed_;
+    std::vector<double> size_ratio_;  ///< of each source replica (empty: an archive without the column)
 };
 
 } // namespace jamsim
