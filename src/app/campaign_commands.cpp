@@ -479,6 +479,12 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
             const CampaignSpec spec = load_campaign(opt.spec_path, opt.max_replicas);
             text = spec.text;
             if (output.empty()) output = spec.output;
+            // An archive reached through a symlink is the file it names: its lock, checkpoints
+            // and growth files are those of that file, whichever path a run was given.
+            if (std::error_code ec; std::filesystem::is_symlink(output, ec)) {
+                const auto target = std::filesystem::weakly_canonical(output, ec);
+                if (!ec) output = target.string();
+            }
             // Size and memory before anything is created (the dry run prints them).
             const CapacityEstimate capacity = estimate_capacity(spec, output, ranks, node_ranks);
             if (opt.dry_run) print_capacity(capacity, output);
@@ -558,6 +564,7 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
     std::optional<ArchiveLock> lock;
     try {
         lock.emplace(ArchiveLock::acquire(comm, output, "jamsim run " + opt.spec_path));
+        lock->hold_archive(output);
     } catch (const ArchiveBusy& e) {
         if (rank == 0) std::fprintf(stderr, "jamsim run: %s\n", e.what());
         return 2;
@@ -566,8 +573,12 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
         if (extend) {
             if (rank == 0)
                 std::printf("extending %s to the longer runs of %s: finished replicas continue from "
-                            "their final checkpoints\n", output.c_str(), opt.spec_path.c_str());
+                            "their final checkpoints%s\n", output.c_str(), opt.spec_path.c_str(),
+                            spec.predecessor.empty() ? ""
+                                                     : "; a rate ladder's later replicas run again from their "
+                                                       "predecessors' new end states");
             Archive::extend(comm, output, spec);
+            lock->hold_archive(output);  // the file was replaced
         }
         if (grow) {
             if (rank == 0)
@@ -575,6 +586,7 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
                             static_cast<long long>(grow_kept),
                             static_cast<long long>(spec.replicas.size()) - static_cast<long long>(grow_kept));
             Archive::grow(comm, output, spec, grow_source);
+            lock->hold_archive(output);
         }
         int exists = rank == 0 ? std::filesystem::exists(output) : 0;
         mpi::broadcast(exists, 0, comm);
@@ -604,6 +616,7 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
             }
         }
         Archive archive = exists ? Archive::open(comm, output) : std::move(*created);
+        if (!exists) lock->hold_archive(output);
         archive.stamp("run_started");
         std::optional<InitialStates> initial;
         if (!spec.replicas.front().initial.empty()) initial.emplace(spec.replicas.front().initial);

@@ -3,6 +3,7 @@
 #include <sstream>
 
 #include "jamsim/io/archive.hpp"
+#include "jamsim/io/checkpoint_file.hpp"
 #include "jamsim/parallel/mpi.hpp"
 #include "jamsim/run/model_registry.hpp"
 #include "archive_detail.hpp"
@@ -68,8 +69,17 @@ void Archive::extend(MPI_Comm comm, const std::string& path, const CampaignSpec&
     std::vector<ReplicaStatus> before;
     if (mpi::rank(comm) == 0) before = read_stored_campaign(path).status;
     Archive out = create(comm, next, spec);
+    // A rate ladder's later replicas started from their predecessor's end state at the old
+    // run length; the longer campaign starts them from the end state at the new one, so they
+    // run again from there (pending, their rows and final checkpoints dropped), as a campaign
+    // run in one go would have run them.
+    std::vector<std::size_t> rerun;
     if (mpi::rank(comm) == 0)
         for (std::size_t r = 0; r < before.size(); ++r) {
+            if (!spec.predecessor.empty() && spec.predecessor[r] >= 0) {
+                rerun.push_back(r);
+                continue;
+            }
             if (before[r] != ReplicaStatus::Done && before[r] != ReplicaStatus::Failed) continue;
             out.import_replica(path, static_cast<std::int64_t>(r));
             if (before[r] != ReplicaStatus::Done) continue;
@@ -87,6 +97,13 @@ void Archive::extend(MPI_Comm comm, const std::string& path, const CampaignSpec&
             write_block(out.file_.get(), "/replicas/progress", H5T_NATIVE_DOUBLE, {id}, {1}, &progress);
             write_block(out.file_.get(), "/replicas/status", H5T_NATIVE_INT8, {id}, {1}, &s);
         }
+    // Their final checkpoints go before the rename: the old archive never needs them (an
+    // extension reruns them anyway), the new one must not continue from them.
+    for (const std::size_t r : rerun) {
+        std::error_code ignored;
+        std::filesystem::remove(checkpoint_path(path, static_cast<std::int64_t>(r)), ignored);
+        std::filesystem::remove(checkpoint_path(path, static_cast<std::int64_t>(r)) + ".tmp", ignored);
+    }
     out.stamp("extended");
     out.close();
     if (mpi::rank(comm) == 0) {

@@ -1,7 +1,9 @@
 #include "jamsim/io/archive_lock.hpp"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
+#include <sys/vfs.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -46,6 +48,40 @@ std::string busy_message(const std::string& archive, const std::string& path, in
            "may take a few seconds to exit), or stop it (scancel, kill); the lock is '" + path + "'";
 }
 
+/// Filesystems where flock() and fcntl() locks are independent (Linux, local): there a lock
+/// held on the archive file itself cannot meet MPI-IO's own byte-range locks. On network and
+/// parallel filesystems (NFS, Lustre, GPFS) flock may be an fcntl lock in disguise, so the
+/// archive is not locked there and the lock file alone keeps one writer.
+bool local_filesystem(int fd) {
+    struct statfs fs {};
+    if (::fstatfs(fd, &fs) != 0) return false;
+    switch (static_cast<unsigned long>(fs.f_type)) {
+    case 0xEF53UL:      // ext2/3/4
+    case 0x58465342UL:  // xfs
+    case 0x9123683EUL:  // btrfs
+    case 0x01021994UL:  // tmpfs
+    case 0x794C7630UL:  // overlayfs
+    case 0x2FC12FC1UL:  // zfs
+        return true;
+    default:
+        return false;
+    }
+}
+
+/// Why the archive file itself is held by another process ("" when it is not), tested by
+/// taking flock(LOCK_EX) for a moment on `fd`.
+std::string archive_held(int fd, const std::string& archive) {
+    if (::flock(fd, LOCK_EX | LOCK_NB) == 0) {
+        ::flock(fd, LOCK_UN);
+        return "";
+    }
+    if (errno != EWOULDBLOCK) return "";  // no flock here: the lock file alone guards it
+    return "'" + archive + "' is open in another process: a jamsim run that holds it (started through "
+           "another path to the same file, or whose lock file was removed), or a program reading it "
+           "with HDF5 file locking (h5py, h5dump); one run writes an archive at a time: wait for that "
+           "run to finish or stop it (scancel, kill), or close the file in the other program";
+}
+
 std::string host_name() {
     char name[256] = {};
     if (::gethostname(name, sizeof name - 1) != 0) return "unknown host";
@@ -53,6 +89,12 @@ std::string host_name() {
 }
 
 } // namespace
+
+/// `path` still names the file open as `fd` (not removed nor replaced since it was opened).
+static bool names(const std::string& path, int fd) {
+    struct stat a {}, b {};
+    return ::stat(path.c_str(), &a) == 0 && ::fstat(fd, &b) == 0 && a.st_dev == b.st_dev && a.st_ino == b.st_ino;
+}
 
 std::string lock_path(const std::string& archive_path) { return archive_path + ".lock"; }
 
@@ -68,6 +110,9 @@ ArchiveLock ArchiveLock::acquire(MPI_Comm comm, const std::string& archive_path,
             error = "cannot open the lock file '" + path + "': " + std::strerror(errno);
         } else if (const int e = set_lock(fd, F_WRLCK); busy(e)) {
             error = busy_message(archive_path, path, fd);
+        } else if (e == 0 && !names(path, fd)) {  // removed or replaced between open and lock
+            error = "the lock file '" + path + "' was removed or replaced while this run took it: another run "
+                    "may be starting on '" + archive_path + "'; try again";
         } else if (unsupported(e)) {
             supported = 0;
             std::fprintf(stderr, "jamsim: warning: the filesystem of '%s' has no file locks (%s): jamsim "
@@ -111,19 +156,43 @@ ArchiveLock ArchiveLock::acquire(MPI_Comm comm, const std::string& archive_path,
 
 void ArchiveLock::check_free(const std::string& archive_path) {
     const std::string path = lock_path(archive_path);
-    const int fd = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
-    if (fd < 0) return;  // never locked
-    const int e = set_lock(fd, F_WRLCK);
-    std::string message = busy(e) ? busy_message(archive_path, path, fd) : "";
-    ::close(fd);  // releases what this process holds on it
-    if (!message.empty()) throw ArchiveBusy(message);
+    if (const int fd = ::open(path.c_str(), O_RDWR | O_CLOEXEC); fd >= 0) {
+        const int e = set_lock(fd, F_WRLCK);
+        std::string message = busy(e) ? busy_message(archive_path, path, fd) : "";
+        ::close(fd);  // releases what this process holds on it
+        if (!message.empty()) throw ArchiveBusy(message);
+    }
+    if (const int fd = ::open(archive_path.c_str(), O_RDONLY | O_CLOEXEC); fd >= 0) {
+        const std::string message = local_filesystem(fd) ? archive_held(fd, archive_path) : "";
+        ::close(fd);
+        if (!message.empty()) throw ArchiveBusy(message);
+    }
+}
+
+void ArchiveLock::hold_archive(const std::string& archive_path) {
+    std::string error;
+    if (mpi::rank(comm_) == 0) {
+        if (archive_fd_ >= 0) ::close(std::exchange(archive_fd_, -1));  // an older file of that name
+        const int fd = ::open(archive_path.c_str(), O_RDONLY | O_CLOEXEC);
+        if (fd >= 0 && local_filesystem(fd)) {
+            error = archive_held(fd, archive_path);
+            if (error.empty() && ::flock(fd, LOCK_SH | LOCK_NB) != 0)
+                error = archive_held(fd, archive_path);  // another run took it in between
+        }
+        if (fd >= 0 && error.empty()) archive_fd_ = fd;
+        else if (fd >= 0) ::close(fd);
+    }
+    mpi::broadcast(error, 0, comm_);
+    if (!error.empty()) throw ArchiveBusy(error);
 }
 
 ArchiveLock::ArchiveLock(ArchiveLock&& other) noexcept
-    : comm_(other.comm_), path_(std::move(other.path_)), fd_(std::exchange(other.fd_, -1)) {}
+    : comm_(other.comm_), path_(std::move(other.path_)), fd_(std::exchange(other.fd_, -1)),
+      archive_fd_(std::exchange(other.archive_fd_, -1)) {}
 
 ArchiveLock::~ArchiveLock() {
     if (fd_ >= 0) ::close(fd_);
+    if (archive_fd_ >= 0) ::close(archive_fd_);
 }
 
 void ArchiveLock::release() {
@@ -132,6 +201,7 @@ void ArchiveLock::release() {
     mpi::check(MPI_Barrier(comm_), "MPI_Barrier");
     // Every other rank has let go; this one still holds it while the file goes, so no new run
     // can lock the old file in between.
+    if (rank == 0 && archive_fd_ >= 0) ::close(std::exchange(archive_fd_, -1));
     if (rank == 0 && fd_ >= 0) {
         ::unlink(path_.c_str());
         ::close(std::exchange(fd_, -1));

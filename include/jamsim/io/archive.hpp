@@ -57,7 +57,9 @@ class Archive {
     /// Collective: rewrite the archive at `path` for the longer campaign `spec`: a new archive
     /// with room for the longer runs (written beside it, then renamed over it, so a kill leaves
     /// the old one whole) holding the failed replicas as they were and the finished ones as
-    /// partial rows of running replicas, which continue from their final checkpoints.
+    /// partial rows of running replicas, which continue from their final checkpoints. A rate
+    /// ladder's later replicas are pending again: they start from their predecessor's new end
+    /// state, as in the longer campaign run in one go.
     static void extend(MPI_Comm comm, const std::string& path, const CampaignSpec& spec);
 
     /// Serial, read-only: "" when `spec` is the archive's campaign with a sweep that differs

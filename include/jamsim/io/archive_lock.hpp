@@ -4,7 +4,10 @@
 // lock (fcntl) on it for as long as it lives. A second run, merge or resume asks for an
 // exclusive lock first and is refused, with the holder's name, while any rank of the first
 // still lives, including ranks that outlive a killed mpirun by seconds. The kernel drops the
-// locks of a process that dies, so the file of a killed run is taken over safely.
+// locks of a process that dies, so the file of a killed run is taken over safely. The lock
+// file is keyed by the archive's path; the archive file itself is held too (flock, where the
+// filesystem keeps flock apart from MPI-IO's fcntl locks), so a second path to the same file
+// or a removed lock file does not let a second writer in.
 #include <mpi.h>
 
 #include <stdexcept>
@@ -25,9 +28,15 @@ class ArchiveLock {
     /// holder, then every rank holds it shared. Throws ArchiveBusy on every rank when another
     /// process holds it. On a filesystem without record locks it warns once and holds nothing.
     static ArchiveLock acquire(MPI_Comm comm, const std::string& archive_path, const std::string& command);
-    /// Serial: throws ArchiveBusy when a live run holds the lock of `archive_path` (a merge
-    /// checks its shards this way); takes nothing.
+    /// Serial: throws ArchiveBusy when a live run holds the lock of `archive_path`, or the
+    /// archive file itself (a merge checks its shards this way); takes nothing.
     static void check_free(const std::string& archive_path);
+    /// Collective: rank 0 also holds the archive file itself (a shared flock, on local
+    /// filesystems), so a run that reaches it through another path (a symlink, a hard link)
+    /// or after its lock file was removed is refused too; throws ArchiveBusy on every rank
+    /// when another process holds it. Called again after the file is replaced (created,
+    /// extended, grown).
+    void hold_archive(const std::string& archive_path);
 
     ArchiveLock(ArchiveLock&& other) noexcept;
     ArchiveLock& operator=(ArchiveLock&&) = delete;
@@ -43,6 +52,7 @@ class ArchiveLock {
     MPI_Comm comm_;
     std::string path_;
     int fd_ = -1;
+    int archive_fd_ = -1;  ///< rank 0: the archive, flock'ed shared (-1: none)
 };
 
 } // namespace jamsim
