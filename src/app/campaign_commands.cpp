@@ -181,6 +181,25 @@ std::string check_checkpoints(const std::string& output, const CampaignSpec& spe
     return "";
 }
 
+/// "" when every replica of the archive at `output` that started from [run] initial would
+/// start from the same state today (grow_source: the archive's id of each replica of a grown
+/// campaign, empty otherwise); else which would not, and what to do.
+std::string initial_source_changed(const InitialStates& source, const CampaignSpec& spec, const std::string& output,
+                                   const std::vector<std::int64_t>& grow_source) {
+    InitialRecords recorded = read_initial_records(output);
+    if (!grow_source.empty()) {  // to this campaign's ids
+        InitialRecords mapped;
+        for (const std::int64_t from : grow_source) {
+            const bool kept = from >= 0 && static_cast<std::size_t>(from) < recorded.source.size();
+            mapped.source.push_back(kept ? recorded.source[static_cast<std::size_t>(from)] : 0);
+            mapped.state.push_back(kept ? recorded.state[static_cast<std::size_t>(from)] : 0);
+        }
+        recorded = std::move(mapped);
+    }
+    const std::string why = source.changed_since(spec.replicas, recorded.source, recorded.state);
+    return why.empty() ? "" : spec.path + ": " + why;
+}
+
 /// PETSc options (campaign-wide, [model] petsc_options) that PETSc does not recognise or the
 /// CD0 solver does not use: refused before any work, by PETSc itself (the table's check has
 /// refused those no PETSc solver would see).
@@ -521,6 +540,7 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
                     const InitialStates source(spec.replicas.front().initial);
                     for (std::size_t id = 0; id < spec.replicas.size(); ++id)
                         source.match(spec.replicas[id], static_cast<std::int64_t>(id));
+                    if (std::filesystem::exists(output)) error = initial_source_changed(source, spec, output, grow_source);
                 } catch (const InitialStateError& e) {
                     error = spec.path + ": " + e.what();
                 }

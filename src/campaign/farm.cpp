@@ -293,6 +293,8 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, A
         ++summary.failed;
         return outcome;
     }
+    if (initial && options.initial_states && before < 0)  // what it starts from, for later runs to check
+        timed([&] { archive.record_initial(id, options.initial_states->fingerprint(), InitialStates::digest(*initial)); });
     timed([&] { archive.mark_running(id, rank, resume.has_value()); });
     auto last_save = Clock::now();
     std::size_t rows_saved = resume ? resume->series.size() : 0;  // already in the archive

@@ -154,6 +154,7 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
                                   "the seed, the key of its random numbers (the same replica in "
                                   "any campaign has the same identity)");
     }
+    create_initial_columns(f, spec);
     h5::create_filled_dataset(f, "/replicas/status", H5T_NATIVE_INT8, {replicas}, &pending, "1",
            "0 pending, 1 running, 2 done, 3 failed; written after the replica's data");
     h5::create_filled_dataset(f, "/replicas/rank", H5T_NATIVE_INT32, {replicas}, &no_rank, "1",
@@ -424,6 +425,9 @@ void Archive::import_replica(const std::string& source_path, std::int64_t source
                           "/replicas/rows_written", "/replicas/progress",
                           "/replicas/failure_reason", "/replicas/status"})  // status last: it validates the rest
         paths.emplace_back(p);
+    for (const char* p : {"/replicas/initial_state", "/replicas/initial_source"})  // where both have them
+        if (H5Lexists(src.get(), p, H5P_DEFAULT) > 0 && H5Lexists(file_.get(), p, H5P_DEFAULT) > 0)
+            paths.insert(paths.end() - 1, p);  // before the status
     // The final configuration: its N disks, at the replica's offset in each archive.
     {
         const auto first = static_cast<hsize_t>(layout_.particle_offset.at(r));

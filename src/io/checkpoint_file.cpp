@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "jamsim/core/digest.hpp"
 #include "jamsim/core/version.hpp"
 #include "jamsim/io/hdf5.hpp"
 
@@ -43,40 +44,11 @@ template <class T> void write_vector(hid_t g, const std::string& name, const std
     set.close(name);
 }
 
-/// A 64-bit digest of everything a checkpoint holds (its scalars, then every array in file
-/// order), word by word: FNV-1a's scheme on 8-byte words, then a final avalanche. Stored as
-/// the attribute "checksum", so a file edited or damaged after it was written (an edited
-/// step, a column a row short, zeros where data were) is recognised before it is used.
-class StateDigest {
-  public:
-    void add(std::uint64_t word) { h_ = (h_ ^ word) * 0x100000001b3ULL; }
-    void add(double v) {
-        std::uint64_t w;
-        std::memcpy(&w, &v, sizeof w);
-        add(w);
-    }
-    void add(std::int64_t v) { add(static_cast<std::uint64_t>(v)); }
-    template <class T> void add(const std::vector<T>& v) {
-        add(static_cast<std::uint64_t>(v.size()));
-        for (const T x : v) add(x);
-    }
-    void add(const std::vector<std::int32_t>& v) {
-        add(static_cast<std::uint64_t>(v.size()));
-        for (const std::int32_t x : v) add(static_cast<std::uint64_t>(static_cast<std::uint32_t>(x)));
-    }
-    std::int64_t value() const {  // splitmix64's finaliser
-        std::uint64_t z = h_;
-        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-        z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-        return static_cast<std::int64_t>(z ^ (z >> 31));
-    }
-
-  private:
-    std::uint64_t h_ = 0xcbf29ce484222325ULL;
-};
-
+/// A digest of everything a checkpoint holds (its scalars, then every array in file order),
+/// stored as the attribute "checksum", so a file edited or damaged after it was written (an
+/// edited step, a column a row short, zeros where data were) is recognised before it is used.
 std::int64_t digest_of(const ReplicaState& state) {
-    StateDigest d;
+    Digest d;
     d.add(state.step);
     d.add(state.steps);
     d.add(state.force_evaluations);
@@ -93,7 +65,7 @@ std::int64_t digest_of(const ReplicaState& state) {
     d.add(state.correlation.uy2_sum);
     d.add(state.correlation.uy2_count);
     d.add(state.protocol);
-    return d.value();
+    return static_cast<std::int64_t>(d.value());
 }
 
 } // namespace

@@ -1,7 +1,11 @@
 #include "jamsim/io/initial_states.hpp"
 
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <utility>
+
+#include "jamsim/core/digest.hpp"
 
 #include "jamsim/io/hdf5.hpp"
 #include "jamsim/io/stored_replicas.hpp"
@@ -34,6 +38,10 @@ InitialStates::InitialStates(const std::string& source) : source_(source) {
     try {
         if (!is_hdf5_file(source)) {
             lammps_ = read_lammps_data(source);
+            std::ifstream in(source, std::ios::binary);  // its content is what starts every replica
+            Digest d;
+            d.add(std::string_view(std::string(std::istreambuf_iterator<char>(in), {})));
+            fingerprint_ = d.value();
             return;
         }
     } catch (const LammpsDataError& e) {
@@ -46,6 +54,9 @@ InitialStates::InitialStates(const std::string& source) : source_(source) {
         n_ = h5::read_dataset(f.get(), "/replicas/N");
         phi_ = h5::read_dataset(f.get(), "/replicas/phi");
         seed_ = h5::read_dataset(f.get(), "/replicas/seed");
+        Digest d;  // the source campaign's identity: a longer or grown campaign is another source
+        d.add(std::string_view(h5::read_string_attribute(f.get(), "spec_fingerprint")));
+        fingerprint_ = d.value();
         if (H5Lexists(f.get(), "/replicas/size_ratio", H5P_DEFAULT) > 0)
             size_ratio_ = h5::read_dataset(f.get(), "/replicas/size_ratio");
     } catch (const h5::Error& e) {
@@ -141,6 +152,43 @@ System InitialStates::load(const ReplicaParams& p, std::int64_t id) const {
         throw InitialStateError("[run] initial = \"" + source_ + "\": replica " + std::to_string(k) +
                                 " cannot be read: " + e.what());
     }
+}
+
+} // namespace jamsim
+
+namespace jamsim {
+
+std::uint64_t InitialStates::digest(const System& system) {
+    Digest d;
+    d.add(system.box.side());
+    d.add(system.box.strain());
+    d.add(system.particles.x);
+    d.add(system.particles.y);
+    d.add(system.particles.diameter);
+    return d.value();
+}
+
+std::string InitialStates::changed_since(const std::vector<ReplicaParams>& replicas,
+                                         const std::vector<std::uint64_t>& recorded_source,
+                                         const std::vector<std::uint64_t>& recorded_state) const {
+    std::string changed;
+    int listed = 0, count = 0;
+    for (std::size_t id = 0; id < replicas.size() && id < recorded_source.size() && id < recorded_state.size(); ++id) {
+        if (recorded_source[id] == 0 || recorded_source[id] == fingerprint_) continue;  // not started, or the same source
+        std::uint64_t now = 0;
+        try {
+            now = digest(load(replicas[id], static_cast<std::int64_t>(id)));
+        } catch (const InitialStateError&) {
+        }
+        if (now == recorded_state[id]) continue;  // the source changed elsewhere
+        ++count;
+        if (listed++ < 5) changed += (changed.empty() ? "" : ", ") + std::to_string(id);
+    }
+    if (count == 0) return "";
+    return "[run] initial = \"" + source_ + "\" has changed since this archive's replicas started from it: the state that " +
+           "started replica" + (count > 1 ? "s " : " ") + changed + (count > listed ? " and " + std::to_string(count - listed) + " more" : "") +
+           " is not in it any more (the source was extended, rerun or replaced); running on would mix starting states in " +
+           "one campaign: restore the source, or run this campaign into a new output";
 }
 
 } // namespace jamsim

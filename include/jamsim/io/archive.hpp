@@ -94,6 +94,10 @@ class Archive {
                         double progress);
     void write_failed(std::int64_t replica, const std::string& reason, double wall_seconds,
                       int rank);
+    /// What the replica starts from ([run] initial): the source's fingerprint and the state's
+    /// digest (InitialStates), before its status says running. Nothing in an archive made
+    /// before these columns existed.
+    void record_initial(std::int64_t replica, std::uint64_t source, std::uint64_t state);
     /// Configuration frame `index` of a running replica (disks in tag order, sheared
     /// coordinates in [0, L)) and its strain (time at rate 0); valid once its status is done.
     void write_frame(std::int64_t replica, std::int64_t index, double strain,
@@ -139,6 +143,15 @@ class Archive {
     MPI_Comm comm_ = MPI_COMM_NULL;
     ArchiveLayout layout_;
 };
+
+/// /replicas/initial_source and /replicas/initial_state of an archive (serial, read-only;
+/// both empty when it has none).
+struct InitialRecords {
+    std::vector<std::uint64_t> source, state;
+};
+InitialRecords read_initial_records(const std::string& path);
+/// Collective, inside Archive::create: those columns, for a campaign with [run] initial.
+void create_initial_columns(hid_t file, const CampaignSpec& spec);
 
 /// Read-only summary of an archive for `jamsim status` and tests (serial driver).
 struct ArchiveSummary {

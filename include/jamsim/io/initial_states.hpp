@@ -36,8 +36,24 @@ class InitialStates {
     /// packing fraction.
     System load(const ReplicaParams& p, std::int64_t id) const;
 
+    /// What identifies the source's states: the source campaign's fingerprint (an archive) or
+    /// the file's content (a LAMMPS data file); never 0. Recorded with every replica started
+    /// from it (/replicas/initial_source).
+    std::uint64_t fingerprint() const { return fingerprint_; }
+    /// A digest of a starting state (box and positions, diameters), never 0; recorded as
+    /// /replicas/initial_state.
+    static std::uint64_t digest(const System& system);
+    /// "" when every replica that started from a source of another fingerprint than this one
+    /// (recorded_source[id], 0 for replicas that have not started) would start from the same
+    /// state from this one (recorded_state[id]); otherwise which replicas would not, and what
+    /// to do.
+    std::string changed_since(const std::vector<ReplicaParams>& replicas,
+                              const std::vector<std::uint64_t>& recorded_source,
+                              const std::vector<std::uint64_t>& recorded_state) const;
+
   private:
     std::string source_;
+    std::uint64_t fingerprint_ = 0;
     std::optional<LammpsData> lammps_;  ///< set when the source is a LAMMPS data file
     std::vector<std::int8_t> status_;
     /// The source replica for (p, id) by id or by (N, phi, seed), before the mixture check.
