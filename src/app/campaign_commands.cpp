@@ -200,6 +200,21 @@ std::string initial_source_changed(const InitialStates& source, const CampaignSp
     return why.empty() ? "" : spec.path + ": " + why;
 }
 
+/// `path` as MPI-IO is given it: Open MPI's MPI-IO overflows a buffer (and aborts the job)
+/// on names of more than about 245 characters, so a longer one is given relative to the
+/// working directory, and one that is long even so is refused with jamsim's words.
+std::string mpi_io_path(const std::string& spec_path, const std::string& path) {
+    constexpr std::size_t kLongest = 240;
+    if (path.size() <= kLongest) return path;
+    std::error_code ec;
+    const std::string relative = std::filesystem::proximate(path, ec).string();
+    if (!ec && relative.size() <= kLongest) return relative;
+    throw SpecError(spec_path + ": output = \"" + path.substr(0, 60) + "...\" (" + std::to_string(path.size()) +
+                    " characters) is not allowed: an archive path of at most " + std::to_string(kLongest) +
+                    " characters (Open MPI's MPI-IO takes no longer names), also relative to the working directory; "
+                    "run from a folder nearer the archive, or choose a shorter path");
+}
+
 /// PETSc options (campaign-wide, [model] petsc_options) that PETSc does not recognise or the
 /// CD0 solver does not use: refused before any work, by PETSc itself (the table's check has
 /// refused those no PETSc solver would see).
@@ -504,6 +519,7 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
                 const auto target = std::filesystem::weakly_canonical(output, ec);
                 if (!ec) output = target.string();
             }
+            output = mpi_io_path(spec.path, output);
             // Size and memory before anything is created (the dry run prints them).
             const CapacityEstimate capacity = estimate_capacity(spec, output, ranks, node_ranks);
             if (opt.dry_run) print_capacity(capacity, output);

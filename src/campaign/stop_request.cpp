@@ -1,5 +1,6 @@
 #include "jamsim/campaign/stop_request.hpp"
 
+#include <csignal>
 #include <initializer_list>
 
 namespace jamsim {
@@ -15,7 +16,12 @@ void StopRequest::install() {
     action.sa_handler = on_stop_signal;
     sigemptyset(&action.sa_mask);
     action.sa_flags = SA_RESTART;
-    for (int sig : {SIGTERM, SIGINT, SIGUSR1}) sigaction(sig, &action, nullptr);
+    // SIGHUP: a closed terminal or a batch system's hangup stops the run as TERM does, with
+    // its state saved.
+    for (int sig : {SIGTERM, SIGINT, SIGUSR1, SIGHUP}) sigaction(sig, &action, nullptr);
+    // A reader of the progress lines that goes away (jamsim run ... | head) must not kill the
+    // run unsaved: writes to the closed pipe fail instead, and the run goes on.
+    std::signal(SIGPIPE, SIG_IGN);
 }
 
 } // namespace jamsim

@@ -11,6 +11,7 @@
 #include <map>
 #include <optional>
 #include <tuple>
+#include <unordered_map>
 #include <set>
 #include <sstream>
 #include <cstdio>
@@ -397,6 +398,21 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
             }
             spec.replicas.push_back(p);
         }
+    // The same replica twice would compute the same bits twice: a value listed twice in a
+    // sweep list, or a point that repeats the grid or another point.
+    {
+        std::unordered_map<std::string, std::size_t> seen;
+        for (std::size_t k = 0; k < spec.replicas.size(); ++k) {
+            const ReplicaParams& p = spec.replicas[k];
+            const auto [it, fresh] = seen.emplace(describe(p), k);
+            if (fresh) continue;
+            r.fail("[sweep]", "N = " + std::to_string(p.n) + ", phi = " + show_value(p.phi) + ", rate = " +
+                                  show_value(p.rate) + ", seed = " + std::to_string(p.seed),
+                   "each replica once: replicas " + std::to_string(it->second) + " and " + std::to_string(k) +
+                       " are the same (a seed, N, phi or rate listed twice, or a point that repeats the grid "
+                       "or another point); list each value once");
+        }
+    }
     if (!base.rate_ladder.empty()) link_rate_ladders(r, spec);
     // A checkpoint interval asked for that no replica reaches would never checkpoint.
     if (const toml::table* run_table = r.table(root, "run"); run_table && run_table->get("checkpoint_steps")) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include "jamsim/dynamics/cd0.hpp"
@@ -145,6 +146,18 @@ std::vector<const ParamInfo*> used_parameters(const ReplicaParams& p) {
     return out;
 }
 
+namespace {
+constexpr double kYear = 365.25 * 86400.0;  // s
+
+/// A count or a duration to three significant digits ("2e+301", "1.5e+04").
+std::string three_digits(double v) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.3g", v);
+    return buffer;
+}
+
+} // namespace
+
 std::vector<ParamError> validate(const ReplicaParams& p) {
     const ModelInfo* m = find_model(p.model);
     if (!m) return {{"model", p.model, "one of: " + model_list()}};
@@ -171,6 +184,16 @@ std::vector<ParamError> validate(const ReplicaParams& p) {
                               std::string("transient < ") + run.key + " = " +
                                   show_value(run.value) +
                                   " (averages and g_y use the samples after the transient)"});
+        // Steps are counted in 64 bits, and far fewer than that fit any allocation.
+        if (uses_parameter(p, "dt") && m->kind == ModelKind::Dynamics) {
+            const double duration = p.rate > 0.0 ? p.strain / p.rate : p.time;
+            if (!(duration / p.dt <= kMostSteps))
+                errors.push_back({"dt", show_value(p.dt),
+                                  "dt >= " + three_digits(duration / kMostSteps) + " here: " + run.key + " = " +
+                                      show_value(run.value) + (p.rate > 0.0 ? " at rate = " + show_value(p.rate) : "") +
+                                      " would take " + three_digits(duration / p.dt) + " steps, and a replica runs at most " +
+                                      three_digits(kMostSteps) + " (check dt, " + run.key + " and rate)"});
+        }
         if (uses_parameter(p, "sample_interval") && p.sample_interval > run.value)
             errors.push_back({"sample_interval", show_value(p.sample_interval),
                               std::string("sample_interval <= ") + run.key + " = " +
@@ -186,6 +209,11 @@ std::vector<std::pair<std::string, std::string>> advisories(const ReplicaParams&
     if (!m || !validate(p).empty()) return out;
     if (m->advisory)
         if (std::string note = m->advisory(p); !note.empty()) out.emplace_back("dt", note);
+    // A replica that no allocation can finish is almost always a typo (dt, strain, rate).
+    if (const double seconds = m->cost(p) / kNominalEvaluationsPerSecond; seconds > kYear)
+        out.emplace_back("cost", "a replica of N = " + std::to_string(p.n) + " at rate = " + show_value(p.rate) + " would take about " + three_digits(seconds / kYear) +
+                                     " core-years at the nominal speed (" + std::to_string(m->schedule(p).steps) +
+                                     " steps): check dt, strain (time) and rate; jamsim run --dry-run measures it");
     // Samples at or after the transient, from the schedule (both ends are sampled).
     const RunLength run = run_length(p);
     if (run.key && uses_parameter(p, "transient") && uses_parameter(p, "sample_interval")) {

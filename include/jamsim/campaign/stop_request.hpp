@@ -1,5 +1,5 @@
 #pragma once
-// "Stop at the next checkpoint step": set by SIGTERM, SIGINT or SIGUSR1 (a scheduler's time
+// "Stop at the next checkpoint step": set by SIGTERM, SIGINT, SIGHUP or SIGUSR1 (a scheduler's time
 // limit warning, scancel, Ctrl-C). The flag is the one process-wide state of jamsim, because a
 // signal handler can reach nothing else; it is only ever set, so a second signal changes
 // nothing.

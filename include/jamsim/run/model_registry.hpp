@@ -93,6 +93,9 @@ std::vector<std::pair<std::string, std::string>> advisories(const ReplicaParams&
 /// A nominal single-core throughput (particle force evaluations per second; the measured
 /// RD0 figure, README "Benchmarks") for time estimates before anything has been measured.
 inline constexpr double kNominalEvaluationsPerSecond = 7e7;
+/// The most steps one dynamics replica may take (validate() refuses more): far below 2^63,
+/// and far beyond what any allocation can run.
+inline constexpr double kMostSteps = 1e15;
 
 Schedule schedule_of(const ReplicaParams& p);
 /// The steps `checkpoint_steps` counts (ModelInfo::checkpointed_steps, else the schedule's).
