@@ -1008,7 +1008,16 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
         ->default_str("300s");
     cmd->add_option("--max-replicas", opt->max_replicas,
                     "Refuse a campaign of more replicas (a typo in seeds or a sweep list)")
-        ->check(CLI::PositiveNumber)->capture_default_str();
+        ->check(CLI::Validator(
+            [](std::string& v) -> std::string {
+                char* end = nullptr;
+                const long long n = std::strtoll(v.c_str(), &end, 10);
+                return end != v.c_str() && *end == '\0' && n >= 1
+                           ? ""
+                           : "value " + v + " is not allowed: a whole number of replicas >= 1";
+            },
+            "COUNT >= 1"))
+        ->capture_default_str();
     cmd->add_option_function<std::string>(
         "--max-archive-size",
         [opt](const std::string& v) {

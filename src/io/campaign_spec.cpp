@@ -6,6 +6,7 @@
 
 #include <toml++/toml.h>
 
+#include <cerrno>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -279,6 +280,13 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
                 q.rate = info->key == "time" ? 0.0 : 1.0;  // the run length follows the rate
                 if (uses_parameter(q, info->key)) users += (users.empty() ? "" : ", ") + q.model;
             }
+            // Keys whose use follows another setting, not the model: say which setting.
+            if (info->key == "initial_match")
+                r.fail(location(*info), shown, "initial_match only with [run] initial (it says which replica of "
+                                               "that source starts each replica; without a source there is none)");
+            if (info->key == "time" && base.rate > 0.0)
+                r.fail(location(*info), shown, "time only at rate = 0 (dynamics without shear); at rate > 0 the run "
+                                               "length is strain (" + base.model + " takes strain here)");
             r.fail(location(*info), shown,
                    base.model + " does not use " + std::string(info->key) + " (used by: " +
                        (users.empty() ? "none" : users) + ")");
@@ -431,7 +439,16 @@ CampaignSpec load_campaign(const std::string& path, std::int64_t max_replicas) {
     namespace fs = std::filesystem;
     std::error_code ec;
     const fs::file_status st = fs::status(path, ec);
-    if (!fs::exists(st)) throw SpecError(path + ": no such campaign file");
+    if (!fs::exists(st)) {
+        std::error_code link_ec;
+        if (fs::is_symlink(fs::symlink_status(path, link_ec)))  // a dangling link or a loop of links
+            throw SpecError(path + ": a symbolic link that leads to no campaign file (" +
+                            (ec.value() == ELOOP ? std::string("a loop of links")
+                                                 : "it names '" + fs::read_symlink(path, link_ec).string() +
+                                                       "', which does not exist") +
+                            ")");
+        throw SpecError(path + ": no such campaign file");
+    }
     if (fs::is_directory(st))
         throw SpecError(path + ": is a directory, not a campaign file (a TOML file)");
     if (!fs::is_regular_file(st)) throw SpecError(path + ": is not a regular file, not a campaign file");

@@ -222,6 +222,18 @@ System system_from_lammps_data(const LammpsData& d, const std::string& path, std
         if (dup != ids.end())
             throw LammpsDataError(file + ": atom id " + std::to_string(*dup) + " appears twice (ids are unique)");
     }
+    {  // two disks at one spot: an infinite-looking force the first step could only call unstable
+        std::vector<std::size_t> at(d.id.size());
+        std::iota(at.begin(), at.end(), std::size_t{0});
+        std::sort(at.begin(), at.end(), [&](std::size_t a, std::size_t b) {
+            return d.x[a] != d.x[b] ? d.x[a] < d.x[b] : d.y[a] < d.y[b];
+        });
+        for (std::size_t k = 1; k < at.size(); ++k)
+            if (d.x[at[k]] == d.x[at[k - 1]] && d.y[at[k]] == d.y[at[k - 1]])
+                throw LammpsDataError(file + ": atoms " + std::to_string(d.id[at[k - 1]]) + " and " +
+                                      std::to_string(d.id[at[k]]) + " are at the same position (" + show(d.x[at[k]]) +
+                                      ", " + show(d.y[at[k]]) + "): every disk needs a place of its own");
+    }
     std::int64_t small_count = 0;
     for (std::size_t i = 0; i < d.id.size(); ++i) {
         if (d.type[i] != 1 && d.type[i] != 2)
