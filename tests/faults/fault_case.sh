@@ -1,0 +1,151 @@
+#!/usr/bin/env bash
+# usage: fault_case.sh JAMSIM CASE RANKS WORKDIR
+# One fault-injection case on RANKS MPI ranks, in WORKDIR (made afresh). Every jamsim run
+# goes through a watchdog (FAULT_LIMIT seconds, default 120): a run still alive then is a
+# hang and fails the case. A case passes when the run ends with the expected status and
+# message, leaves finished data bitwise unchanged and, where it continues, finishes bitwise
+# equal to an undisturbed run. The cases are listed in tests/README.md ("Fault injection").
+set -uo pipefail
+jamsim=$1 case=$2 ranks=$3 work=$4
+here=$(cd "$(dirname "$0")" && pwd)
+compare="/usr/bin/python3 $here/../mpi/compare_archives.py"
+damage="/usr/bin/python3 $here/damage_checkpoint.py"
+limit=${FAULT_LIMIT:-120}
+mpirun=${MPIEXEC:-mpiexec}
+rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
+
+fail() { echo "FAIL ($case, $ranks ranks): $*"; exit 1; }
+# run LOG ARGS...: jamsim on $ranks ranks under the watchdog; sets rc.
+run() {
+  local log=$1; shift
+  timeout -k 10 "$limit" "$mpirun" -n "$ranks" "$jamsim" "$@" > "$log" 2>&1
+  rc=$?
+  if [[ $rc -eq 124 || $rc -eq 137 ]]; then cat "$log"; fail "jamsim $* did not end within ${limit} s (a hang)"; fi
+}
+expect_rc() { [[ $rc -eq $1 ]] || { cat "$2"; fail "exit status $rc, expected $1"; }; }
+expect_in() { grep -Eq -- "$1" "$2" || { cat "$2"; fail "no /$1/ in $2"; }; }
+no_crash() {
+  ! grep -Eq -- "HDF5-DIAG|terminate called|Segmentation|buffer overflow|malloc\(\)" "$1" || { cat "$1"; fail "a crash in $1"; }
+}
+
+# A checkpointed campaign interrupted by SIGUSR1 while replicas run: cp.h5 and its
+# checkpoints, and ref.h5 run without interruption.
+interrupted_campaign() {
+  run ref.log run "$here/checkpointed.toml" -o ref.h5
+  expect_rc 0 ref.log
+  # SIGUSR1 (what a batch system's time-limit warning sends) 2 s after the start, while the
+  # long replicas run (about 5 s on 2 ranks).
+  timeout -k 10 "$limit" timeout --preserve-status -s USR1 2 "$mpirun" -n "$ranks" "$jamsim" run \
+    "$here/checkpointed.toml" -o cp.h5 > cp.log 2>&1
+  rc=$?
+  expect_rc 75 cp.log
+  ls cp.h5.checkpoints/replica_*.h5 > /dev/null 2>&1 || fail "the interrupted run left no checkpoint"
+}
+
+case $case in
+initial_other_mixture)  # another size_ratio than the source's: refused before any work
+  run src.log run "$here/source.toml"; expect_rc 0 src.log
+  run dep.log run "$here/dependent_other_mixture.toml"; expect_rc 2 dep.log
+  expect_in 'initial = "src.h5": replica 0 has size_ratio = 1.4, replica 0 here size_ratio = 1.3' dep.log
+  [[ ! -e dep.h5 ]] || fail "an archive was written"
+  ;;
+initial_state_damaged)  # one source state unusable: its replicas fail with the reason, the rest run
+  run src.log run "$here/source.toml"; expect_rc 0 src.log
+  run ref.log run "$here/dependent.toml" -o ref.h5; expect_rc 0 ref.log
+  cp src.h5 good-src.h5
+  $damage src.h5 other_diameter > /dev/null || fail "could not damage the source"
+  run dep.log run "$here/dependent.toml"; expect_rc 0 dep.log; no_crash dep.log
+  "$jamsim" status dep.h5 > status.txt
+  expect_in '6/8 done, 0 running, 2 failed' status.txt
+  expect_in 'failed replica 0: \[run\] initial = "src.h5": replica 0 has disk 3 of diameter 1.2' status.txt
+  expect_in 'failed replica 4: ' status.txt
+  cp good-src.h5 src.h5
+  run retry.log run "$here/dependent.toml" --retry-failed; expect_rc 0 retry.log
+  $compare ref.h5 dep.h5 || fail "the retried campaign differs from the undisturbed one"
+  ;;
+checkpoint_*)  # a damaged checkpoint: its replica starts again, with a warning; the rest continue
+  kind=${case#checkpoint_}
+  interrupted_campaign
+  victim=$(ls cp.h5.checkpoints/replica_*.h5 | head -1)
+  before=$(/usr/bin/python3 -c "import h5py,numpy; print((h5py.File('cp.h5','r',locking=False)['replicas/status'][...]==2).sum())")
+  $damage "$victim" "$kind" > /dev/null || fail "could not damage $victim"
+  run resume.log run "$here/checkpointed.toml" -o cp.h5; expect_rc 0 resume.log; no_crash resume.log
+  expect_in "warning: checkpoint '$victim' .*; replica [0-9]+ starts again from its start" resume.log
+  expect_in "\(0 failed replicas" resume.log
+  [[ $before -ge 0 ]] || fail "no status"
+  $compare ref.h5 cp.h5 || fail "the resumed campaign differs from the undisturbed one"
+  ;;
+ladder_extend)  # an extended rate ladder equals the longer ladder run in one go
+  d=$here/../data/campaigns
+  run ref.log run "$d/ladder_extend_long.toml" -o ref.h5; expect_rc 0 ref.log
+  run short.log run "$d/ladder_extend_short.toml" -o ext.h5; expect_rc 0 short.log
+  run long.log run "$d/ladder_extend_long.toml" -o ext.h5; expect_rc 0 long.log
+  expect_in "a rate ladder's later replicas run again from their predecessors' new end states" long.log
+  $compare ref.h5 ext.h5 || fail "the extended ladder differs from the one run in one go"
+  ;;
+initial_source_changed)  # the source extended between two runs of the dependent campaign
+  run src.log run "$here/source.toml"; expect_rc 0 src.log
+  run half.log run "$here/dependent.toml" --shard 0/2; expect_rc 0 half.log
+  run longer.log run "$here/source_longer.toml" -o src.h5; expect_rc 0 longer.log
+  sum=$(sha256sum dep.h5)
+  run rest.log run "$here/dependent.toml"; expect_rc 2 rest.log
+  expect_in 'initial = "src.h5" has changed since this archive.s replicas started from it: the state that started replicas 0, 2' rest.log
+  [[ "$(sha256sum dep.h5)" == "$sum" ]] || fail "dep.h5 was modified"
+  ;;
+lock_symlink | lock_removed)  # a second writer through a symlink, or after the lock file is removed
+  run ref.log run "$here/checkpointed.toml" -o ref.h5; expect_rc 0 ref.log
+  timeout -k 10 "$limit" "$mpirun" -n "$ranks" "$jamsim" run "$here/checkpointed.toml" -o cp.h5 > first.log 2>&1 &
+  leader=$!
+  for _ in $(seq 200); do [[ -e cp.h5 ]] && break; sleep 0.05; done
+  sleep 1
+  if [[ $case == lock_symlink ]]; then
+    ln -s cp.h5 alias.h5
+    run second.log run "$here/checkpointed.toml" -o alias.h5
+    expect_in "is being written by jamsim run" second.log
+  else
+    rm -f cp.h5.lock
+    run second.log run "$here/checkpointed.toml" -o cp.h5
+    expect_in "'cp.h5' is open in another process" second.log
+  fi
+  expect_rc 2 second.log
+  wait "$leader"; rc=$?; expect_rc 0 first.log
+  $compare ref.h5 cp.h5 || fail "the first run's archive differs from an undisturbed one"
+  ;;
+long_path)  # an archive path longer than MPI-IO takes: shortened, or refused in words
+  deep=$(printf 'd%.0s' $(seq 100))/$(printf 'e%.0s' $(seq 100))
+  mkdir -p "$deep"
+  run near.log run "$here/source.toml" -o "$PWD/$deep/src.h5"; expect_rc 0 near.log; no_crash near.log
+  "$jamsim" status "$deep/src.h5" | grep -q '4/4 done' || fail "the long-path archive is not complete"
+  mkdir -p "$deep/$deep"
+  cd "$deep/$deep" && cd / || fail "cannot reach $deep/$deep"
+  run far.log run "$here/source.toml" -o "$work/$deep/$deep/src.h5"; expect_rc 2 far.log
+  expect_in 'is not allowed: an archive path of at most 240 characters' far.log
+  ;;
+signals)  # SIGHUP to a rank saves and exits 75; a closed pipe does not kill the run
+  run ref.log run "$here/checkpointed.toml" -o ref.h5; expect_rc 0 ref.log
+  timeout -k 10 "$limit" "$mpirun" -n "$ranks" "$jamsim" run "$here/checkpointed.toml" -o hup.h5 > hup.log 2>&1 &
+  leader=$!
+  for _ in $(seq 200); do [[ -e hup.h5 ]] && break; sleep 0.05; done
+  sleep 1
+  pkill -HUP -f -- "^$jamsim run .*-o hup.h5" || fail "no rank to signal"  # the ranks, not mpirun
+  wait "$leader"; rc=$?; expect_rc 75 hup.log
+  expect_in 'run the same command again to continue' hup.log
+  run again.log run "$here/checkpointed.toml" -o hup.h5; expect_rc 0 again.log
+  $compare ref.h5 hup.h5 || fail "the run resumed after SIGHUP differs"
+  # One process whose progress reader goes away at once (jamsim run ... | head): the run goes
+  # on and finishes (mpirun itself is not jamsim's to protect: this runs without it).
+  timeout -k 10 "$limit" "$jamsim" run "$here/checkpointed.toml" -o pipe.h5 --progress lines \
+    --progress-interval 0.1 2> pipe.err | head -c 1 > /dev/null
+  for _ in $(seq $((limit * 10))); do pgrep -f -- "-o pipe.h5" > /dev/null || break; sleep 0.1; done
+  "$jamsim" status pipe.h5 | grep -q '6/6 done' || fail "the run whose reader went away did not finish"
+  $compare ref.h5 pipe.h5 || fail "the run whose reader went away differs"
+  ;;
+refusals)  # runs no job can finish, duplicates, misleading inputs: one clear message each
+  run huge.log run "$here/huge_run.toml" --dry-run; expect_in 'would take about [0-9.e+]+ core-years' huge.log
+  run dup.log run "$here/duplicate_seeds.toml"; expect_rc 2 dup.log
+  expect_in 'replicas 0 and 2 are the same' dup.log
+  [[ ! -e dup.h5 ]] || fail "an archive was written"
+  ;;
+*) fail "unknown case" ;;
+esac
+echo "ok: $case on $ranks ranks"
