@@ -140,6 +140,25 @@ signals)  # SIGHUP to a rank saves and exits 75; a closed pipe does not kill the
   "$jamsim" status pipe.h5 | grep -q '6/6 done' || fail "the run whose reader went away did not finish"
   $compare ref.h5 pipe.h5 || fail "the run whose reader went away differs"
   ;;
+disk_full)  # another program fills the filesystem mid-run: every rank stops with one message
+  [[ $(id -u) -eq 0 ]] || { echo "skipped: mounting a tmpfs needs root"; exit 77; }
+  run ref.log run "$here/filling.toml" -o ref.h5; expect_rc 0 ref.log
+  mkdir -p small && mount -t tmpfs -o size=6M tmpfs small || fail "cannot mount a tmpfs"
+  trap 'cd /; for _ in 1 2 3 4 5 6 7 8 9 10; do umount "$work/small" 2>/dev/null && break; sleep 0.5; done; mountpoint -q "$work/small" && umount -l "$work/small"' EXIT
+  cd small || fail "no tmpfs"
+  timeout -k 10 "$limit" "$mpirun" -n "$ranks" "$jamsim" run "$here/filling.toml" --progress lines \
+    --progress-interval 0.1 > ../filled.log 2>&1 &
+  leader=$!
+  for _ in $(seq 300); do grep -Eq "\] [1-9][0-9]*/10 done" ../filled.log && break; sleep 0.05; done
+  dd if=/dev/zero of=filler bs=64k 2> /dev/null
+  wait "$leader"; rc=$?
+  [[ $rc -ne 124 && $rc -ne 137 ]] || { cat ../filled.log; fail "the run did not end within ${limit} s (a hang)"; }
+  [[ $rc -ne 0 ]] || { cat ../filled.log; fail "the run did not notice the full filesystem"; }
+  expect_in "no space left on device: writing the archive 'big.h5' failed .*run the same command again to continue" ../filled.log
+  rm filler
+  run ../after.log run "$here/filling.toml"; expect_rc 0 ../after.log
+  $compare ../ref.h5 big.h5 || fail "the campaign finished after the full disk differs"
+  ;;
 refusals)  # runs no job can finish, duplicates, misleading inputs: one clear message each
   run huge.log run "$here/huge_run.toml" --dry-run; expect_in 'would take about [0-9.e+]+ core-years' huge.log
   run dup.log run "$here/duplicate_seeds.toml"; expect_rc 2 dup.log
