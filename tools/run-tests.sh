@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The test command: install what is missing, build, run the CTest suite.
-#   tools/run-tests.sh            all tests except those labelled `slow`
-#   tools/run-tests.sh --all      everything, including `slow`
+#   tools/run-tests.sh            all tests except those labelled `slow` or `faults`
+#   tools/run-tests.sh --all      everything, including `slow` and `faults`
 #   tools/run-tests.sh -L physics extra arguments go to ctest
 # JAMSIM_PRESET picks the CMake preset (default release; CI uses `ci`: warnings are errors).
 set -euo pipefail
@@ -13,7 +13,7 @@ cd "$(dirname "$0")/.."
 tools/install-deps.sh
 preset=${JAMSIM_PRESET:-release}
 JAMSIM_PRESET=$preset tools/build.sh
-args=(-LE slow)
+args=(-LE "slow|faults")
 if [[ "${1:-}" == "--all" ]]; then
   args=()
   shift
