@@ -1,4 +1,5 @@
 #include "campaign_commands.hpp"
+#include "threads_option.hpp"
 
 #include <unistd.h>
 
@@ -979,6 +980,7 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
     cmd->add_option("campaign", opt->spec_path, "Campaign file (TOML)")->required();
     cmd->add_option("-o,--output", opt->output, "Archive path (overrides [campaign] output)");
     cmd->add_flag("--dry-run", opt->dry_run, "List replicas and costs; write nothing");
+    add_threads_option(*cmd);
     cmd->add_option_function<std::string>(
            "--progress-interval",
            [opt](const std::string& text) {

@@ -10,6 +10,7 @@
 #include "minimize_command.hpp"
 #include "reference_commands.hpp"
 #include "replica_command.hpp"
+#include "threads_option.hpp"
 
 namespace jamsim::app {
 
@@ -38,6 +39,10 @@ int main(int argc, char** argv) {
     jamsim::app::add_minimize_command(app);
     jamsim::app::add_parameters_command(app);
     jamsim::app::add_models_command(app);
+    if (const std::string why = jamsim::app::threads_from_environment(); !why.empty()) {
+        std::cerr << "jamsim: " << why << '\n';
+        return 2;
+    }
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

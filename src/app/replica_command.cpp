@@ -1,4 +1,5 @@
 #include "replica_command.hpp"
+#include "threads_option.hpp"
 
 #include <unistd.h>
 
@@ -124,6 +125,7 @@ CLI::App* add_replica_command(CLI::App& app) {
             ->default_str(default_text(info));
     }
     cmd->add_option("-o,--output", opt->output, "Output HDF5 file")->required();
+    add_threads_option(*cmd);
     cmd->callback([opt] { run(*opt); });
     return cmd;
 }

@@ -1,5 +1,8 @@
 #include "jamsim/force/pair_forces.hpp"
 
+#include "jamsim/force/pair_forces_threaded.hpp"
+#include "jamsim/parallel/threads.hpp"
+
 #include <variant>
 
 namespace jamsim {
@@ -31,6 +34,25 @@ std::vector<Contact> find_contacts(const NeighborList& list, const Box& box,
     return out;
 }
 
+namespace {
+/// The threaded loop when the kernel has several threads, the list is long enough and its
+/// incoming entries are there (ForceField builds them); the same bits either way.
+bool threaded(const NeighborList& list) {
+    return list.size() >= kThreadedLoopMin && kernel_threads() > 1 && list.has_incoming();
+}
+
+template <Tally kTally, class E, bool kOffsets, bool kRecord>
+ForceResult pair_forces(const E& eval, const NeighborList& list, const Box& box, std::span<const double> x,
+                        std::span<const double> y, std::span<double> fx, std::span<double> fy,
+                        PairScratch& scratch, const double* ox, const double* oy, ContactRecord record) {
+    if (threaded(list))
+        return accumulate_pair_forces_threaded<kTally, E, kOffsets, kRecord>(eval, list, box, x, y, fx, fy, scratch,
+                                                                             ox, oy, record);
+    return accumulate_pair_forces<kTally, E, kOffsets, kRecord>(eval, list, box, x, y, fx, fy, scratch, ox, oy,
+                                                                record);
+}
+} // namespace
+
 ForceResult compute_pair_forces(const potential::SoftSphere& pot, const NeighborList& list,
                                 const Box& box, std::span<const double> x,
                                 std::span<const double> y,
@@ -42,15 +64,15 @@ ForceResult compute_pair_forces(const potential::SoftSphere& pot, const Neighbor
             using E = std::decay_t<decltype(eval)>;
             if (recording)
                 return tally == Tally::Full
-                           ? accumulate_pair_forces<Tally::Full, E, false, true>(
-                                 eval, list, box, x, y, fx, fy, scratch, nullptr, nullptr, record)
-                           : accumulate_pair_forces<Tally::ForcesOnly, E, false, true>(
-                                 eval, list, box, x, y, fx, fy, scratch, nullptr, nullptr, record);
+                           ? pair_forces<Tally::Full, E, false, true>(eval, list, box, x, y, fx, fy, scratch,
+                                                                      nullptr, nullptr, record)
+                           : pair_forces<Tally::ForcesOnly, E, false, true>(eval, list, box, x, y, fx, fy,
+                                                                            scratch, nullptr, nullptr, record);
             return tally == Tally::Full
-                       ? accumulate_pair_forces<Tally::Full>(eval, list, box, x, y, fx,
-                                                            fy, scratch)
-                       : accumulate_pair_forces<Tally::ForcesOnly>(eval, list, box, x, y,
-                                                                  fx, fy, scratch);
+                       ? pair_forces<Tally::Full, E, false, false>(eval, list, box, x, y, fx, fy, scratch,
+                                                                   nullptr, nullptr, {})
+                       : pair_forces<Tally::ForcesOnly, E, false, false>(eval, list, box, x, y, fx, fy, scratch,
+                                                                         nullptr, nullptr, {});
         },
         pot);
 }
@@ -64,10 +86,10 @@ ForceResult compute_pair_forces_split(const potential::SoftSphere& pot, const Ne
         [&](const auto& eval) {
             using E = std::decay_t<decltype(eval)>;
             return tally == Tally::Full
-                       ? accumulate_pair_forces<Tally::Full, E, true>(eval, list, box, x, y, fx, fy,
-                                                                     scratch, ox.data(), oy.data())
-                       : accumulate_pair_forces<Tally::ForcesOnly, E, true>(
-                             eval, list, box, x, y, fx, fy, scratch, ox.data(), oy.data());
+                       ? pair_forces<Tally::Full, E, true, false>(eval, list, box, x, y, fx, fy, scratch,
+                                                                  ox.data(), oy.data(), {})
+                       : pair_forces<Tally::ForcesOnly, E, true, false>(eval, list, box, x, y, fx, fy,
+                                                                        scratch, ox.data(), oy.data(), {});
         },
         pot);
 }

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "jamsim/parallel/threads.hpp"
+
 namespace jamsim {
 
 namespace {
@@ -65,12 +67,13 @@ void NeighborList::build(std::span<const double> x, std::span<const double> y,
 void NeighborList::finish_build(std::span<const double> diameter) {
     owner_.resize(neighbor_.size());
     contact_.resize(neighbor_.size());
-    for (std::size_t i = 0; i + 1 < first_.size(); ++i)
+    parallel_for(first_.size() - 1, [&](std::size_t i) {
         for (auto k = static_cast<std::size_t>(first_[i]);
              k < static_cast<std::size_t>(first_[i + 1]); ++k) {
             owner_[k] = static_cast<std::int32_t>(i);
             contact_[k] = 0.5 * (diameter[i] + diameter[static_cast<std::size_t>(neighbor_[k])]);
         }
+    });
 }
 
 void NeighborList::remember_reference(std::span<const double> x, std::span<const double> y,
@@ -127,14 +130,8 @@ void NeighborList::build_with_cells(std::span<const double> x, std::span<const d
     const bool narrow = (1.0 + std::abs(box.strain())) * (max_d + skin_) <= side / nc;
     const std::span<const int[2]> stencil = narrow ? std::span<const int[2]>(kNarrow)
                                                    : std::span<const int[2]>(kWide);
-    first_.assign(n + 1, 0);
-    neighbor_.clear();
-    shift_x_.clear();
-    shift_y_.clear();
-    neighbor_.reserve(n * 4);
-    shift_x_.reserve(n * 4);
-    shift_y_.reserve(n * 4);
-    for (std::size_t i = 0; i < n; ++i) {
+    // The candidates of disk i, in the order the list keeps them (stencil, then cell order).
+    const auto visit = [&](std::size_t i, auto&& keep) {
         const int ci = grid.cell_of[i];
         const int cx = ci % nc, cy = ci / nc;
         const double kxi = grid.image_x[i], kyi = grid.image_y[i];
@@ -154,13 +151,63 @@ void NeighborList::build_with_cells(std::span<const double> x, std::span<const d
                 const double sy = (grid.image_y[j] - kyi - wy) * side;
                 const Vec2 r = box.lab(x[i] - x[j] + sx, y[i] - y[j] + sy);
                 const double range = 0.5 * (diameter[i] + diameter[j]) + skin_;
-                if (norm2(r) < range * range) {
-                    neighbor_.push_back(static_cast<std::int32_t>(j));
-                    shift_x_.push_back(sx);
-                    shift_y_.push_back(sy);
-                }
+                if (norm2(r) < range * range) keep(static_cast<std::int32_t>(j), sx, sy);
             }
         }
+    };
+    first_.assign(n + 1, 0);
+    neighbor_.clear();
+    shift_x_.clear();
+    shift_y_.clear();
+    if (n >= kThreadedLoopMin && kernel_threads() > 1) {
+        // Each thread lists a contiguous range of owners; the ranges are then laid end to end
+        // in owner order: the list of the one-thread build, whatever the split.
+        std::vector<std::int32_t> count(n);
+#pragma omp parallel
+        {
+            const auto t = static_cast<std::size_t>(omp_get_thread_num());
+            const auto threads = static_cast<std::size_t>(omp_get_num_threads());
+            const std::size_t lo = n * t / threads, hi = n * (t + 1) / threads;
+            std::vector<std::int32_t> nb;
+            std::vector<double> bx, by;
+            nb.reserve((hi - lo) * 4);
+            bx.reserve((hi - lo) * 4);
+            by.reserve((hi - lo) * 4);
+            for (std::size_t i = lo; i < hi; ++i) {
+                const std::size_t before = nb.size();
+                visit(i, [&](std::int32_t j, double sx, double sy) {
+                    nb.push_back(j);
+                    bx.push_back(sx);
+                    by.push_back(sy);
+                });
+                count[i] = static_cast<std::int32_t>(nb.size() - before);
+            }
+#pragma omp barrier
+#pragma omp single
+            {
+                for (std::size_t i = 0; i < n; ++i) first_[i + 1] = first_[i] + count[i];
+                neighbor_.resize(static_cast<std::size_t>(first_[n]));
+                shift_x_.resize(neighbor_.size());
+                shift_y_.resize(neighbor_.size());
+            }  // (a barrier)
+            if (lo < hi) {
+                const auto at = static_cast<std::ptrdiff_t>(first_[lo]);
+                std::copy(nb.begin(), nb.end(), neighbor_.begin() + at);
+                std::copy(bx.begin(), bx.end(), shift_x_.begin() + at);
+                std::copy(by.begin(), by.end(), shift_y_.begin() + at);
+            }
+        }
+        return;
+    }
+    neighbor_.reserve(n * 4);
+    shift_x_.reserve(n * 4);
+    shift_y_.reserve(n * 4);
+    for (std::size_t i = 0; i < n; ++i) {
+        visit(i, [&](std::int32_t j, double sx, double sy) {
+            neighbor_.push_back(j);
+            shift_x_.push_back(sx);
+            shift_y_.push_back(sy);
+        });
         first_[i + 1] = static_cast<std::int32_t>(neighbor_.size());
     }
 }
@@ -175,7 +222,10 @@ bool verlet_rule_broken(std::span<const double> x, std::span<const double> y,
     if (allowed <= 0.0) return true;
     const double allowed2 = allowed * allowed;
     int moved_too_far = 0;  // an OR over all particles, written to vectorise (no early exit)
-    for (std::size_t i = 0; i < x.size(); ++i) {
+    const auto n = static_cast<long>(x.size());
+#pragma omp parallel for schedule(static) reduction(| : moved_too_far) if (n >= static_cast<long>(kThreadedLoopMin) && kernel_threads() > 1)
+    for (long il = 0; il < n; ++il) {
+        const auto i = static_cast<std::size_t>(il);
         const double dy = y[i] - y_ref[i];
         const double dx = x[i] - x_ref[i] + strain * dy;
         moved_too_far |= (dx * dx + dy * dy > allowed2);
@@ -193,6 +243,20 @@ std::vector<std::int32_t> spatial_order(const Particles& p, const Box& box, doub
     const int nc = std::max(1, static_cast<int>(std::floor(box.side() / cell)));
     const CellGrid grid(p.x, p.y, box, nc);
     return grid.members;
+}
+
+void NeighborList::ensure_incoming() {
+    if (has_incoming()) return;
+    const std::size_t n = first_.empty() ? 0 : first_.size() - 1;
+    incoming_first_.assign(n + 1, 0);
+    for (const std::int32_t j : neighbor_) ++incoming_first_[static_cast<std::size_t>(j) + 1];
+    for (std::size_t j = 0; j < n; ++j) incoming_first_[j + 1] += incoming_first_[j];
+    incoming_.resize(neighbor_.size());
+    std::vector<std::int32_t> fill(incoming_first_.begin(), incoming_first_.end() - 1);
+    for (std::size_t k = 0; k < neighbor_.size(); ++k)  // ascending k within each disk
+        incoming_[static_cast<std::size_t>(fill[static_cast<std::size_t>(neighbor_[k])]++)] =
+            static_cast<std::int32_t>(k);
+    incoming_build_ = builds_;
 }
 
 } // namespace jamsim

@@ -13,7 +13,9 @@ void check(int rc, const char* what) {
 Session::Session(int& argc, char**& argv) {
     int initialised = 0;
     check(MPI_Initialized(&initialised), "MPI_Initialized");
-    if (!initialised) check(MPI_Init(&argc, &argv), "MPI_Init");
+    // Only the main thread calls MPI; kernel loops run on OpenMP threads between calls.
+    int provided = MPI_THREAD_SINGLE;
+    if (!initialised) check(MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided), "MPI_Init_thread");
     check(MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN), "MPI_Comm_set_errhandler");
 }
 

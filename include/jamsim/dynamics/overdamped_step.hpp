@@ -7,6 +7,7 @@
 
 #include "jamsim/core/system.hpp"
 #include "jamsim/force/force_field.hpp"
+#include "jamsim/parallel/threads.hpp"
 
 namespace jamsim {
 
@@ -39,10 +40,10 @@ void overdamped_step(System& sys, ForceField& forces, double dt, double rate, bo
     sys.box.set_strain_unwrapped(gamma1);
     const auto [vx1, vy1] = velocity_at(sys);
     const double half = 0.5 * step;
-    for (std::size_t i = 0; i < p.size(); ++i) {
+    parallel_for(p.size(), [&](std::size_t i) {
         p.x[i] = scratch.x0[i] + half * ((vx[i] - gamma0 * vy[i]) + (vx1[i] - gamma1 * vy1[i]));
         p.y[i] = scratch.y0[i] + half * (vy[i] + vy1[i]);
-    }
+    });
     apply_strain(sys, forces, gamma1);
 }
 

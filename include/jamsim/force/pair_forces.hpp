@@ -31,11 +31,20 @@ struct ForceResult {
 /// ask for ForcesOnly and skip the energy, virial and contact sums.
 enum class Tally { ForcesOnly, Full };
 
+/// Per-entry results of the threaded force loop (shape [list size]; pair_forces_threaded.hpp).
+struct EntryScratch {
+    std::vector<double> fx, fy;                 ///< force on the owner from the neighbour
+    std::vector<double> energy, vxx, vxy, vyy;  ///< Tally::Full
+    std::vector<std::uint8_t> touching;         ///< Tally::Full
+    std::vector<double> ry_touching;            ///< ContactRecord: r_y of a touching entry, else 0
+};
+
 /// Scratch space of the force loop (reused across calls; one per ForceField).
 struct PairScratch {
     static constexpr std::size_t kChunk = 512;  ///< list entries per block (fits in L1)
     std::vector<double> rx = block(), ry = block(), r2 = block(), f_over_r = block(),
                         energy = block();
+    EntryScratch entries;  ///< the threaded loop's
 
   private:
     static std::vector<double> block() { return std::vector<double>(kChunk); }
