@@ -5,9 +5,9 @@
 namespace jamsim {
 
 namespace {
-/// The threaded force loop needs each disk's incoming entries (one pass per list build).
+/// The threaded force loop needs each disk's entries in list order (one pass per list build).
 void prepare_threaded(NeighborList& list) {
-    if (list.size() >= kThreadedLoopMin && kernel_threads() > 1) list.ensure_incoming();
+    if (list.size() >= kThreadedLoopMin && kernel_threads() > 1) list.ensure_incidence();
 }
 } // namespace
 

@@ -36,9 +36,9 @@ std::vector<Contact> find_contacts(const NeighborList& list, const Box& box,
 
 namespace {
 /// The threaded loop when the kernel has several threads, the list is long enough and its
-/// incoming entries are there (ForceField builds them); the same bits either way.
+/// incidence is there (ForceField builds it); the same bits either way.
 bool threaded(const NeighborList& list) {
-    return list.size() >= kThreadedLoopMin && kernel_threads() > 1 && list.has_incoming();
+    return list.size() >= kThreadedLoopMin && kernel_threads() > 1 && list.has_incidence();
 }
 
 template <Tally kTally, class E, bool kOffsets, bool kRecord>

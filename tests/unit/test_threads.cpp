@@ -40,7 +40,7 @@ Evaluation evaluate(const System& sys, const potential::SoftSphere& pot, int thr
     NeighborList list(0.3);
     const Particles& p = sys.particles;
     list.build(p.x, p.y, p.diameter, sys.box);
-    list.ensure_incoming();
+    list.ensure_incidence();
     Evaluation e;
     e.fx.resize(p.size());
     e.fy.resize(p.size());
@@ -96,11 +96,10 @@ TEST(Threads, ForceLoopOnThreadsIsNotTheSerialLoopByAccident) {
     NeighborList list(0.3);
     list.build(sys.particles.x, sys.particles.y, sys.particles.diameter, sys.box);
     EXPECT_GE(list.size(), kThreadedLoopMin);
-    list.ensure_incoming();
-    EXPECT_TRUE(list.has_incoming());
-    // Every entry appears once as owned and once as incoming.
-    std::size_t incoming = list.incoming().size();
-    EXPECT_EQ(incoming, list.size());
+    list.ensure_incidence();
+    EXPECT_TRUE(list.has_incidence());
+    // Every entry appears twice: once for its owner, once for its neighbour.
+    EXPECT_EQ(list.incidence().size(), 2 * list.size());
 }
 
 TEST(Threads, NeighbourListIsTheSameOnAnyThreadCount) {

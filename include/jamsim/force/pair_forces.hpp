@@ -33,7 +33,7 @@ enum class Tally { ForcesOnly, Full };
 
 /// Per-entry results of the threaded force loop (shape [list size]; pair_forces_threaded.hpp).
 struct EntryScratch {
-    std::vector<double> fx, fy;                 ///< force on the owner from the neighbour
+    std::vector<double> f;                      ///< force on the owner from the neighbour, (x, y) pairs
     std::vector<double> energy, vxx, vxy, vyy;  ///< Tally::Full
     std::vector<std::uint8_t> touching;         ///< Tally::Full
     std::vector<double> ry_touching;            ///< ContactRecord: r_y of a touching entry, else 0

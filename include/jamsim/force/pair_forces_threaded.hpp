@@ -2,7 +2,7 @@
 // The force loop on several threads, with the bits of the one-thread loop
 // (accumulate_pair_forces): every list entry's pair force is computed once, in parallel
 // over blocks of entries, into per-entry arrays; then every disk sums the entries it takes
-// part in, in list order (NeighborList::first and incoming), in parallel over disks, which
+// part in, in list order (NeighborList::incidence), in parallel over disks, which
 // is the order in which the one-thread loop adds them; the energy, virial and contact sums
 // run over the entries in list order. So the result depends on the system alone, not on the
 // number of threads or how the loops are split.
@@ -14,28 +14,8 @@
 
 namespace jamsim {
 
-/// Sum, for disk i, the entry values v[k] over the entries it owns (+) and those in which it
-/// is the neighbour (−), in ascending k: the one-thread loop's order of `+=` and `-=`.
-inline double sum_in_list_order(std::int32_t own_first, std::size_t own_count, const std::int32_t* in,
-                                std::size_t in_count, const double* v) {
-    double s = 0.0;
-    std::size_t a = 0, b = 0;
-    while (a < own_count || b < in_count) {
-        const std::int32_t ka = a < own_count ? own_first + static_cast<std::int32_t>(a) : INT32_MAX;
-        const std::int32_t kb = b < in_count ? in[b] : INT32_MAX;
-        if (ka < kb) {
-            s += v[ka];
-            ++a;
-        } else {
-            s -= v[kb];
-            ++b;
-        }
-    }
-    return s;
-}
-
-/// accumulate_pair_forces on the kernel's threads; the list must have its incoming entries
-/// (NeighborList::ensure_incoming). Same arguments and the same bits.
+/// accumulate_pair_forces on the kernel's threads; the list must have its incidence
+/// (NeighborList::ensure_incidence). Same arguments and the same bits.
 template <Tally kTally, class Evaluator, bool kOffsets = false, bool kRecord = false>
 ForceResult accumulate_pair_forces_threaded(const Evaluator& eval, const NeighborList& list,
                                             const Box& box, std::span<const double> x,
@@ -50,20 +30,17 @@ ForceResult accumulate_pair_forces_threaded(const Evaluator& eval, const Neighbo
     const double* shift_x = list.shift_x().data();
     const double* shift_y = list.shift_y().data();
     const double* contact = list.contact().data();
-    const std::int32_t* first = list.first().data();
-    const std::int32_t* in_first = list.incoming_first().data();
-    const std::int32_t* incoming = list.incoming().data();
+    const std::int32_t* inc_first = list.incidence_first().data();
+    const std::int32_t* incidence = list.incidence().data();
     const double gamma = box.strain();
     EntryScratch& entries = scratch.entries;
-    entries.fx.resize(total);
-    entries.fy.resize(total);
+    entries.f.resize(2 * total);
     if constexpr (kFull) {
         for (auto* v : {&entries.energy, &entries.vxx, &entries.vxy, &entries.vyy}) v->resize(total);
         entries.touching.resize(total);
     }
     if constexpr (kRecord) entries.ry_touching.resize(total);
-    double* const efx = entries.fx.data();
-    double* const efy = entries.fy.data();
+    double* const ef = entries.f.data();  // (fx, fy) of entry k at 2k, 2k + 1: one line per gather
     const auto blocks = static_cast<long>((total + PairScratch::kChunk - 1) / PairScratch::kChunk);
 #pragma omp parallel
     {
@@ -91,8 +68,8 @@ ForceResult accumulate_pair_forces_threaded(const Evaluator& eval, const Neighbo
             evaluate_block(eval, r2, dc, fr, kFull ? en : nullptr, m);
             for (std::size_t k = 0; k < m; ++k) {
                 const double px = fr[k] * rx[k], py = fr[k] * ry[k];
-                efx[k0 + k] = px;
-                efy[k0 + k] = py;
+                ef[2 * (k0 + k)] = px;
+                ef[2 * (k0 + k) + 1] = py;
                 if constexpr (kFull) {
                     entries.energy[k0 + k] = en[k];
                     entries.vxx[k0 + k] = rx[k] * px;
@@ -111,14 +88,20 @@ ForceResult accumulate_pair_forces_threaded(const Evaluator& eval, const Neighbo
 #pragma omp for schedule(static)
         for (long il = 0; il < static_cast<long>(n); ++il) {
             const auto i = static_cast<std::size_t>(il);
-            const std::int32_t own = first[i];
-            const auto own_count = static_cast<std::size_t>(first[i + 1] - own);
-            const std::int32_t* in = incoming + in_first[i];
-            const auto in_count = static_cast<std::size_t>(in_first[i + 1] - in_first[i]);
-            fx[i] = sum_in_list_order(own, own_count, in, in_count, efx);
-            fy[i] = sum_in_list_order(own, own_count, in, in_count, efy);
-            if constexpr (kRecord)
-                record.sum_ry[i] = sum_in_list_order(own, own_count, in, in_count, entries.ry_touching.data());
+            // Each entry once, in list order, +f where i owns it, −f where it is the
+            // neighbour: s + (−1·f) is exactly the one-thread loop's s − f.
+            double sx = 0.0, sy = 0.0, sr = 0.0;
+            for (std::int32_t q = inc_first[i]; q < inc_first[i + 1]; ++q) {
+                const std::int32_t e = incidence[q];
+                const auto k = static_cast<std::size_t>(e >= 0 ? e : ~e);
+                const double sign = e >= 0 ? 1.0 : -1.0;
+                sx += sign * ef[2 * k];
+                sy += sign * ef[2 * k + 1];
+                if constexpr (kRecord) sr += sign * entries.ry_touching[k];
+            }
+            fx[i] = sx;
+            fy[i] = sy;
+            if constexpr (kRecord) record.sum_ry[i] = sr;
         }
     }
     ForceResult out;
