@@ -2,6 +2,7 @@
 // same bits on 1, 2, 3 and 4 threads (more threads than cores is fine here).
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <cstring>
 #include <vector>
 
@@ -14,6 +15,15 @@
 
 namespace jamsim {
 namespace {
+
+/// The thread counts compared with one thread: 2, 3 and 4, and up to JAMSIM_TEST_MAX_THREADS
+/// (8, 16, ...) where that is set (a machine with many cores).
+std::vector<int> thread_counts() {
+    std::vector<int> out{2, 3, 4};
+    if (const char* most = std::getenv("JAMSIM_TEST_MAX_THREADS"))
+        for (int t = 8; t <= std::atoi(most); t *= 2) out.push_back(t);
+    return out;
+}
 
 /// Restores the kernel's thread count when a test ends.
 struct ThreadCount {
@@ -70,7 +80,7 @@ TEST(Threads, ForceLoopGivesTheSameBitsOnAnyThreadCount) {
                 for (const bool offsets : {false, true}) {
                     if (record && offsets) continue;
                     const Evaluation one = evaluate(sys, pot, 1, tally, record, offsets);
-                    for (const int t : {2, 3, 4}) {
+                    for (const int t : thread_counts()) {
                         const Evaluation many = evaluate(sys, pot, t, tally, record, offsets);
                         SCOPED_TRACE("threads " + std::to_string(t) + " full " + std::to_string(tally == Tally::Full) +
                                      " record " + std::to_string(record) + " offsets " + std::to_string(offsets));
@@ -110,7 +120,7 @@ TEST(Threads, NeighbourListIsTheSameOnAnyThreadCount) {
         const ThreadCount count(1);
         one.build(p.x, p.y, p.diameter, sys.box);
     }
-    for (const int t : {2, 3, 4}) {
+    for (const int t : thread_counts()) {
         const ThreadCount count(t);
         NeighborList many(0.3);
         many.build(p.x, p.y, p.diameter, sys.box);
@@ -138,7 +148,7 @@ TEST(Threads, Rd0ReplicaIsTheSameOnAnyThreadCount) {
         const ThreadCount count(1);
         return run_replica(p);
     }();
-    for (const int t : {2, 3, 4}) {
+    for (const int t : thread_counts()) {
         const ThreadCount count(t);
         const ReplicaResult many = run_replica(p);
         SCOPED_TRACE("threads " + std::to_string(t));
