@@ -88,6 +88,36 @@ struct ContactRecord {
     double* sum_ry = nullptr;
 };
 
+/// The lab separations r = r_owner − r_neighbour of list entries k0 .. k0 + m − 1 into rx, ry
+/// and r2 (shape [m]), at the box's strain, with offsets (ox, oy) when kOffsets (see
+/// accumulate_pair_forces). The one place where an entry's geometry is formed, so that every
+/// force loop gets the same bits for it.
+template <bool kOffsets>
+[[gnu::always_inline]] inline void block_geometry(const NeighborList& list, const Box& box, const double* x,
+                                                  const double* y, const double* ox, const double* oy,
+                                                  std::size_t k0, std::size_t m, double* __restrict rx,
+                                                  double* __restrict ry, double* __restrict r2) {
+    const std::int32_t* owner = list.owner().data() + k0;
+    const std::int32_t* neighbor = list.neighbor().data() + k0;
+    const double* shift_x = list.shift_x().data() + k0;
+    const double* shift_y = list.shift_y().data() + k0;
+    const double gamma = box.strain();
+    for (std::size_t k = 0; k < m; ++k) {
+        const auto i = static_cast<std::size_t>(owner[k]);
+        const auto j = static_cast<std::size_t>(neighbor[k]);
+        double sy = y[i] - y[j] + shift_y[k];
+        double sxs = x[i] - x[j] + shift_x[k];
+        if constexpr (kOffsets) {
+            sy += oy[i] - oy[j];
+            sxs += ox[i] - ox[j];
+        }
+        const double sx = sxs + gamma * sy;
+        rx[k] = sx;
+        ry[k] = sy;
+        r2[k] = sx * sx + sy * sy;
+    }
+}
+
 /// The one neighbour loop: forces (written into fx, fy), energy, virial and contact count
 /// for positions (x, y) at the box's current strain, with pair evaluator `eval`.
 /// The list must be valid for these positions (NeighborList::needs_rebuild is false).
@@ -118,9 +148,6 @@ ForceResult accumulate_pair_forces(const Evaluator& eval, const NeighborList& li
         for (std::size_t i = 0; i < n; ++i) record.sum_ry[i] = 0.0;
     const std::int32_t* owner = list.owner().data();
     const std::int32_t* neighbor = list.neighbor().data();
-    const double* shift_x = list.shift_x().data();
-    const double* shift_y = list.shift_y().data();
-    const double gamma = box.strain();
     double* const rx = scratch.rx.data();
     double* const ry = scratch.ry.data();
     double* const r2 = scratch.r2.data();
@@ -132,20 +159,7 @@ ForceResult accumulate_pair_forces(const Evaluator& eval, const NeighborList& li
     const std::size_t total = list.size();
     for (std::size_t k0 = 0; k0 < total; k0 += PairScratch::kChunk) {
         const std::size_t m = std::min(PairScratch::kChunk, total - k0);
-        for (std::size_t k = 0; k < m; ++k) {
-            const auto i = static_cast<std::size_t>(owner[k0 + k]);
-            const auto j = static_cast<std::size_t>(neighbor[k0 + k]);
-            double sy = y[i] - y[j] + shift_y[k0 + k];
-            double sxs = x[i] - x[j] + shift_x[k0 + k];
-            if constexpr (kOffsets) {
-                sy += oy[i] - oy[j];
-                sxs += ox[i] - ox[j];
-            }
-            const double sx = sxs + gamma * sy;
-            rx[k] = sx;
-            ry[k] = sy;
-            r2[k] = sx * sx + sy * sy;
-        }
+        block_geometry<kOffsets>(list, box, x.data(), y.data(), ox, oy, k0, m, rx, ry, r2);
         const double* dc = contact + k0;
         evaluate_block(eval, r2, dc, fr, kTally == Tally::Full ? en : nullptr, m);
         for (std::size_t k = 0; k < m; ++k) {

@@ -25,14 +25,9 @@ ForceResult accumulate_pair_forces_threaded(const Evaluator& eval, const Neighbo
                                             ContactRecord record = {}) {
     constexpr bool kFull = kTally == Tally::Full;
     const std::size_t n = x.size(), total = list.size();
-    const std::int32_t* owner = list.owner().data();
-    const std::int32_t* neighbor = list.neighbor().data();
-    const double* shift_x = list.shift_x().data();
-    const double* shift_y = list.shift_y().data();
     const double* contact = list.contact().data();
     const std::int32_t* inc_first = list.incidence_first().data();
     const std::int32_t* incidence = list.incidence().data();
-    const double gamma = box.strain();
     EntryScratch& entries = scratch.entries;
     entries.f.resize(2 * total);
     if constexpr (kFull) {
@@ -50,20 +45,7 @@ ForceResult accumulate_pair_forces_threaded(const Evaluator& eval, const Neighbo
         for (long b = 0; b < blocks; ++b) {
             const std::size_t k0 = static_cast<std::size_t>(b) * PairScratch::kChunk;
             const std::size_t m = std::min(PairScratch::kChunk, total - k0);
-            for (std::size_t k = 0; k < m; ++k) {
-                const auto i = static_cast<std::size_t>(owner[k0 + k]);
-                const auto j = static_cast<std::size_t>(neighbor[k0 + k]);
-                double sy = y[i] - y[j] + shift_y[k0 + k];
-                double sxs = x[i] - x[j] + shift_x[k0 + k];
-                if constexpr (kOffsets) {
-                    sy += oy[i] - oy[j];
-                    sxs += ox[i] - ox[j];
-                }
-                const double sx = sxs + gamma * sy;
-                rx[k] = sx;
-                ry[k] = sy;
-                r2[k] = sx * sx + sy * sy;
-            }
+            block_geometry<kOffsets>(list, box, x.data(), y.data(), ox, oy, k0, m, rx, ry, r2);
             const double* dc = contact + k0;
             evaluate_block(eval, r2, dc, fr, kFull ? en : nullptr, m);
             for (std::size_t k = 0; k < m; ++k) {
