@@ -564,6 +564,8 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
             }
         } catch (const SpecError& e) {
             error = e.what();
+        } catch (const std::exception& e) {  // any other failure of rank 0's checks (an unreadable
+            error = opt.spec_path + ": " + e.what();  // file): said on every rank, never left unbroadcast
         }
         // An archive that another live run writes is refused for that reason, whatever it
         // looks like now (it may be half created): the holder's name says what to do.
