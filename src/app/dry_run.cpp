@@ -1,0 +1,247 @@
+// `jamsim run --dry-run` (dry_run.hpp).
+#include "dry_run.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <ctime>
+#include <cstdio>
+#include <filesystem>
+#include <set>
+#include <string>
+#include <vector>
+#include <map>
+#include <queue>
+#include <tuple>
+
+#include "jamsim/io/archive.hpp"
+#include "jamsim/io/archive_file_check.hpp"
+#include "jamsim/io/capacity.hpp"
+#include "jamsim/run/model_registry.hpp"
+#include "jamsim/run/replica.hpp"
+
+namespace jamsim::app {
+
+namespace {
+
+/// Replicas that run at one throughput (seconds per estimated cost unit): model, N and phi.
+using CostGroup = std::tuple<std::string, std::int64_t, double>;
+CostGroup cost_group(const ReplicaParams& p) { return {p.model, p.n, p.phi}; }
+
+/// Seconds per estimated cost unit on this machine, per group, and where they come from.
+struct Calibration {
+    std::map<CostGroup, double> measured;  ///< groups measured (recorded or probed)
+    int recorded = 0, probed = 0;          ///< groups from an earlier run's archive, from probes
+
+    /// A group measured, else the model's measured groups (the same N first), else nominal.
+    double seconds_per_cost(const ReplicaParams& p) const {
+        if (const auto it = measured.find(cost_group(p)); it != measured.end()) return it->second;
+        double same_n = 0, same_model = 0;
+        int n_count = 0, model_count = 0;
+        for (const auto& [group, rate] : measured) {
+            if (std::get<0>(group) != p.model) continue;
+            same_model += rate;
+            ++model_count;
+            if (std::get<1>(group) == p.n) {
+                same_n += rate;
+                ++n_count;
+            }
+        }
+        if (n_count > 0) return same_n / n_count;
+        if (model_count > 0) return same_model / model_count;
+        return 1.0 / kNominalEvaluationsPerSecond;
+    }
+};
+
+/// CPU seconds this process has used.
+double process_cpu_seconds() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+/// Seconds of probes a dry run may spend calibrating (the groups left use measured neighbours).
+constexpr double kProbeBudgetSeconds = 30.0;
+
+/// The throughput of each group of a campaign on this machine: from the replicas an earlier
+/// run finished in the campaign's archive (wall time over estimated cost), else from a probe
+/// of the group's first replica (process CPU time): dynamics run it for about 1e7 and 3e7
+/// particle force evaluations and take the difference (at least 20 steps; the replica whole
+/// when shorter), a minimisation protocol up to three of
+/// its replicas whole, each when it takes under 10 s by the best estimate so far (a
+/// minimisation's cost depends on N, phi and the seed in ways its estimate counts only
+/// roughly). Probes stop after kProbeBudgetSeconds.
+Calibration calibrate(const CampaignSpec& spec, const std::string& archive) {
+    Calibration out;
+    // Rates recorded by earlier runs of this campaign (or of the archive's campaign, grown).
+    std::map<CostGroup, std::pair<double, double>> recorded;  // group -> (seconds, cost)
+    std::error_code ec;
+    if (!archive.empty() && std::filesystem::exists(archive, ec) && diagnose_archive_file(archive).empty()) try {
+            const StoredCampaign stored = read_stored_campaign(archive);
+            const h5::Handle file = h5::open_unlocked_readonly(archive);
+            const auto wall = h5::read_all<double>(file.get(), "/replicas/wall_seconds", H5T_NATIVE_DOUBLE);
+            for (std::size_t r = 0; r < stored.status.size() && r < wall.size(); ++r) {
+                const ReplicaParams& p = stored.spec.replicas[r];
+                if (stored.status[r] != ReplicaStatus::Done || !(wall[r] > 0) || !(estimated_cost(p) > 0)) continue;
+                auto& [seconds, cost] = recorded[cost_group(p)];
+                seconds += wall[r];
+                cost += estimated_cost(p);
+            }
+        } catch (const std::exception&) {
+            recorded.clear();  // an archive that cannot be read: probes instead
+        }
+    for (const auto& [group, sums] : recorded) {
+        out.measured[group] = sums.first / sums.second;
+        ++out.recorded;
+    }
+    double spent = 0;
+    // Minimisations: up to kMinimisationProbes replicas (seeds) per group, their mean, since
+    // a minimisation's cost varies from seed to seed (near phi_J by an order of magnitude).
+    constexpr int kMinimisationProbes = 3;
+    std::map<CostGroup, std::pair<double, double>> probed;  // group -> (seconds, cost)
+    std::map<CostGroup, int> probes;
+    for (const ReplicaParams& p : spec.replicas) {
+        const CostGroup key = cost_group(p);
+        const bool minimisation = model_of(p).kind != ModelKind::Dynamics;
+        if (recorded.count(key) || spent >= kProbeBudgetSeconds ||
+            probes[key] >= (minimisation ? kMinimisationProbes : 1))
+            continue;
+        const bool dynamics = model_of(p).kind == ModelKind::Dynamics;
+        // A dynamics probe runs the replica for `steps` and for 3 × `steps` and takes the
+        // difference, so that the set-up (initial state, first list, first factorisation)
+        // is not spread over a few hundred steps; a replica shorter than that runs whole.
+        auto shortened = [&](double steps) {
+            ReplicaParams probe = p;
+            (p.rate > 0 ? probe.strain : probe.time) = steps * p.dt * (p.rate > 0 ? p.rate : 1.0);
+            probe.sample_interval = probe.rate > 0 ? probe.strain : probe.time;
+            probe.transient = 0.0;  // the probe is shorter than the replica's transient may be
+            probe.checkpoint_steps = 1'000'000'000;
+            return probe;
+        };
+        std::vector<ReplicaParams> runs{p};
+        if (dynamics) {
+            const double steps = std::max(20.0, 1e7 / (static_cast<double>(p.n) * evaluations_per_step(p)));
+            if (3 * steps < static_cast<double>(schedule_of(p).steps)) runs = {shortened(steps), shortened(3 * steps)};
+        } else if (estimated_cost(p) * out.seconds_per_cost(p) > std::min(10.0, kProbeBudgetSeconds - spent)) {
+            continue;
+        }
+        try {
+            // Process CPU time, not wall time: other jobs on a shared machine (a login node,
+            // a laptop) would otherwise inflate the estimate for the cluster node it is for.
+            std::vector<std::pair<double, double>> measured;  // (CPU seconds, cost) per run
+            for (const ReplicaParams& run : runs) {
+                const double t0 = process_cpu_seconds();
+                const ReplicaResult r = run_replica(run);
+                const double seconds = process_cpu_seconds() - t0;
+                spent += r.wall_seconds;
+                const double cost = dynamics ? static_cast<double>(r.force_evaluations) * static_cast<double>(p.n)
+                                             : estimated_cost(p);
+                measured.emplace_back(seconds, cost);
+            }
+            double seconds = measured.back().first, cost = measured.back().second;
+            if (measured.size() == 2 && measured[1].first > measured[0].first && measured[1].second > measured[0].second) {
+                seconds = measured[1].first - measured[0].first;
+                cost = measured[1].second - measured[0].second;
+            }
+            if (cost > 0 && seconds > 0) {
+                auto& [sum_seconds, sum_costs] = probed[key];
+                sum_seconds += seconds;
+                sum_costs += cost;
+                out.measured[key] = sum_seconds / sum_costs;
+                ++probes[key];
+            }
+        } catch (const std::exception&) {
+            // a probe that fails (a replica that would fail) leaves its group to the others
+        }
+    }
+    out.probed = static_cast<int>(probed.size());
+    return out;
+}
+
+/// "42 s", "12.5 min", "3.20 h".
+std::string duration(double seconds) {
+    char buf[32];
+    if (seconds < 120) std::snprintf(buf, sizeof buf, "%.1f s", seconds);
+    else if (seconds < 7200) std::snprintf(buf, sizeof buf, "%.1f min", seconds / 60);
+    else std::snprintf(buf, sizeof buf, "%.2f h", seconds / 3600);
+    return buf;
+}
+
+} // namespace
+
+void print_dry_run(const CampaignSpec& spec, const std::string& output, const DryRunPlan& plan) {
+    std::printf("campaign %s: %zu replicas -> %s (dry run: nothing written)\n", spec.name.c_str(),
+                spec.replicas.size(), output.c_str());
+    const Calibration rates = plan.calibrate ? calibrate(spec, output) : Calibration{};
+    const auto seconds_of = [&](const ReplicaParams& p) { return estimated_cost(p) * rates.seconds_per_cost(p); };
+    std::printf("%6s %7s %8s %10s %6s %9s %14s %10s\n", "id", "N", "phi", "rate", "seed",
+                "samples", "cost(p-evals)", "est. s");
+    double total = 0, largest = 0;
+    std::vector<double> shard_seconds(static_cast<std::size_t>(plan.shards), 0.0);
+    for (std::size_t id = 0; id < spec.replicas.size(); ++id) {
+        const ReplicaParams& p = spec.replicas[id];
+        const double seconds = seconds_of(p);
+        total += seconds;
+        largest = std::max(largest, seconds);
+        shard_seconds[id % shard_seconds.size()] += seconds;
+        std::printf("%6zu %7lld %8.4g %10.3g %6llu %9lld %14.4g %10.1f\n", id,
+                    static_cast<long long>(p.n), p.phi, p.rate,
+                    static_cast<unsigned long long>(p.seed),
+                    static_cast<long long>(sample_count(p)), estimated_cost(p), seconds);
+    }
+    // The wall time on P ranks: the farm's schedule, longest estimated cost first, each replica
+    // to the rank that becomes free first.
+    std::vector<double> by_cost;
+    for (const ReplicaParams& p : spec.replicas) by_cost.push_back(seconds_of(p));
+    std::sort(by_cost.begin(), by_cost.end(), std::greater<>());
+    std::priority_queue<double, std::vector<double>, std::greater<>> free_at;
+    for (int r = 0; r < plan.ranks; ++r) free_at.push(0.0);
+    double wall = 0;
+    for (const double seconds : by_cost) {
+        const double start = free_at.top();
+        free_at.pop();
+        free_at.push(start + seconds);
+        wall = std::max(wall, start + seconds);
+    }
+    const std::string source =
+        !plan.calibrate ? "nominal 7e7 particle force evaluations/s"
+                        : "throughput measured on this machine per model, N and phi: " + std::to_string(rates.recorded) +
+                              " groups from the archive's finished replicas, " + std::to_string(rates.probed) +
+                              " by a short probe, the rest from those";
+    std::printf("total: %.3g core-hours, %.3g core-seconds (%s); on %d ranks about %s of wall time (the longest "
+                "replica: %s)\n",
+                total / 3600.0, total, source.c_str(), plan.ranks, duration(wall).c_str(), duration(largest).c_str());
+    // A resumed or grown archive: what its finished replicas leave to run.
+    std::error_code ec;
+    if (std::filesystem::exists(output, ec) && diagnose_archive_file(output).empty()) try {
+            const StoredCampaign stored = read_stored_campaign(output);
+            std::set<std::string> finished;
+            for (std::size_t r = 0; r < stored.status.size(); ++r)
+                if (stored.status[r] == ReplicaStatus::Done || stored.status[r] == ReplicaStatus::Failed)
+                    finished.insert(describe(stored.spec.replicas[r]));
+            double left = 0;
+            for (const ReplicaParams& p : spec.replicas)
+                if (!finished.count(describe(p))) left += seconds_of(p);
+            std::printf("left to run: %.3g core-seconds (the archive's %zu finished replicas are kept)\n", left,
+                        finished.size());
+        } catch (const std::exception&) {
+            // an archive that cannot be read was refused before a dry run lists anything
+        }
+    if (plan.time_limit > 0) {
+        const char* lead_env = std::getenv("JAMSIM_SIGNAL_LEAD");
+        const double lead = lead_env ? std::atof(lead_env) : 300.0;
+        const double usable = plan.time_limit - lead - 60.0;  // Slurm may warn a minute early
+        if (usable <= 0) {
+            std::printf("time limit %.0f s: not above the warning lead %.0f s + 60 s; no task can work\n",
+                        plan.time_limit, lead);
+            return;
+        }
+        double worst = 0;
+        for (double s : shard_seconds) worst = std::max(worst, s / plan.ranks);
+        std::printf("%d shards on %d ranks each, time limit %s (warning %.0f s before): the "
+                    "busiest task needs about %s, %d requeues\n",
+                    plan.shards, plan.ranks, duration(plan.time_limit).c_str(), lead, duration(worst).c_str(),
+                    static_cast<int>(std::max(0.0, std::ceil(worst / usable) - 1.0)));
+    }
+}
+
+} // namespace jamsim::app

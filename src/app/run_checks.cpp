@@ -1,0 +1,178 @@
+// The checks `jamsim run` makes on rank 0 before any work (run_checks.hpp).
+#include "run_checks.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+
+#include "jamsim/io/archive.hpp"
+#include "jamsim/io/archive_file_check.hpp"
+#include "jamsim/io/checkpoint_file.hpp"
+#include "jamsim/linalg/contact_solver.hpp"
+#include "jamsim/params/parameters.hpp"
+#include "jamsim/run/model_registry.hpp"
+
+namespace jamsim::app {
+
+/// "" when the run may write `path`; `mode` says how (a new or resumed archive, one extended
+/// to longer runs, one grown by more replicas: then `source` maps spec's replicas to the
+/// archive's, Archive::check_growth).
+std::string check_output(const std::string& path, const CampaignSpec& spec, OutputMode& mode,
+                         std::vector<std::int64_t>& source) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (fs::exists(path, ec)) {
+        if (fs::is_directory(path, ec))
+            return spec.path + ": [campaign] output = \"" + path +
+                   "\" is not allowed: a file path, not a directory";
+        if (const std::string bad = diagnose_archive_file(path); !bad.empty())
+            return spec.path + ": refusing to use the archive: " + bad +
+                   " (choose another [campaign] output or -o, or remove the file)";
+        const std::string why = Archive::check_existing(path, spec);
+        if (why.empty()) return "";
+        if (why.find("belongs to a different campaign") == std::string::npos)  // another version, unreadable
+            return spec.path + ": refusing to use the archive: " + why +
+                   " (choose another [campaign] output or -o)";
+        const std::string not_longer = Archive::check_extension(path, spec);
+        if (not_longer.empty()) {  // the same campaign, run longer
+            mode = OutputMode::Extend;
+            return "";
+        }
+        if (not_longer.find("would run shorter") != std::string::npos)  // the one near miss
+            return spec.path + ": refusing to use the archive '" + path + "': " + not_longer +
+                   " than in it: a campaign can be extended to a larger strain (or time), not "
+                   "shortened (choose another [campaign] output or -o)";
+        const std::string not_grown = Archive::check_growth(path, spec, source);
+        if (not_grown.empty()) {  // the same campaign with more replicas
+            mode = OutputMode::Grow;
+            return "";
+        }
+        return spec.path + ": refusing to use the archive: '" + path +
+               "' belongs to a different campaign: " + not_grown +
+               " (choose another [campaign] output or -o)";
+    }
+    // Checkpoints without their archive belong to a run whose archive was removed or moved:
+    // a new campaign must not continue from them.
+    if (const std::string folder = checkpoint_folder(path);
+        fs::is_directory(folder, ec) && !fs::is_empty(folder, ec))
+        return spec.path + ": refusing to start '" + path + "': the checkpoint folder '" + folder +
+               "' of an earlier run is there without its archive (restore the archive to "
+               "continue that run, or remove the folder to start afresh)";
+    const fs::path p(path);
+    const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
+    if (!fs::is_directory(dir, ec) || ::access(dir.c_str(), W_OK) != 0)
+        return spec.path + ": [campaign] output = \"" + path +
+               "\" is not allowed: a file in an existing writable directory ('" + dir.string() +
+               "' is not)";
+    return "";
+}
+
+/// Every checkpoint beside the archive must belong to one of this campaign's replicas, so a
+/// stale or foreign one stops the run before any work (it is left as it is). A damaged one
+/// (unreadable) is left to its replica, which warns, removes it and starts again.
+std::string check_checkpoints(const std::string& output, const CampaignSpec& spec) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path folder = checkpoint_folder(output);
+    if (!fs::is_directory(folder, ec)) return "";
+    for (const auto& entry : fs::directory_iterator(folder, ec)) {
+        const std::string name = entry.path().filename().string();
+        long long id = -1;
+        char tail[8] = {};
+        if (std::sscanf(name.c_str(), "replica_%lld.h%7s", &id, tail) != 2 || std::string(tail) != "5")
+            continue;  // not a checkpoint (e.g. a .tmp left by a kill)
+        if (id < 0 || id >= static_cast<long long>(spec.replicas.size()))
+            return spec.path + ": checkpoint '" + entry.path().string() + "' names replica " +
+                   std::to_string(id) + ", this campaign has " +
+                   std::to_string(spec.replicas.size()) + ": remove it or choose another output";
+        try {
+            check_checkpoint_header(entry.path().string(), spec.replicas[static_cast<std::size_t>(id)]);
+        } catch (const CheckpointUnreadable&) {
+            continue;  // damaged: its replica removes it with a warning and starts again
+        } catch (const CheckpointError& e) {
+            return spec.path + ": " + e.what();
+        }
+    }
+    return "";
+}
+
+/// "" when every replica of the archive at `output` that started from [run] initial would
+/// start from the same state today (grow_source: the archive's id of each replica of a grown
+/// campaign, empty otherwise); else which would not, and what to do.
+std::string initial_source_changed(const InitialStates& source, const CampaignSpec& spec, const std::string& output,
+                                   const std::vector<std::int64_t>& grow_source) {
+    InitialRecords recorded = read_initial_records(output);
+    if (!grow_source.empty()) {  // to this campaign's ids
+        InitialRecords mapped;
+        for (const std::int64_t from : grow_source) {
+            const bool kept = from >= 0 && static_cast<std::size_t>(from) < recorded.source.size();
+            mapped.source.push_back(kept ? recorded.source[static_cast<std::size_t>(from)] : 0);
+            mapped.state.push_back(kept ? recorded.state[static_cast<std::size_t>(from)] : 0);
+        }
+        recorded = std::move(mapped);
+    }
+    const std::string why = source.changed_since(spec.replicas, recorded.source, recorded.state);
+    return why.empty() ? "" : spec.path + ": " + why;
+}
+
+/// `path` as MPI-IO is given it: Open MPI's MPI-IO overflows a buffer (and aborts the job)
+/// on names of more than about 245 characters, so a longer one is given relative to the
+/// working directory, and one that is long even so is refused with jamsim's words.
+std::string mpi_io_path(const std::string& spec_path, const std::string& path) {
+    constexpr std::size_t kLongest = 240;
+    if (path.size() <= kLongest) return path;
+    std::error_code ec;
+    const std::string relative = std::filesystem::proximate(path, ec).string();
+    if (!ec && relative.size() <= kLongest) return relative;
+    throw SpecError(spec_path + ": output = \"" + path.substr(0, 60) + "...\" (" + std::to_string(path.size()) +
+                    " characters) is not allowed: an archive path of at most " + std::to_string(kLongest) +
+                    " characters (Open MPI's MPI-IO takes no longer names), also relative to the working directory; "
+                    "run from a folder nearer the archive, or choose a shorter path");
+}
+
+/// PETSc options (campaign-wide, [model] petsc_options) that PETSc does not recognise or the
+/// CD0 solver does not use: refused before any work, by PETSc itself (the table's check has
+/// refused those no PETSc solver would see).
+std::string check_petsc_options(const CampaignSpec& spec) {
+    for (const ReplicaParams& p : spec.replicas) {
+        if (p.petsc_options.empty() || !uses_parameter(p, "petsc_options")) continue;
+        try {
+            if (const std::string why = linalg::petsc_options_problem(p.petsc_options); !why.empty())
+                return spec.path + ": [model] petsc_options = \"" + p.petsc_options +
+                       "\" is not allowed: " + why;
+        } catch (const std::exception& e) {
+            return spec.path + ": [model] petsc_options = \"" + p.petsc_options +
+                   "\" could not be checked: " + e.what();
+        }
+        return "";  // the same options for every replica: one check
+    }
+    return "";
+}
+
+/// Advisory warnings (limits not refused), each kind once in the run log; the archive keeps
+/// them too (its root attribute `warnings`).
+void print_advisories(const CampaignSpec& spec) {
+    for (const std::string& line : campaign_warnings(spec))
+        std::fprintf(stderr, "jamsim run: warning: %s: %s\n", spec.path.c_str(), line.c_str());
+    // A file without [run] is allowed, but the length and sampling of a dynamics run are
+    // then the defaults: say which, so that an omission is not mistaken for a choice.
+    if (spec.run_table || spec.replicas.empty()) return;
+    std::string defaults;
+    for (const auto& info : parameters()) {
+        if (info.table != "run" || (info.key != "strain" && info.key != "time" && info.key != "transient" &&
+                                    info.key != "sample_interval"))
+            continue;
+        const auto used = std::find_if(spec.replicas.begin(), spec.replicas.end(),
+                                       [&](const ReplicaParams& p) { return uses_parameter(p, info.key); });
+        if (used == spec.replicas.end()) continue;
+        defaults.append(defaults.empty() ? "" : ", ").append(info.key).append(" = ").append(
+            show_value(get_value(*used, info)));
+    }
+    if (!defaults.empty())
+        std::fprintf(stderr, "jamsim run: warning: %s: no [run] table: the run takes the defaults %s "
+                     "(campaigns/TEMPLATE.toml lists every key)\n", spec.path.c_str(), defaults.c_str());
+}
+
+} // namespace jamsim::app

@@ -1,0 +1,35 @@
+#pragma once
+// The checks `jamsim run` makes on rank 0 before any work: the output archive, the
+// checkpoints beside it, the [run] initial source, PETSc options, advisories.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "jamsim/io/campaign_spec.hpp"
+#include "jamsim/io/initial_states.hpp"
+
+namespace jamsim::app {
+
+/// What a run does with an existing archive of its campaign.
+enum class OutputMode : int { Fresh = 0, Extend = 1, Grow = 2 };
+
+/// "" when the run may write `path`; `mode` says how (a new or resumed archive, one extended
+/// to longer runs, one grown by more replicas: then `source` maps spec's replicas to the
+/// archive's, Archive::check_growth).
+std::string check_output(const std::string& path, const CampaignSpec& spec, OutputMode& mode,
+                         std::vector<std::int64_t>& source);
+/// Every checkpoint beside the archive must belong to one of this campaign's replicas ("" or
+/// why not); a damaged (unreadable) one is left to its replica.
+std::string check_checkpoints(const std::string& output, const CampaignSpec& spec);
+/// "" when every replica of the archive at `output` that started from [run] initial would
+/// start from the same state today; else which would not, and what to do.
+std::string initial_source_changed(const InitialStates& source, const CampaignSpec& spec, const std::string& output,
+                                   const std::vector<std::int64_t>& grow_source);
+/// `path` as MPI-IO is given it (relative when too long); throws SpecError when too long even so.
+std::string mpi_io_path(const std::string& spec_path, const std::string& path);
+/// PETSc options PETSc does not recognise or the CD0 solver does not use ("" when none).
+std::string check_petsc_options(const CampaignSpec& spec);
+/// Advisory warnings on stderr, each kind once.
+void print_advisories(const CampaignSpec& spec);
+
+} // namespace jamsim::app
