@@ -277,6 +277,14 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, A
     std::optional<ReplicaState> resume;
     std::optional<System> initial;
     const std::int64_t before = spec.predecessor.empty() ? -1 : spec.predecessor[static_cast<std::size_t>(id)];
+    const auto counted = [&](Outcome outcome) {  // this rank's tally of what it ran
+        summary.resumed += resume ? 1 : 0;
+        summary.io_seconds += io;
+        ++summary.ran;
+        summary.failed += outcome == Outcome::Failed;
+        summary.interrupted += outcome == Outcome::Interrupted;
+        return outcome;
+    };
     Outcome outcome = Outcome::Done;
     try {  // preparing: a failure here fails this replica, never the campaign
         if (fs::exists(checkpoint)) timed([&] { resume = usable_checkpoint(checkpoint, params, id); });
@@ -286,12 +294,8 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, A
     } catch (const h5::Error&) {
         throw;
     } catch (const std::exception& e) {
-        outcome = Outcome::Failed;
         timed([&] { archive.write_failed(id, e.what(), seconds_since(t0), rank); });
-        summary.io_seconds += io;
-        ++summary.ran;
-        ++summary.failed;
-        return outcome;
+        return counted(Outcome::Failed);
     }
     if (initial && options.initial_states && before < 0)  // what it starts from, for later runs to check
         timed([&] { archive.record_initial(id, options.initial_states->fingerprint(), InitialStates::digest(*initial)); });
@@ -350,12 +354,7 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, A
     }
     if (outcome == Outcome::Done && last_checkpoint && model_of(params).extendable)  // kept: a longer run continues from it
         timed([&] { write_checkpoint(checkpoint, params, *last_checkpoint, true); });
-    summary.resumed += resume ? 1 : 0;
-    summary.io_seconds += io;
-    ++summary.ran;
-    summary.failed += outcome == Outcome::Failed;
-    summary.interrupted += outcome == Outcome::Interrupted;
-    return outcome;
+    return counted(outcome);
 }
 
 } // namespace
