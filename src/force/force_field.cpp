@@ -4,12 +4,6 @@
 
 namespace jamsim {
 
-namespace {
-/// The threaded force loop needs each disk's entries in list order (one pass per list build).
-void prepare_threaded(NeighborList& list) {
-    if (list.size() >= kThreadedLoopMin && kernel_threads() > 1) list.ensure_incidence();
-}
-} // namespace
 
 ForceResult ForceField::compute(System& sys, Tally tally) {
     Particles& p = sys.particles;
@@ -18,7 +12,6 @@ ForceResult ForceField::compute(System& sys, Tally tally) {
         p.permute(spatial_order(p, sys.box, max_diameter(p) + list_.skin()));
         list_.build(p.x, p.y, p.diameter, sys.box);
     }
-    prepare_threaded(list_);
     const ContactRecord record = start_record(sys.box, p.x, p.y);
     return compute_pair_forces(pot_, list_, sys.box, p.x, p.y, p.fx, p.fy, scratch_,
                                tally, record);
@@ -28,7 +21,6 @@ ForceResult ForceField::compute_at(const Box& box, std::span<const double> x,
                                    std::span<const double> y, std::span<const double> diameter,
                                    std::span<double> fx, std::span<double> fy, Tally tally) {
     if (list_.needs_rebuild(x, y, box)) list_.build(x, y, diameter, box);
-    prepare_threaded(list_);
     const ContactRecord record = start_record(box, x, y);
     return compute_pair_forces(pot_, list_, box, x, y, fx, fy, scratch_, tally, record);
 }
@@ -66,7 +58,6 @@ ForceResult ForceField::compute_split(const Box& box, std::span<const double> x_
                                       double displacement_bound) {
     const bool check = displacement_bound < 0.0 || list_.may_need_rebuild(displacement_bound, box);
     if (check && list_.needs_rebuild(x_total, y_total, box)) list_.build(x_total, y_total, diameter, box);
-    prepare_threaded(list_);
     recorded_ = false;  // a minimiser's evaluation: nothing recorded
     return compute_pair_forces_split(pot_, list_, box, base_x, base_y, off_x, off_y, fx, fy,
                                      scratch_, tally);

@@ -1,6 +1,5 @@
 #include "jamsim/force/pair_forces.hpp"
 
-#include "jamsim/force/pair_forces_threaded.hpp"
 #include "jamsim/parallel/threads.hpp"
 
 #include <variant>
@@ -35,19 +34,10 @@ std::vector<Contact> find_contacts(const NeighborList& list, const Box& box,
 }
 
 namespace {
-/// The threaded loop when the kernel has several threads, the list is long enough and its
-/// incidence is there (ForceField builds it); the same bits either way.
-bool threaded(const NeighborList& list) {
-    return list.size() >= kThreadedLoopMin && kernel_threads() > 1 && list.has_incidence();
-}
-
 template <Tally kTally, class E, bool kOffsets, bool kRecord>
 ForceResult pair_forces(const E& eval, const NeighborList& list, const Box& box, std::span<const double> x,
                         std::span<const double> y, std::span<double> fx, std::span<double> fy,
                         PairScratch& scratch, const double* ox, const double* oy, ContactRecord record) {
-    if (threaded(list))
-        return accumulate_pair_forces_threaded<kTally, E, kOffsets, kRecord>(eval, list, box, x, y, fx, fy, scratch,
-                                                                             ox, oy, record);
     return accumulate_pair_forces<kTally, E, kOffsets, kRecord>(eval, list, box, x, y, fx, fy, scratch, ox, oy,
                                                                 record);
 }

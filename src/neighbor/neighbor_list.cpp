@@ -74,6 +74,7 @@ void NeighborList::finish_build(std::span<const double> diameter) {
             contact_[k] = 0.5 * (diameter[i] + diameter[static_cast<std::size_t>(neighbor_[k])]);
         }
     });
+    blocks_.build(first_, neighbor_);
 }
 
 void NeighborList::remember_reference(std::span<const double> x, std::span<const double> y,
@@ -243,36 +244,6 @@ std::vector<std::int32_t> spatial_order(const Particles& p, const Box& box, doub
     const int nc = std::max(1, static_cast<int>(std::floor(box.side() / cell)));
     const CellGrid grid(p.x, p.y, box, nc);
     return grid.members;
-}
-
-void NeighborList::ensure_incidence() {
-    if (has_incidence()) return;
-    const std::size_t n = first_.empty() ? 0 : first_.size() - 1;
-    // The entries where each disk is the neighbour, ascending (a counting sort by disk).
-    incoming_first_.assign(n + 1, 0);
-    for (const std::int32_t j : neighbor_) ++incoming_first_[static_cast<std::size_t>(j) + 1];
-    for (std::size_t j = 0; j < n; ++j) incoming_first_[j + 1] += incoming_first_[j];
-    incoming_.resize(neighbor_.size());
-    std::vector<std::int32_t> fill(incoming_first_.begin(), incoming_first_.end() - 1);
-    for (std::size_t k = 0; k < neighbor_.size(); ++k)
-        incoming_[static_cast<std::size_t>(fill[static_cast<std::size_t>(neighbor_[k])]++)] =
-            static_cast<std::int32_t>(k);
-    // Merged with the owned entries (contiguous) by entry number, per disk.
-    incidence_first_.resize(n + 1);
-    for (std::size_t i = 0; i <= n; ++i) incidence_first_[i] = first_[i] + incoming_first_[i];
-    incidence_.resize(2 * neighbor_.size());
-    parallel_for(n, [&](std::size_t i) {
-        std::int32_t own = first_[i];
-        const std::int32_t own_end = first_[i + 1];
-        const std::int32_t* in = incoming_.data() + incoming_first_[i];
-        const std::int32_t* in_end = incoming_.data() + incoming_first_[i + 1];
-        std::int32_t* out = incidence_.data() + incidence_first_[i];
-        while (own < own_end || in != in_end) {
-            if (in == in_end || (own < own_end && own < *in)) *out++ = own++;
-            else *out++ = ~*in++;
-        }
-    });
-    incidence_build_ = builds_;
 }
 
 } // namespace jamsim

@@ -2,6 +2,7 @@
 // same bits on 1, 2, 3 and 4 threads (more threads than cores is fine here).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
 #include <vector>
@@ -50,7 +51,6 @@ Evaluation evaluate(const System& sys, const potential::SoftSphere& pot, int thr
     NeighborList list(0.3);
     const Particles& p = sys.particles;
     list.build(p.x, p.y, p.diameter, sys.box);
-    list.ensure_incidence();
     Evaluation e;
     e.fx.resize(p.size());
     e.fy.resize(p.size());
@@ -72,7 +72,7 @@ Evaluation evaluate(const System& sys, const potential::SoftSphere& pot, int thr
 }
 
 TEST(Threads, ForceLoopGivesTheSameBitsOnAnyThreadCount) {
-    const System sys = testing::random_configuration(6000, 0.86, 0.31, 5);
+    const System sys = testing::random_configuration(20000, 0.86, 0.31, 5);
     for (const potential::SoftSphere pot : {potential::SoftSphere{potential::Harmonic{}},
                                             potential::SoftSphere{potential::Hertzian{}}})
         for (const Tally tally : {Tally::ForcesOnly, Tally::Full})
@@ -99,17 +99,61 @@ TEST(Threads, ForceLoopGivesTheSameBitsOnAnyThreadCount) {
                 }
 }
 
-TEST(Threads, ForceLoopOnThreadsIsNotTheSerialLoopByAccident) {
-    // The threaded path must really run: with 2 threads a list of this size takes it.
-    const System sys = testing::random_configuration(6000, 0.86, 0.31, 5);
-    const ThreadCount count(2);
+TEST(Threads, ForceBlocksCoverEveryEntryOnce) {
+    // The decomposition the force loop shares among threads: several blocks at this size;
+    // each entry's neighbour share goes to the neighbour itself when it lies in the owner's
+    // block, else to a halo slot of (owner's block, neighbour's block) that names that
+    // neighbour; every slot is used once; sorted by cell, a few per cent need a slot.
+    System sys = testing::random_configuration(20000, 0.86, 0.31, 5);
+    Particles& p = sys.particles;
+    p.permute(spatial_order(p, sys.box, max_diameter(p) + 0.3));
     NeighborList list(0.3);
-    list.build(sys.particles.x, sys.particles.y, sys.particles.diameter, sys.box);
-    EXPECT_GE(list.size(), kThreadedLoopMin);
-    list.ensure_incidence();
-    EXPECT_TRUE(list.has_incidence());
-    // Every entry appears twice: once for its owner, once for its neighbour.
-    EXPECT_EQ(list.incidence().size(), 2 * list.size());
+    list.build(p.x, p.y, p.diameter, sys.box);
+    const ForceBlocks& blocks = list.blocks();
+    ASSERT_EQ(blocks.size, ForceBlocks::block_size(p.size()));
+    ASSERT_GE(blocks.count, 4u);
+    std::vector<int> used(blocks.halo_slots(), 0);
+    for (std::size_t b = 0; b < blocks.count; ++b)
+        for (auto k = static_cast<std::size_t>(blocks.entry_first[b]); k < static_cast<std::size_t>(blocks.entry_first[b + 1]); ++k) {
+            ASSERT_EQ(blocks.block_of(list.owner()[k]), b);
+            const std::int32_t to = blocks.target[k];
+            const std::int32_t j = list.neighbor()[k];
+            if (to >= 0) {
+                EXPECT_EQ(to, j);
+                EXPECT_EQ(blocks.block_of(j), b);
+                continue;
+            }
+            const auto slot = static_cast<std::size_t>(~to);
+            const std::size_t pair = b * blocks.count + blocks.block_of(j);
+            EXPECT_EQ(blocks.halo_disk[slot], j);
+            EXPECT_GE(slot, static_cast<std::size_t>(blocks.halo_first[pair]));
+            EXPECT_LT(slot, static_cast<std::size_t>(blocks.halo_first[pair + 1]));
+            ++used[slot];
+        }
+    EXPECT_EQ(static_cast<std::size_t>(std::count(used.begin(), used.end(), 1)), used.size());
+    EXPECT_LT(static_cast<double>(blocks.halo_slots()), 0.1 * static_cast<double>(list.size()));
+}
+
+TEST(Threads, OneBlockIsThePlainScatterLoop) {
+    // Up to 4096 disks the loop is the one-pass scatter in list order: the same bits as a
+    // direct sum f_i += f_ij, f_j −= f_ij over the entries.
+    const System sys = testing::random_configuration(3000, 0.86, 0.31, 7);
+    const Particles& p = sys.particles;
+    NeighborList list(0.3);
+    list.build(p.x, p.y, p.diameter, sys.box);
+    ASSERT_EQ(list.blocks().count, 1u);
+    const potential::SoftSphere pot{potential::Harmonic{}};
+    const Evaluation e = evaluate(sys, pot, 1, Tally::Full, false, false);
+    std::vector<double> fx(p.size(), 0.0), fy(p.size(), 0.0);
+    for_each_pair(list, sys.box, p.x, p.y, [&](std::size_t k, std::size_t i, std::size_t j, Vec2 r, bool) {
+        const double fr = potential::Harmonic{}(norm2(r), list.contact()[k]).force_over_r;
+        fx[i] += fr * r.x;
+        fy[i] += fr * r.y;
+        fx[j] -= fr * r.x;
+        fy[j] -= fr * r.y;
+    });
+    EXPECT_TRUE(same_bits(fx, e.fx));
+    EXPECT_TRUE(same_bits(fy, e.fy));
 }
 
 TEST(Threads, NeighbourListIsTheSameOnAnyThreadCount) {

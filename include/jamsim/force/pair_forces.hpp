@@ -4,6 +4,8 @@
 #include <span>
 #include <vector>
 
+#include <omp.h>
+
 #include "jamsim/core/box.hpp"
 #include "jamsim/neighbor/neighbor_list.hpp"
 #include "jamsim/potential/soft_sphere.hpp"
@@ -31,23 +33,17 @@ struct ForceResult {
 /// ask for ForcesOnly and skip the energy, virial and contact sums.
 enum class Tally { ForcesOnly, Full };
 
-/// Per-entry results of the threaded force loop (shape [list size]; pair_forces_threaded.hpp).
-struct EntryScratch {
-    std::vector<double> f;                      ///< force on the owner from the neighbour, (x, y) pairs
-    std::vector<double> energy, vxx, vxy, vyy;  ///< Tally::Full
-    std::vector<std::uint8_t> touching;         ///< Tally::Full
-    std::vector<double> ry_touching;            ///< ContactRecord: r_y of a touching entry, else 0
+/// What one block of the force loop sums besides the forces (ForceBlocks).
+struct BlockTally {
+    double energy = 0.0, vxx = 0.0, vxy = 0.0, vyy = 0.0;
+    std::int64_t contacts = 0;
 };
 
 /// Scratch space of the force loop (reused across calls; one per ForceField).
 struct PairScratch {
-    static constexpr std::size_t kChunk = 512;  ///< list entries per block (fits in L1)
-    std::vector<double> rx = block(), ry = block(), r2 = block(), f_over_r = block(),
-                        energy = block();
-    EntryScratch entries;  ///< the threaded loop's
-
-  private:
-    static std::vector<double> block() { return std::vector<double>(kChunk); }
+    static constexpr std::size_t kChunk = 512;  ///< list entries per pass (fits in L1)
+    std::vector<double> halo_x, halo_y, halo_ry;  ///< [halo slots] (ForceBlocks)
+    std::vector<BlockTally> tallies;             ///< [blocks]
 };
 
 /// The evaluator over a block: f_over_r[k], and energy[k] unless energy is null, for
@@ -118,11 +114,101 @@ template <bool kOffsets>
     }
 }
 
+/// One block of the force loop (ForceBlocks; see accumulate_pair_forces): zeroes the forces
+/// of block b's disks and its halo slots, then adds the force of each of its entries into the
+/// owner and into the neighbour's target (the neighbour, or a halo slot). Returns the block's
+/// sums (Tally::Full). Uses the caller's per-thread arrays of PairScratch::kChunk doubles.
+template <Tally kTally, class Evaluator, bool kOffsets, bool kRecord>
+[[gnu::always_inline]] inline BlockTally accumulate_block(
+    const Evaluator& eval, const NeighborList& list, const Box& box, const double* x,
+    const double* y, const double* ox, const double* oy, std::size_t b, double* fx, double* fy,
+    PairScratch& scratch, ContactRecord record, double* __restrict rx, double* __restrict ry,
+    double* __restrict r2, double* __restrict fr, double* __restrict en) {
+    const ForceBlocks& blocks = list.blocks();
+    const std::size_t n = list.first().size() - 1;
+    const std::size_t d0 = b * blocks.size, d1 = std::min(n, d0 + blocks.size);
+    for (std::size_t i = d0; i < d1; ++i) fx[i] = fy[i] = 0.0;
+    if constexpr (kRecord)
+        for (std::size_t i = d0; i < d1; ++i) record.sum_ry[i] = 0.0;
+    double* const hx = scratch.halo_x.data();
+    double* const hy = scratch.halo_y.data();
+    double* const hr = scratch.halo_ry.data();
+    const auto s0 = static_cast<std::size_t>(blocks.halo_first[b * blocks.count]);
+    const auto s1 = static_cast<std::size_t>(blocks.halo_first[(b + 1) * blocks.count]);
+    for (std::size_t s = s0; s < s1; ++s) {
+        hx[s] = hy[s] = 0.0;
+        if constexpr (kRecord) hr[s] = 0.0;
+    }
+    const std::int32_t* owner = list.owner().data();
+    const std::int32_t* target = blocks.target.data();
+    const double* contact = list.contact().data();
+    BlockTally t;
+    const auto k_end = static_cast<std::size_t>(blocks.entry_first[b + 1]);
+    for (auto k0 = static_cast<std::size_t>(blocks.entry_first[b]); k0 < k_end; k0 += PairScratch::kChunk) {
+        const std::size_t m = std::min(PairScratch::kChunk, k_end - k0);
+        block_geometry<kOffsets>(list, box, x, y, ox, oy, k0, m, rx, ry, r2);
+        const double* dc = contact + k0;
+        evaluate_block(eval, r2, dc, fr, kTally == Tally::Full ? en : nullptr, m);
+        for (std::size_t k = 0; k < m; ++k) {
+            const auto i = static_cast<std::size_t>(owner[k0 + k]);
+            const std::int32_t to = target[k0 + k];
+            const bool in_block = to >= 0;  // else halo slot ~to (a select, no branch)
+            const auto j = static_cast<std::size_t>(in_block ? to : ~to);
+            double* const tx = in_block ? fx : hx;
+            double* const ty = in_block ? fy : hy;
+            const double px = fr[k] * rx[k], py = fr[k] * ry[k];
+            fx[i] += px;
+            fy[i] += py;
+            tx[j] -= px;
+            ty[j] -= py;
+            if constexpr (kRecord) {
+                const bool touching = r2[k] < dc[k] * dc[k];
+                record.touching[k0 + k] = static_cast<std::uint8_t>(touching);
+                const double ry_touching = ry[k] * static_cast<double>(touching);
+                record.sum_ry[i] += ry_touching;
+                (in_block ? record.sum_ry : hr)[j] -= ry_touching;
+            }
+            if constexpr (kTally == Tally::Full) {
+                t.energy += en[k];
+                t.vxx += rx[k] * px;
+                t.vxy += rx[k] * py;
+                t.vyy += ry[k] * py;
+                t.contacts += r2[k] < dc[k] * dc[k];
+            }
+        }
+    }
+    return t;
+}
+
+/// Adds the halo slots that belong to block c's disks: those of source blocks 0, 1, ... in
+/// turn, each in list order (ForceBlocks).
+template <bool kRecord>
+inline void add_halo(const ForceBlocks& blocks, std::size_t c, const PairScratch& scratch, double* fx,
+                     double* fy, double* sum_ry) {
+    for (std::size_t b = 0; b < blocks.count; ++b) {
+        const auto s0 = static_cast<std::size_t>(blocks.halo_first[b * blocks.count + c]);
+        const auto s1 = static_cast<std::size_t>(blocks.halo_first[b * blocks.count + c + 1]);
+        for (std::size_t s = s0; s < s1; ++s) {
+            const auto j = static_cast<std::size_t>(blocks.halo_disk[s]);
+            fx[j] += scratch.halo_x[s];
+            fy[j] += scratch.halo_y[s];
+            if constexpr (kRecord) sum_ry[j] += scratch.halo_ry[s];
+        }
+    }
+}
+
 /// The one neighbour loop: forces (written into fx, fy), energy, virial and contact count
 /// for positions (x, y) at the box's current strain, with pair evaluator `eval`.
 /// The list must be valid for these positions (NeighborList::needs_rebuild is false).
 ///
-/// It runs over the flat list in blocks of PairScratch::kChunk entries, in three passes:
+/// It runs over the list's fixed blocks of disks (ForceBlocks), on the kernel's threads
+/// when there are several blocks and threads; the result is the same bits on any number of
+/// threads, because the blocks and every order of summation depend on the list alone: a
+/// disk's force is its block's entries in list order, then its halo slots; a sum (energy,
+/// virial, contacts) is each block's in list order, then the blocks' in block order. Up to
+/// 4096 disks there is one block, and the loop is the plain one-pass scatter.
+///
+/// Each block runs over its entries in chunks of PairScratch::kChunk, in three passes:
 /// geometry (lab separations), the evaluator on contiguous arrays (no branch, so the
 /// square roots and divisions vectorise), and the scatter of forces and sums. A branch on
 /// "in contact?" per pair would mispredict at a quarter of the pairs and serialise the
@@ -142,57 +228,48 @@ ForceResult accumulate_pair_forces(const Evaluator& eval, const NeighborList& li
                                    std::span<double> fx, std::span<double> fy,
                                    PairScratch& scratch, const double* ox = nullptr,
                                    const double* oy = nullptr, ContactRecord record = {}) {
-    const std::size_t n = x.size();
-    for (std::size_t i = 0; i < n; ++i) fx[i] = fy[i] = 0.0;
-    if constexpr (kRecord)
-        for (std::size_t i = 0; i < n; ++i) record.sum_ry[i] = 0.0;
-    const std::int32_t* owner = list.owner().data();
-    const std::int32_t* neighbor = list.neighbor().data();
-    double* const rx = scratch.rx.data();
-    double* const ry = scratch.ry.data();
-    double* const r2 = scratch.r2.data();
-    const double* contact = list.contact().data();
-    double* const fr = scratch.f_over_r.data();
-    double* const en = scratch.energy.data();
-    double energy = 0.0, vxx = 0.0, vxy = 0.0, vyy = 0.0;
-    std::int64_t contacts = 0;
-    const std::size_t total = list.size();
-    for (std::size_t k0 = 0; k0 < total; k0 += PairScratch::kChunk) {
-        const std::size_t m = std::min(PairScratch::kChunk, total - k0);
-        block_geometry<kOffsets>(list, box, x.data(), y.data(), ox, oy, k0, m, rx, ry, r2);
-        const double* dc = contact + k0;
-        evaluate_block(eval, r2, dc, fr, kTally == Tally::Full ? en : nullptr, m);
-        for (std::size_t k = 0; k < m; ++k) {
-            const auto i = static_cast<std::size_t>(owner[k0 + k]);
-            const auto j = static_cast<std::size_t>(neighbor[k0 + k]);
-            const double px = fr[k] * rx[k], py = fr[k] * ry[k];
-            fx[i] += px;
-            fy[i] += py;
-            fx[j] -= px;
-            fy[j] -= py;
-            if constexpr (kRecord) {
-                const bool touching = r2[k] < dc[k] * dc[k];
-                record.touching[k0 + k] = static_cast<std::uint8_t>(touching);
-                const double ry_touching = ry[k] * static_cast<double>(touching);
-                record.sum_ry[i] += ry_touching;
-                record.sum_ry[j] -= ry_touching;
-            }
-            if constexpr (kTally == Tally::Full) {
-                energy += en[k];
-                vxx += rx[k] * px;
-                vxy += rx[k] * py;
-                vyy += ry[k] * py;
-                contacts += r2[k] < dc[k] * dc[k];
-            }
+    const ForceBlocks& blocks = list.blocks();
+    const std::size_t slots = blocks.halo_slots();
+    scratch.halo_x.resize(slots);
+    scratch.halo_y.resize(slots);
+    if constexpr (kRecord) scratch.halo_ry.resize(slots);
+    scratch.tallies.resize(blocks.count);
+    const auto count = static_cast<long>(blocks.count);
+#pragma omp parallel if (count > 1 && omp_get_max_threads() > 1)
+    {
+        double rx[PairScratch::kChunk], ry[PairScratch::kChunk], r2[PairScratch::kChunk];
+        double fr[PairScratch::kChunk], en[PairScratch::kChunk];
+#pragma omp for schedule(static)
+        for (long b = 0; b < count; ++b)
+            scratch.tallies[static_cast<std::size_t>(b)] = accumulate_block<kTally, Evaluator, kOffsets, kRecord>(
+                eval, list, box, x.data(), y.data(), ox, oy, static_cast<std::size_t>(b), fx.data(), fy.data(),
+                scratch, record, rx, ry, r2, fr, en);
+        // (the barrier at the end of the loop above: every block and halo slot is written)
+        if (count > 1) {
+#pragma omp for schedule(static)
+            for (long c = 0; c < count; ++c)
+                add_halo<kRecord>(blocks, static_cast<std::size_t>(c), scratch, fx.data(), fy.data(),
+                                  record.sum_ry);
         }
     }
     ForceResult out;
-    out.energy = energy;
-    out.virial_xx = vxx;
-    out.virial_xy = vxy;
-    out.virial_yy = vyy;
-    out.contacts = contacts;
     out.tallied = kTally == Tally::Full;
+    if constexpr (kTally == Tally::Full) {
+        BlockTally sum = scratch.tallies[0];
+        for (std::size_t b = 1; b < blocks.count; ++b) {
+            const BlockTally& t = scratch.tallies[b];
+            sum.energy += t.energy;
+            sum.vxx += t.vxx;
+            sum.vxy += t.vxy;
+            sum.vyy += t.vyy;
+            sum.contacts += t.contacts;
+        }
+        out.energy = sum.energy;
+        out.virial_xx = sum.vxx;
+        out.virial_xy = sum.vxy;
+        out.virial_yy = sum.vyy;
+        out.contacts = sum.contacts;
+    }
     return out;
 }
 

@@ -6,6 +6,7 @@
 
 #include "jamsim/core/box.hpp"
 #include "jamsim/core/particles.hpp"
+#include "jamsim/neighbor/force_blocks.hpp"
 
 namespace jamsim {
 
@@ -59,15 +60,9 @@ class NeighborList {
     std::span<const double> shift_x() const { return shift_x_; }
     std::span<const double> shift_y() const { return shift_y_; }
 
-    /// Every entry each disk takes part in, in list order, as CSR: incidence()[incidence_first()[i]
-    /// .. incidence_first()[i+1]) (shapes [N+1], [2 size()]), entry k written as k where the
-    /// disk owns it and as ~k (negative) where it is the neighbour. The threaded force loop
-    /// sums each disk's forces in this order, the order of the one-thread loop. Built on
-    /// demand, once per list build (ensure_incidence); empty before.
-    void ensure_incidence();
-    bool has_incidence() const { return valid_ && incidence_build_ == builds_; }
-    std::span<const std::int32_t> incidence_first() const { return incidence_first_; }
-    std::span<const std::int32_t> incidence() const { return incidence_; }
+    /// The list's fixed decomposition into blocks of disks for the force loop (made with
+    /// every build; neighbor/force_blocks.hpp).
+    const ForceBlocks& blocks() const { return blocks_; }
 
   private:
     void build_all_pairs(std::span<const double> x, std::span<const double> y,
@@ -84,9 +79,7 @@ class NeighborList {
     std::size_t builds_ = 0;
     std::vector<std::int32_t> first_, neighbor_, owner_;
     std::vector<double> shift_x_, shift_y_, contact_;
-    std::vector<std::int32_t> incoming_first_, incoming_;  ///< entries where a disk is the neighbour
-    std::vector<std::int32_t> incidence_first_, incidence_;
-    std::size_t incidence_build_ = 0;  ///< the build incidence_ belongs to (0: none)
+    ForceBlocks blocks_;
     std::vector<double> x_ref_, y_ref_;
     double strain_ref_ = 0.0;
 };

@@ -33,4 +33,18 @@ void parallel_for(std::size_t n, Body&& body) {
     }
 }
 
+/// body(b) for each of `count` large pieces of work (blocks of a fixed decomposition),
+/// split over the kernel's threads whenever there are several of both. For pieces that write
+/// disjoint elements: the result is the same whatever the split.
+template <class Body>
+void parallel_for_blocks(std::size_t count, Body&& body) {
+    if (count > 1 && kernel_threads() > 1) {
+        const auto blocks = static_cast<long>(count);
+#pragma omp parallel for schedule(static)
+        for (long b = 0; b < blocks; ++b) body(static_cast<std::size_t>(b));
+    } else {
+        for (std::size_t b = 0; b < count; ++b) body(b);
+    }
+}
+
 } // namespace jamsim
