@@ -2,12 +2,14 @@
 
 #include <algorithm>
 
+#include "jamsim/parallel/threads.hpp"
+
 namespace jamsim {
 
 namespace {
 template <class T> void apply_order(std::vector<T>& a, std::span<const std::int32_t> order) {
     std::vector<T> out(a.size());
-    for (std::size_t k = 0; k < order.size(); ++k) out[k] = a[static_cast<std::size_t>(order[k])];
+    parallel_for(order.size(), [&](std::size_t k) { out[k] = a[static_cast<std::size_t>(order[k])]; });
     a.swap(out);
 }
 } // namespace

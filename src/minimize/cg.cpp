@@ -7,59 +7,70 @@
 
 #include "jamsim/minimize/minimizer.hpp"
 #include "jamsim/minimize/split_positions.hpp"
+#include "jamsim/parallel/reduce.hpp"
 
 namespace jamsim {
 
 namespace {
 
-/// a·b over both components, with four partial sums in a fixed order (the same bits on every
-/// machine; four independent chains instead of one long dependency chain of additions).
+/// a·b over both components (blocked_reduce: the same bits on any number of threads); in
+/// each block four partial sums in a fixed order (four independent chains instead of one
+/// long dependency chain of additions).
 double dot(std::span<const double> ax, std::span<const double> ay, std::span<const double> bx,
            std::span<const double> by) {
-    double s[4] = {0, 0, 0, 0};
-    const std::size_t n = ax.size(), m = n - n % 4;
-    for (std::size_t i = 0; i < m; i += 4)
-        for (std::size_t k = 0; k < 4; ++k) s[k] += ax[i + k] * bx[i + k] + ay[i + k] * by[i + k];
-    for (std::size_t i = m; i < n; ++i) s[0] += ax[i] * bx[i] + ay[i] * by[i];
-    return (s[0] + s[1]) + (s[2] + s[3]);
+    return blocked_reduce<double>(
+        ax.size(),
+        [&](std::size_t lo, std::size_t hi) {
+            double s[4] = {0, 0, 0, 0};
+            const std::size_t m = hi - (hi - lo) % 4;
+            for (std::size_t i = lo; i < m; i += 4)
+                for (std::size_t k = 0; k < 4; ++k) s[k] += ax[i + k] * bx[i + k] + ay[i + k] * by[i + k];
+            for (std::size_t i = m; i < hi; ++i) s[0] += ax[i] * bx[i] + ay[i] * by[i];
+            return (s[0] + s[1]) + (s[2] + s[3]);
+        },
+        [](double a, double b) { return a + b; });
 }
 
 /// One pass over the forces after a line search: F·F, F·G (G: the force at its start) and
-/// the largest component of F, each in four lanes (as dot).
+/// the largest component of F, each in four lanes per block (as dot).
 struct ForceSums {
-    double ff, fg, fmax;
+    double ff = 0, fg = 0, fmax = 0;
 };
 ForceSums force_sums(std::span<const double> fx, std::span<const double> fy,
                      std::span<const double> gx, std::span<const double> gy) {
-    double a[4] = {0, 0, 0, 0}, b[4] = {0, 0, 0, 0}, m[4] = {0, 0, 0, 0};
-    const std::size_t n = fx.size(), r = n - n % 4;
-    for (std::size_t i = 0; i < r; i += 4)
-        for (std::size_t k = 0; k < 4; ++k) {
-            const double x = fx[i + k], y = fy[i + k];
-            a[k] += x * x + y * y;
-            b[k] += x * gx[i + k] + y * gy[i + k];
-            m[k] = std::max(m[k], std::max(std::abs(x), std::abs(y)));
-        }
-    for (std::size_t i = r; i < n; ++i) {
-        a[0] += fx[i] * fx[i] + fy[i] * fy[i];
-        b[0] += fx[i] * gx[i] + fy[i] * gy[i];
-        m[0] = std::max(m[0], std::max(std::abs(fx[i]), std::abs(fy[i])));
-    }
-    return {(a[0] + a[1]) + (a[2] + a[3]), (b[0] + b[1]) + (b[2] + b[3]),
-            std::max(std::max(m[0], m[1]), std::max(m[2], m[3]))};
+    return blocked_reduce<ForceSums>(
+        fx.size(),
+        [&](std::size_t lo, std::size_t hi) {
+            double a[4] = {0, 0, 0, 0}, b[4] = {0, 0, 0, 0}, m[4] = {0, 0, 0, 0};
+            const std::size_t r = hi - (hi - lo) % 4;
+            for (std::size_t i = lo; i < r; i += 4)
+                for (std::size_t k = 0; k < 4; ++k) {
+                    const double x = fx[i + k], y = fy[i + k];
+                    a[k] += x * x + y * y;
+                    b[k] += x * gx[i + k] + y * gy[i + k];
+                    m[k] = std::max(m[k], std::max(std::abs(x), std::abs(y)));
+                }
+            for (std::size_t i = r; i < hi; ++i) {
+                a[0] += fx[i] * fx[i] + fy[i] * fy[i];
+                b[0] += fx[i] * gx[i] + fy[i] * gy[i];
+                m[0] = std::max(m[0], std::max(std::abs(fx[i]), std::abs(fy[i])));
+            }
+            return ForceSums{(a[0] + a[1]) + (a[2] + a[3]), (b[0] + b[1]) + (b[2] + b[3]),
+                             std::max(std::max(m[0], m[1]), std::max(m[2], m[3]))};
+        },
+        [](const ForceSums& u, const ForceSums& v) {
+            return ForceSums{u.ff + v.ff, u.fg + v.fg, std::max(u.fmax, v.fmax)};
+        });
 }
 
 /// d ← F + β d; returns the largest component of the new d.
 double update_direction(std::span<double> dx, std::span<double> dy, std::span<const double> fx,
                         std::span<const double> fy, double beta) {
-    double m[4] = {0, 0, 0, 0};
-    const std::size_t n = dx.size();
-    for (std::size_t i = 0; i < n; ++i) {
+    parallel_for(dx.size(), [&](std::size_t i) {
         dx[i] = fx[i] + beta * dx[i];
         dy[i] = fy[i] + beta * dy[i];
-        m[i & 3] = std::max(m[i & 3], std::max(std::abs(dx[i]), std::abs(dy[i])));
-    }
-    return std::max(std::max(m[0], m[1]), std::max(m[2], m[3]));
+    });
+    return parallel_max(dx.size(), [&](std::size_t i) { return std::max(std::abs(dx[i]), std::abs(dy[i])); });
 }
 
 /// How the new direction d' = F' + β d mixes in the old one. With g = −F, y = g' − g:
@@ -122,8 +133,10 @@ class ConjugateGradient final : public Minimizer {
             pos.split_if_converging(fmax, fbar);
             const Tally tally = tally_for(it, fmax, fbar, tallied, n, c);  // for the line search
             if (slope0 >= 0.0) {  // not a descent direction: restart along the force
-                std::copy(p.fx.begin(), p.fx.end(), dx.begin());
-                std::copy(p.fy.begin(), p.fy.end(), dy.begin());
+                parallel_for(n, [&](std::size_t i) {
+                    dx[i] = p.fx[i];
+                    dy[i] = p.fy[i];
+                });
                 slope0 = -gg;
                 dmax = fmax;
             }

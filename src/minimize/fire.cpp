@@ -6,6 +6,7 @@
 
 #include "jamsim/minimize/minimizer.hpp"
 #include "jamsim/minimize/split_positions.hpp"
+#include "jamsim/parallel/reduce.hpp"
 
 namespace jamsim {
 
@@ -45,8 +46,14 @@ class Fire final : public Minimizer {
             }
             pos.split_if_converging(fmax, fbar);
             const Tally tally = tally_for(it, fmax, fbar, tallied, n, c);
-            double power = 0.0;
-            for (std::size_t i = 0; i < n; ++i) power += p.fx[i] * vx[i] + p.fy[i] * vy[i];
+            const double power = blocked_reduce<double>(
+                n,
+                [&](std::size_t lo, std::size_t hi) {
+                    double sum = 0.0;
+                    for (std::size_t i = lo; i < hi; ++i) sum += p.fx[i] * vx[i] + p.fy[i] * vy[i];
+                    return sum;
+                },
+                [](double a, double b) { return a + b; });
             if (power > 0.0) {
                 ++positive;
                 negative = 0;
@@ -65,19 +72,28 @@ class Fire final : public Minimizer {
                 std::fill(vx.begin(), vx.end(), 0.0);
                 std::fill(vy.begin(), vy.end(), 0.0);
             }
-            double vv = 0.0, ff = 0.0;
-            for (std::size_t i = 0; i < n; ++i) {
-                vx[i] += dt * p.fx[i];
-                vy[i] += dt * p.fy[i];
-                vv += vx[i] * vx[i] + vy[i] * vy[i];
-                ff += p.fx[i] * p.fx[i] + p.fy[i] * p.fy[i];
-            }
-            if (ff > 0.0) {  // mix v towards the force direction
-                const double scale = alpha * std::sqrt(vv / ff);
-                for (std::size_t i = 0; i < n; ++i) {
+            struct Squares {
+                double vv = 0.0, ff = 0.0;
+            };
+            const Squares sq = blocked_reduce<Squares>(
+                n,
+                [&](std::size_t lo, std::size_t hi) {
+                    Squares q;
+                    for (std::size_t i = lo; i < hi; ++i) {
+                        vx[i] += dt * p.fx[i];
+                        vy[i] += dt * p.fy[i];
+                        q.vv += vx[i] * vx[i] + vy[i] * vy[i];
+                        q.ff += p.fx[i] * p.fx[i] + p.fy[i] * p.fy[i];
+                    }
+                    return q;
+                },
+                [](const Squares& a, const Squares& b) { return Squares{a.vv + b.vv, a.ff + b.ff}; });
+            if (sq.ff > 0.0) {  // mix v towards the force direction
+                const double scale = alpha * std::sqrt(sq.vv / sq.ff);
+                parallel_for(n, [&](std::size_t i) {
                     vx[i] = (1.0 - alpha) * vx[i] + scale * p.fx[i];
                     vy[i] = (1.0 - alpha) * vy[i] + scale * p.fy[i];
-                }
+                });
             }
             pos.move(dt, vx, vy);
             pos.rebase_if_larger();

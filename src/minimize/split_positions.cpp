@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "jamsim/neighbor/neighbor_list.hpp"
+#include "jamsim/parallel/reduce.hpp"
 
 namespace jamsim {
 
@@ -38,33 +39,34 @@ void SplitPositions::move(double s, std::span<const double> dx, std::span<const 
                           double dmax) {
     Particles& p = sys_.particles;
     const std::size_t n = size();
-    // Maxima kept in four independent lanes (no long dependency chain; same bits anywhere).
-    double md[4] = {0, 0, 0, 0}, mo[4] = {max_offset_, 0, 0, 0};
-    const bool need_dmax = dmax < 0.0;
     // d is a lab-frame displacement (forces are lab-frame, so −F·d is the slope of the energy
     // along it); the sheared coordinates move by M(γ)⁻¹ d = (d_x − γ d_y, d_y).
     const double gamma = sys_.box.strain();
     if (split_) {
-        for (std::size_t i = 0; i < n; ++i) {
-            const std::size_t k = i & 3;
-            off_x_[i] += s * (dx[i] - gamma * dy[i]);
-            off_y_[i] += s * dy[i];
-            p.x[i] = base_x_[i] + off_x_[i];
-            p.y[i] = base_y_[i] + off_y_[i];
-            mo[k] = std::max(mo[k], std::max(std::abs(off_x_[i]), std::abs(off_y_[i])));
-        }
-        max_offset_ = std::max(std::max(mo[0], mo[1]), std::max(mo[2], mo[3]));
+        // One pass: the move and the largest offset (a maximum: any split, the same value).
+        const double largest = blocked_reduce<double>(
+            n,
+            [&](std::size_t lo, std::size_t hi) {
+                double m[4] = {0, 0, 0, 0};  // four lanes: no long dependency chain
+                for (std::size_t i = lo; i < hi; ++i) {
+                    off_x_[i] += s * (dx[i] - gamma * dy[i]);
+                    off_y_[i] += s * dy[i];
+                    p.x[i] = base_x_[i] + off_x_[i];
+                    p.y[i] = base_y_[i] + off_y_[i];
+                    m[i & 3] = std::max(m[i & 3], std::max(std::abs(off_x_[i]), std::abs(off_y_[i])));
+                }
+                return std::max(std::max(m[0], m[1]), std::max(m[2], m[3]));
+            },
+            [](double a, double b) { return std::max(a, b); });
+        max_offset_ = std::max(max_offset_, largest);
     } else {
-        for (std::size_t i = 0; i < n; ++i) {
+        parallel_for(n, [&](std::size_t i) {
             p.x[i] += s * (dx[i] - gamma * dy[i]);
             p.y[i] += s * dy[i];
-        }
+        });
     }
-    if (need_dmax) {
-        for (std::size_t i = 0; i < n; ++i)
-            md[i & 3] = std::max(md[i & 3], std::max(std::abs(dx[i]), std::abs(dy[i])));
-        dmax = std::max(std::max(md[0], md[1]), std::max(md[2], md[3]));
-    }
+    if (dmax < 0.0)
+        dmax = parallel_max(n, [&](std::size_t i) { return std::max(std::abs(dx[i]), std::abs(dy[i])); });
     // The lab displacement of disk i is s d_i: at most sqrt(2) |s| times the largest
     // component, with 1e-12 relative slack for the rounding of the sheared update.
     if (forces_.builds() != builds_seen_) {
@@ -92,9 +94,7 @@ ForceResult SplitPositions::evaluate(Tally tally) {
 
 double SplitPositions::max_force() const {
     const Particles& p = sys_.particles;
-    double m = 0.0;
-    for (std::size_t i = 0; i < p.size(); ++i) m = std::max({m, std::abs(p.fx[i]), std::abs(p.fy[i])});
-    return m;
+    return parallel_max(p.size(), [&](std::size_t i) { return std::max(std::abs(p.fx[i]), std::abs(p.fy[i])); });
 }
 
 double SplitPositions::mean_contact_force(const ForceResult& f) const {
@@ -105,11 +105,11 @@ double SplitPositions::mean_contact_force(const ForceResult& f) const {
 void SplitPositions::rebase_if_larger(double limit) {
     if (!split_ || max_offset_ <= limit) return;
     Particles& p = sys_.particles;
-    for (std::size_t i = 0; i < size(); ++i) {
+    parallel_for(size(), [&](std::size_t i) {
         base_x_[i] = p.x[i];
         base_y_[i] = p.y[i];
         off_x_[i] = off_y_[i] = 0.0;
-    }
+    });
     max_offset_ = 0.0;
 }
 

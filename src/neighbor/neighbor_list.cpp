@@ -27,14 +27,14 @@ struct CellGrid {
         image_x.resize(n);
         image_y.resize(n);
         start.assign(static_cast<std::size_t>(nc) * nc + 1, 0);
-        for (std::size_t i = 0; i < n; ++i) {
+        parallel_for(n, [&](std::size_t i) {
             const double xw = box.fold(x[i], image_x[i]);
             const double yw = box.fold(y[i], image_y[i]);
             const int cx = std::min(static_cast<int>(xw * scale), nc - 1);
             const int cy = std::min(static_cast<int>(yw * scale), nc - 1);
             cell_of[i] = cy * nc + cx;
-            ++start[static_cast<std::size_t>(cell_of[i]) + 1];
-        }
+        });
+        for (std::size_t i = 0; i < n; ++i) ++start[static_cast<std::size_t>(cell_of[i]) + 1];
         for (std::size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
         members.resize(n);
         std::vector<std::int32_t> fill(start.begin(), start.end() - 1);
@@ -79,8 +79,12 @@ void NeighborList::finish_build(std::span<const double> diameter) {
 
 void NeighborList::remember_reference(std::span<const double> x, std::span<const double> y,
                                       const Box& box, double max_d) {
-    x_ref_.assign(x.begin(), x.end());
-    y_ref_.assign(y.begin(), y.end());
+    x_ref_.resize(x.size());
+    y_ref_.resize(y.size());
+    parallel_for(x.size(), [&](std::size_t i) {
+        x_ref_[i] = x[i];
+        y_ref_[i] = y[i];
+    });
     strain_ref_ = box.strain();
     max_diameter_ = max_d;
     valid_ = true;
@@ -164,6 +168,7 @@ void NeighborList::build_with_cells(std::span<const double> x, std::span<const d
         // Each thread lists a contiguous range of owners; the ranges are then laid end to end
         // in owner order: the list of the one-thread build, whatever the split.
         std::vector<std::int32_t> count(n);
+        const TimedRegion timed;
 #pragma omp parallel
         {
             const auto t = static_cast<std::size_t>(omp_get_thread_num());
@@ -224,7 +229,9 @@ bool verlet_rule_broken(std::span<const double> x, std::span<const double> y,
     const double allowed2 = allowed * allowed;
     int moved_too_far = 0;  // an OR over all particles, written to vectorise (no early exit)
     const auto n = static_cast<long>(x.size());
-#pragma omp parallel for schedule(static) reduction(| : moved_too_far) if (n >= static_cast<long>(kThreadedLoopMin) && kernel_threads() > 1)
+    const bool threaded = n >= static_cast<long>(kThreadedLoopMin) && kernel_threads() > 1;
+    const TimedRegion timed(threaded);
+#pragma omp parallel for schedule(static) reduction(| : moved_too_far) if (threaded)
     for (long il = 0; il < n; ++il) {
         const auto i = static_cast<std::size_t>(il);
         const double dy = y[i] - y_ref[i];

@@ -67,11 +67,22 @@ static void BM_Rd0Threads(benchmark::State& state) {
         ff.compute(sys);
         model.advance(sys, ff, p.dt, p.rate, 0);
     }
+    const RegionClock at_start = region_clock();
+    const double start = omp_get_wtime();
     for (auto _ : state) {
         ff.compute(sys, Tally::ForcesOnly);
         model.advance(sys, ff, p.dt, p.rate, 0);
     }
+    const double wall = omp_get_wtime() - start;
     state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * p.n);
+    // The serial part S of a step: its wall time outside parallel regions (TimedRegion).
+    // With R the time inside them on T threads, Amdahl's serial fraction is S / (S + T R)
+    // (S + T R: the one-thread time if the regions scaled perfectly). On one thread no
+    // region opens: S is the whole step and the fraction 1.
+    const double steps = static_cast<double>(state.iterations());
+    const double inside = region_clock().seconds - at_start.seconds, serial = wall - inside;
+    state.counters["serial_us"] = 1e6 * serial / steps;
+    state.counters["serial_fraction"] = serial / (serial + static_cast<double>(state.range(1)) * inside);
     set_kernel_threads(before);
 }
 BENCHMARK(BM_Rd0Threads)

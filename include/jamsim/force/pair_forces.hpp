@@ -4,10 +4,9 @@
 #include <span>
 #include <vector>
 
-#include <omp.h>
-
 #include "jamsim/core/box.hpp"
 #include "jamsim/neighbor/neighbor_list.hpp"
+#include "jamsim/parallel/threads.hpp"
 #include "jamsim/potential/soft_sphere.hpp"
 
 namespace jamsim {
@@ -235,7 +234,9 @@ ForceResult accumulate_pair_forces(const Evaluator& eval, const NeighborList& li
     if constexpr (kRecord) scratch.halo_ry.resize(slots);
     scratch.tallies.resize(blocks.count);
     const auto count = static_cast<long>(blocks.count);
-#pragma omp parallel if (count > 1 && omp_get_max_threads() > 1)
+    const bool threaded = count > 1 && kernel_threads() > 1;
+    const TimedRegion timed(threaded);
+#pragma omp parallel if (threaded)
     {
         double rx[PairScratch::kChunk], ry[PairScratch::kChunk], r2[PairScratch::kChunk];
         double fr[PairScratch::kChunk], en[PairScratch::kChunk];
