@@ -1,6 +1,7 @@
 #include "jamsim/dynamics/rd0.hpp"
 
 #include "jamsim/dynamics/overdamped_stability.hpp"
+#include "jamsim/parallel/threads.hpp"
 
 namespace jamsim {
 
@@ -17,10 +18,10 @@ void Rd0::advance(System& sys, ForceField& forces, double dt, double rate, std::
 
 void Rd0::store_velocities(System& sys) const {
     Particles& p = sys.particles;
-    for (std::size_t i = 0; i < p.size(); ++i) {
+    parallel_for(p.size(), [&](std::size_t i) {
         p.ux[i] = p.fx[i] / kd_;
         p.uy[i] = p.fy[i] / kd_;
-    }
+    });
 }
 
 Dissipation Rd0::dissipation(const System& sys, const ForceField& /*forces*/,
