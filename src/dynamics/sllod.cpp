@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "jamsim/force/pair_forces.hpp"
+#include "jamsim/parallel/reduce.hpp"
 #include <stdexcept>
 #include <string>
 
@@ -65,31 +66,30 @@ void Sllod::rates(const System& sys, const ForceField& forces, double gamma, dou
                   const std::vector<double>& fx, const std::vector<double>& fy) {
     const Particles& p = sys.particles;
     const std::size_t n = p.size();
-    fdx_.assign(n, 0.0);
-    fdy_.assign(n, 0.0);
-    // Contact damping (RD never gets here: it uses the splitting).
+    fdx_.resize(n);
+    fdy_.resize(n);
+    // Contact damping (RD never gets here: it uses the splitting). A pair out of contact
+    // adds nothing (+0 leaves every sum as it is).
     Box box = sys.box;
     box.set_strain_unwrapped(gamma);
-    for_each_contact(forces.list(), box, x, y, [&](std::size_t, std::size_t i, std::size_t j, Vec2 r) {
-        const double inv_r = 1.0 / std::sqrt(norm2(r));
-        const Vec2 w{ux[i] - ux[j] + rate * r.y, uy[i] - uy[j]};
-        const Vec2 f = contact_damping(damping_, kd_, w, {r.x * inv_r, r.y * inv_r});
-        fdx_[i] += f.x;
-        fdy_[i] += f.y;
-        fdx_[j] -= f.x;
-        fdy_[j] -= f.y;
-    });
+    scatter_pairs(forces.list(), box, x, y, fdx_, fdy_, halo_,
+                  [&](std::size_t, std::size_t i, std::size_t j, Vec2 r, bool touching) {
+                      if (!touching) return Vec2{0.0, 0.0};
+                      const double inv_r = 1.0 / std::sqrt(norm2(r));
+                      const Vec2 w{ux[i] - ux[j] + rate * r.y, uy[i] - uy[j]};
+                      return contact_damping(damping_, kd_, w, {r.x * inv_r, r.y * inv_r});
+                  });
     dx_.resize(n);
     dy_.resize(n);
     dux_.resize(n);
     duy_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
+    parallel_for(n, [&](std::size_t i) {
         const double inv_m = 1.0 / (mass_ * p.diameter[i] * p.diameter[i]);
         dx_[i] = ux[i] - gamma * uy[i];
         dy_[i] = uy[i];
         dux_[i] = (fx[i] + fdx_[i]) * inv_m - rate * uy[i];
         duy_[i] = (fy[i] + fdy_[i]) * inv_m;
-    }
+    });
 }
 
 void Sllod::advance(System& sys, ForceField& forces, double dt, double rate, std::int64_t) {
@@ -109,25 +109,28 @@ void Sllod::advance_split_rd(System& sys, ForceField& forces, double dt, double 
     const std::size_t n = p.size();
     const double half = 0.5 * dt, gamma0 = sys.box.strain();
     auto kick = [&] {  // B(Δt/2) with the forces in p.fx, p.fy
-        for (std::size_t i = 0; i < n; ++i) {
+        parallel_for(n, [&](std::size_t i) {
             const double h_m = half / (mass_ * p.diameter[i] * p.diameter[i]);
             p.ux[i] += h_m * p.fx[i];
             p.uy[i] += h_m * p.fy[i];
-        }
+        });
     };
     kick();
     drift(p.x, p.y, p.ux, p.uy, gamma0 + 0.25 * rate * dt, half);  // A, γ at its midpoint
     // O: exact for the drag and the SLLOD coupling; e^{−cΔt} for the two disk sizes.
+    // In blocks of disks, each remembering its last diameter's factor (one exp per change).
     const double c_small = kd_ / mass_;
-    double d_cached = -1.0, decay = 1.0;
-    for (std::size_t i = 0; i < n; ++i) {
-        if (p.diameter[i] != d_cached) {
-            d_cached = p.diameter[i];
-            decay = std::exp(-c_small * dt / (d_cached * d_cached));
+    parallel_for_blocks((n + kReduceBlock - 1) / kReduceBlock, [&](std::size_t b) {
+        double d_cached = -1.0, decay = 1.0;
+        for (std::size_t i = b * kReduceBlock; i < std::min(n, (b + 1) * kReduceBlock); ++i) {
+            if (p.diameter[i] != d_cached) {
+                d_cached = p.diameter[i];
+                decay = std::exp(-c_small * dt / (d_cached * d_cached));
+            }
+            p.ux[i] = decay * (p.ux[i] - rate * dt * p.uy[i]);
+            p.uy[i] = decay * p.uy[i];
         }
-        p.ux[i] = decay * (p.ux[i] - rate * dt * p.uy[i]);
-        p.uy[i] = decay * p.uy[i];
-    }
+    });
     drift(p.x, p.y, p.ux, p.uy, gamma0 + 0.75 * rate * dt, half);
     apply_strain(sys, forces, gamma0 + rate * dt);
     forces.compute(sys, Tally::ForcesOnly);
@@ -147,24 +150,24 @@ void Sllod::advance_heun(System& sys, ForceField& forces, double dt, double rate
     k1y_ = dy_;
     k1ux_ = dux_;
     k1uy_ = duy_;
-    for (std::size_t i = 0; i < n; ++i) {  // predictor
+    parallel_for(n, [&](std::size_t i) {  // predictor
         p.x[i] = x0_[i] + dt * k1x_[i];
         p.y[i] = y0_[i] + dt * k1y_[i];
         p.ux[i] = ux0_[i] + dt * k1ux_[i];
         p.uy[i] = uy0_[i] + dt * k1uy_[i];
-    }
+    });
     sys.box.set_strain_unwrapped(gamma1);
     fx1_.resize(n);
     fy1_.resize(n);
     forces.compute_at(sys.box, p.x, p.y, p.diameter, fx1_, fy1_);
     rates(sys, forces, gamma1, rate, p.x, p.y, p.ux, p.uy, fx1_, fy1_);
     const double half = 0.5 * dt;
-    for (std::size_t i = 0; i < n; ++i) {  // corrector
+    parallel_for(n, [&](std::size_t i) {  // corrector
         p.x[i] = x0_[i] + half * (k1x_[i] + dx_[i]);
         p.y[i] = y0_[i] + half * (k1y_[i] + dy_[i]);
         p.ux[i] = ux0_[i] + half * (k1ux_[i] + dux_[i]);
         p.uy[i] = uy0_[i] + half * (k1uy_[i] + duy_[i]);
-    }
+    });
     apply_strain(sys, forces, gamma1);
 }
 
@@ -172,34 +175,55 @@ Dissipation Sllod::dissipation(const System& sys, const ForceField& forces,
                                double rate) const {
     const Particles& p = sys.particles;
     Dissipation d;
-    double kxx = 0, kyy = 0, kxy = 0;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        const double m = mass_ * p.diameter[i] * p.diameter[i];
-        d.kinetic_energy += 0.5 * m * (p.ux[i] * p.ux[i] + p.uy[i] * p.uy[i]);
-        kxx += m * p.ux[i] * p.ux[i];
-        kyy += m * p.uy[i] * p.uy[i];
-        kxy += m * p.ux[i] * p.uy[i];
-    }
+    struct Kinetic {
+        double energy = 0, kxx = 0, kyy = 0, kxy = 0;
+    };
+    const Kinetic k = blocked_reduce<Kinetic>(
+        p.size(),
+        [&](std::size_t lo, std::size_t hi) {
+            Kinetic s;
+            for (std::size_t i = lo; i < hi; ++i) {
+                const double m = mass_ * p.diameter[i] * p.diameter[i];
+                s.energy += 0.5 * m * (p.ux[i] * p.ux[i] + p.uy[i] * p.uy[i]);
+                s.kxx += m * p.ux[i] * p.ux[i];
+                s.kyy += m * p.uy[i] * p.uy[i];
+                s.kxy += m * p.ux[i] * p.uy[i];
+            }
+            return s;
+        },
+        [](const Kinetic& a, const Kinetic& b) {
+            return Kinetic{a.energy + b.energy, a.kxx + b.kxx, a.kyy + b.kyy, a.kxy + b.kxy};
+        });
+    d.kinetic_energy = k.energy;
     const double area = sys.box.area();
-    d.pressure_kinetic = 0.5 * (kxx + kyy) / area;
-    d.shear_stress_kinetic = -kxy / area;
+    d.pressure_kinetic = 0.5 * (k.kxx + k.kyy) / area;
+    d.shear_stress_kinetic = -k.kxy / area;
     if (damping_ == Damping::RD) {
         d.power = kd_ * static_cast<double>(p.size()) * mean_square_velocity(p);
         return d;
     }
     // Contacts at the current (step-boundary) state: the list is valid for it.
-    double vxx = 0, vyy = 0, vyx = 0;
-    for_each_contact(forces.list(), sys.box, p.x, p.y, [&](std::size_t, std::size_t i, std::size_t j, Vec2 c) {
-        const Vec2 w{p.ux[i] - p.ux[j] + rate * c.y, p.uy[i] - p.uy[j]};
-        const double r = std::sqrt(c.x * c.x + c.y * c.y);
-        const Vec2 f = contact_damping(damping_, kd_, w, {c.x / r, c.y / r});
-        d.power -= f.x * w.x + f.y * w.y;  // −f·w ≥ 0 for each of the three forms
-        vxx += c.x * f.x;
-        vyy += c.y * f.y;
-        vyx += c.y * f.x;
-    });
-    d.pressure = 0.5 * (vxx + vyy) / area;
-    d.shear_stress = -vyx / area;
+    struct ContactSums {
+        double power = 0, vxx = 0, vyy = 0, vyx = 0;
+    };
+    const ContactSums c = reduce_pairs<ContactSums>(
+        forces.list(), sys.box, p.x, p.y,
+        [&](ContactSums& s, std::size_t, std::size_t i, std::size_t j, Vec2 r, bool touching) {
+            if (!touching) return;
+            const Vec2 w{p.ux[i] - p.ux[j] + rate * r.y, p.uy[i] - p.uy[j]};
+            const double len = std::sqrt(r.x * r.x + r.y * r.y);
+            const Vec2 f = contact_damping(damping_, kd_, w, {r.x / len, r.y / len});
+            s.power -= f.x * w.x + f.y * w.y;  // −f·w ≥ 0 for each of the three forms
+            s.vxx += r.x * f.x;
+            s.vyy += r.y * f.y;
+            s.vyx += r.y * f.x;
+        },
+        [](const ContactSums& a, const ContactSums& b) {
+            return ContactSums{a.power + b.power, a.vxx + b.vxx, a.vyy + b.vyy, a.vyx + b.vyx};
+        });
+    d.power = c.power;
+    d.pressure = 0.5 * (c.vxx + c.vyy) / area;
+    d.shear_stress = -c.vyx / area;
     return d;
 }
 

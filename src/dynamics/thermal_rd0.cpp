@@ -16,6 +16,8 @@
 #include "jamsim/dynamics/overdamped_stability.hpp"
 #include "jamsim/dynamics/rd0.hpp"
 
+#include "jamsim/parallel/threads.hpp"
+
 namespace jamsim {
 
 namespace {
@@ -30,7 +32,7 @@ class ThermalRd0 final : public Model {
                  std::int64_t step) override {
         Particles& q = sys.particles;
         const double amplitude = std::sqrt(2.0 * temperature_ * dt / kd_);
-        for (std::size_t i = 0; i < q.size(); ++i) {
+        parallel_for(q.size(), [&](std::size_t i) {
             const auto u = noise_.uniform2(static_cast<std::uint32_t>(q.tag[i]),
                                            static_cast<std::uint32_t>(step));
             // Box–Muller: two independent unit Gaussians from two uniforms.
@@ -39,7 +41,7 @@ class ThermalRd0 final : public Model {
                                            dt * q.fy[i] / kd_ + amplitude * r * std::sin(a));
             q.x[i] += d.x;
             q.y[i] += d.y;
-        }
+        });
         apply_strain(sys, forces, sys.box.strain() + rate * dt);
     }
 

@@ -2,7 +2,7 @@
 # usage: threads_bitwise.sh JAMSIM WORKDIR dynamics|protocols
 # One replica of every dynamical model (N = 10000: three blocks of the force loop and of the
 # blocked sums, the last one short) on 1 thread and on 2, 3 and 4; or of every minimisation
-# protocol (N = 8200, three blocks) on 1 and 3. The files must hold the same bits (threads may outnumber
+# protocol (N = 4200: two blocks, the second of 104 disks) on 1 and 3. The files must hold the same bits (threads may outnumber
 # the cores).
 set -euo pipefail
 jamsim=$1 work=$2 set=$3
@@ -20,12 +20,12 @@ dynamics=(
 protocols=(
   "QS --strain 0.0004 --strain-step 1e-4 --sample-interval 0.0002 --phi 0.86"
   "RAND --phi 0.86"
-  "COMPRESS --phi 0.8 --phi-tol 1e-4"
+  "COMPRESS --phi 0.8 --phi-tol 1e-3"
   "COOL --phi 0.86 --cooling-time 20"
-  "COOL_COMPRESS --phi 0.8 --cooling-time 20 --phi-tol 1e-4"
-  "SHEARED --phi 0.8 --strain 0.0004 --strain-step 1e-4 --phi-tol 1e-4"
+  "COOL_COMPRESS --phi 0.8 --cooling-time 10 --phi-tol 1e-3"
+  "SHEARED --phi 0.8 --strain 0.0002 --strain-step 1e-4 --phi-tol 1e-3"
 )
-if [[ $set == dynamics ]]; then models=("${dynamics[@]}") n=10000 threads="2 3 4"; else models=("${protocols[@]}") n=8200 threads=3; fi
+if [[ $set == dynamics ]]; then models=("${dynamics[@]}") n=10000 threads="2 3 4"; else models=("${protocols[@]}") n=4200 threads=3; fi
 for m in "${models[@]}"; do
   name=${m%% *}
   # shellcheck disable=SC2086

@@ -2,6 +2,7 @@
 #include <vector>
 
 #include "jamsim/dynamics/model.hpp"
+#include "jamsim/force/pair_scatter.hpp"
 
 namespace jamsim {
 
@@ -61,6 +62,7 @@ class Sllod final : public Model {
     Damping damping_;
     std::vector<double> dx_, dy_, dux_, duy_, x0_, y0_, ux0_, uy0_, fx1_, fy1_, k1x_, k1y_,
         k1ux_, k1uy_, fdx_, fdy_;
+    HaloScratch halo_;  ///< of the contact damping scatter
 };
 
 /// Registrations (src/run/model_registry.cpp).

@@ -180,18 +180,18 @@ template <Tally kTally, class Evaluator, bool kOffsets, bool kRecord>
 }
 
 /// Adds the halo slots that belong to block c's disks: those of source blocks 0, 1, ... in
-/// turn, each in list order (ForceBlocks).
+/// turn, each in list order (ForceBlocks). hr and sum_ry only when kRecord.
 template <bool kRecord>
-inline void add_halo(const ForceBlocks& blocks, std::size_t c, const PairScratch& scratch, double* fx,
-                     double* fy, double* sum_ry) {
+inline void add_halo(const ForceBlocks& blocks, std::size_t c, const double* hx, const double* hy,
+                     const double* hr, double* fx, double* fy, double* sum_ry) {
     for (std::size_t b = 0; b < blocks.count; ++b) {
         const auto s0 = static_cast<std::size_t>(blocks.halo_first[b * blocks.count + c]);
         const auto s1 = static_cast<std::size_t>(blocks.halo_first[b * blocks.count + c + 1]);
         for (std::size_t s = s0; s < s1; ++s) {
             const auto j = static_cast<std::size_t>(blocks.halo_disk[s]);
-            fx[j] += scratch.halo_x[s];
-            fy[j] += scratch.halo_y[s];
-            if constexpr (kRecord) sum_ry[j] += scratch.halo_ry[s];
+            fx[j] += hx[s];
+            fy[j] += hy[s];
+            if constexpr (kRecord) sum_ry[j] += hr[s];
         }
     }
 }
@@ -249,7 +249,8 @@ ForceResult accumulate_pair_forces(const Evaluator& eval, const NeighborList& li
         if (count > 1) {
 #pragma omp for schedule(static)
             for (long c = 0; c < count; ++c)
-                add_halo<kRecord>(blocks, static_cast<std::size_t>(c), scratch, fx.data(), fy.data(),
+                add_halo<kRecord>(blocks, static_cast<std::size_t>(c), scratch.halo_x.data(),
+                                  scratch.halo_y.data(), scratch.halo_ry.data(), fx.data(), fy.data(),
                                   record.sum_ry);
         }
     }
@@ -280,6 +281,20 @@ struct Contact {
     double rx, ry;  ///< lab separation r_i − r_j
 };
 
+/// Calls f(k, i, j, r, touching) for the listed pairs k = (i, j) with k0 ≤ k < k1, in list
+/// order, at positions (x, y) in `box` (lab separation r = r_i − r_j; touching: |r| < d_ij).
+template <class List, class F>
+void for_each_pair_in(const List& list, const Box& box, std::span<const double> x,
+                      std::span<const double> y, std::size_t k0, std::size_t k1, F&& f) {
+    const auto owner = list.owner(), neighbor = list.neighbor();
+    const auto sx = list.shift_x(), sy = list.shift_y(), contact = list.contact();
+    for (std::size_t k = k0; k < k1; ++k) {
+        const auto i = static_cast<std::size_t>(owner[k]), j = static_cast<std::size_t>(neighbor[k]);
+        const Vec2 r = box.lab(x[i] - x[j] + sx[k], y[i] - y[j] + sy[k]);
+        f(k, i, j, r, norm2(r) < contact[k] * contact[k]);
+    }
+}
+
 /// Calls f(k, i, j, r, touching) for every listed pair k = (i, j) at positions (x, y) in
 /// `box` (lab separation r = r_i − r_j; touching: |r| < d_ij), in list order, with no branch
 /// on the contact test: for loops that handle both cases arithmetically (about half the
@@ -288,13 +303,7 @@ struct Contact {
 template <class List, class F>
 void for_each_pair(const List& list, const Box& box, std::span<const double> x,
                    std::span<const double> y, F&& f) {
-    const auto owner = list.owner(), neighbor = list.neighbor();
-    const auto sx = list.shift_x(), sy = list.shift_y(), contact = list.contact();
-    for (std::size_t k = 0; k < list.size(); ++k) {
-        const auto i = static_cast<std::size_t>(owner[k]), j = static_cast<std::size_t>(neighbor[k]);
-        const Vec2 r = box.lab(x[i] - x[j] + sx[k], y[i] - y[j] + sy[k]);
-        f(k, i, j, r, norm2(r) < contact[k] * contact[k]);
-    }
+    for_each_pair_in(list, box, x, y, 0, list.size(), f);
 }
 
 /// Calls f(k, i, j, r) for every listed pair k = (i, j) that touches (for_each_pair's
