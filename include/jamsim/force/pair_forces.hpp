@@ -114,8 +114,8 @@ template <bool kOffsets>
 }
 
 /// One block of the force loop (ForceBlocks; see accumulate_pair_forces): zeroes the forces
-/// of block b's disks and its halo slots, then adds the force of each of its entries into the
-/// owner and into the neighbour's target (the neighbour, or a halo slot). Returns the block's
+/// of block b's disks, then adds the force of each of its entries into the owner and into
+/// the neighbour when it lies in the block, else into the block's next halo slot. Returns the block's
 /// sums (Tally::Full). Uses the caller's per-thread arrays of PairScratch::kChunk doubles.
 template <Tally kTally, class Evaluator, bool kOffsets, bool kRecord>
 [[gnu::always_inline]] inline BlockTally accumulate_block(
@@ -132,15 +132,12 @@ template <Tally kTally, class Evaluator, bool kOffsets, bool kRecord>
     double* const hx = scratch.halo_x.data();
     double* const hy = scratch.halo_y.data();
     double* const hr = scratch.halo_ry.data();
-    const auto s0 = static_cast<std::size_t>(blocks.halo_first[b * blocks.count]);
-    const auto s1 = static_cast<std::size_t>(blocks.halo_first[(b + 1) * blocks.count]);
-    for (std::size_t s = s0; s < s1; ++s) {
-        hx[s] = hy[s] = 0.0;
-        if constexpr (kRecord) hr[s] = 0.0;
-    }
+    auto slot = static_cast<std::size_t>(blocks.slot_first[b]);  // the next halo slot
     const std::int32_t* owner = list.owner().data();
-    const std::int32_t* target = blocks.target.data();
+    const std::int32_t* neighbor = list.neighbor().data();
     const double* contact = list.contact().data();
+    const auto first = static_cast<std::int32_t>(d0);
+    const auto width = static_cast<std::uint32_t>(d1 - d0);
     BlockTally t;
     const auto k_end = static_cast<std::size_t>(blocks.entry_first[b + 1]);
     for (auto k0 = static_cast<std::size_t>(blocks.entry_first[b]); k0 < k_end; k0 += PairScratch::kChunk) {
@@ -150,22 +147,29 @@ template <Tally kTally, class Evaluator, bool kOffsets, bool kRecord>
         evaluate_block(eval, r2, dc, fr, kTally == Tally::Full ? en : nullptr, m);
         for (std::size_t k = 0; k < m; ++k) {
             const auto i = static_cast<std::size_t>(owner[k0 + k]);
-            const std::int32_t to = target[k0 + k];
-            const bool in_block = to >= 0;  // else halo slot ~to (a select, no branch)
-            const auto j = static_cast<std::size_t>(in_block ? to : ~to);
-            double* const tx = in_block ? fx : hx;
-            double* const ty = in_block ? fy : hy;
+            const std::int32_t j = neighbor[k0 + k];
+            // In the block (about 96% of the entries: a well-predicted branch), or the next slot.
+            const bool in_block = static_cast<std::uint32_t>(j - first) < width;
             const double px = fr[k] * rx[k], py = fr[k] * ry[k];
             fx[i] += px;
             fy[i] += py;
-            tx[j] -= px;
-            ty[j] -= py;
+            double ry_touching = 0.0;
             if constexpr (kRecord) {
                 const bool touching = r2[k] < dc[k] * dc[k];
                 record.touching[k0 + k] = static_cast<std::uint8_t>(touching);
-                const double ry_touching = ry[k] * static_cast<double>(touching);
+                ry_touching = ry[k] * static_cast<double>(touching);
                 record.sum_ry[i] += ry_touching;
-                (in_block ? record.sum_ry : hr)[j] -= ry_touching;
+            }
+            if (in_block) {
+                const auto jj = static_cast<std::size_t>(j);
+                fx[jj] -= px;
+                fy[jj] -= py;
+                if constexpr (kRecord) record.sum_ry[jj] -= ry_touching;
+            } else {  // 0 − f: the same as subtracting from a sum that starts at 0
+                hx[slot] = 0.0 - px;
+                hy[slot] = 0.0 - py;
+                if constexpr (kRecord) hr[slot] = 0.0 - ry_touching;
+                ++slot;
             }
             if constexpr (kTally == Tally::Full) {
                 t.energy += en[k];
@@ -185,9 +189,10 @@ template <bool kRecord>
 inline void add_halo(const ForceBlocks& blocks, std::size_t c, const double* hx, const double* hy,
                      const double* hr, double* fx, double* fy, double* sum_ry) {
     for (std::size_t b = 0; b < blocks.count; ++b) {
-        const auto s0 = static_cast<std::size_t>(blocks.halo_first[b * blocks.count + c]);
-        const auto s1 = static_cast<std::size_t>(blocks.halo_first[b * blocks.count + c + 1]);
-        for (std::size_t s = s0; s < s1; ++s) {
+        const auto q0 = static_cast<std::size_t>(blocks.by_target_first[b * blocks.count + c]);
+        const auto q1 = static_cast<std::size_t>(blocks.by_target_first[b * blocks.count + c + 1]);
+        for (std::size_t q = q0; q < q1; ++q) {
+            const auto s = static_cast<std::size_t>(blocks.by_target[q]);
             const auto j = static_cast<std::size_t>(blocks.halo_disk[s]);
             fx[j] += hx[s];
             fy[j] += hy[s];

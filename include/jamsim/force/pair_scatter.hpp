@@ -29,23 +29,22 @@ void scatter_pairs(const NeighborList& list, const Box& box, std::span<const dou
     halo.x.resize(blocks.halo_slots());
     halo.y.resize(blocks.halo_slots());
     parallel_for_blocks(blocks.count, [&](std::size_t b) {
-        for (std::size_t i = b * blocks.size; i < std::min(n, (b + 1) * blocks.size); ++i) out_x[i] = out_y[i] = 0.0;
-        const auto s0 = static_cast<std::size_t>(blocks.halo_first[b * blocks.count]);
-        const auto s1 = static_cast<std::size_t>(blocks.halo_first[(b + 1) * blocks.count]);
-        for (std::size_t s = s0; s < s1; ++s) halo.x[s] = halo.y[s] = 0.0;
+        const std::size_t d0 = blocks.first_disk(b), d1 = std::min(n, d0 + blocks.size);
+        for (std::size_t i = d0; i < d1; ++i) out_x[i] = out_y[i] = 0.0;
+        auto slot = static_cast<std::size_t>(blocks.slot_first[b]);  // the next halo slot
         for_each_pair_in(list, box, x, y, static_cast<std::size_t>(blocks.entry_first[b]),
                          static_cast<std::size_t>(blocks.entry_first[b + 1]),
-                         [&](std::size_t k, std::size_t i, std::size_t, Vec2 r, bool touching) {
-                             const Vec2 v = f(k, i, static_cast<std::size_t>(list.neighbor()[k]), r, touching);
+                         [&](std::size_t k, std::size_t i, std::size_t j, Vec2 r, bool touching) {
+                             const Vec2 v = f(k, i, j, r, touching);
                              out_x[i] += v.x;
                              out_y[i] += v.y;
-                             const std::int32_t to = blocks.target[k];
-                             if (to >= 0) {
-                                 out_x[static_cast<std::size_t>(to)] -= v.x;
-                                 out_y[static_cast<std::size_t>(to)] -= v.y;
-                             } else {
-                                 halo.x[static_cast<std::size_t>(~to)] -= v.x;
-                                 halo.y[static_cast<std::size_t>(~to)] -= v.y;
+                             if (j >= d0 && j < d1) {
+                                 out_x[j] -= v.x;
+                                 out_y[j] -= v.y;
+                             } else {  // 0 − v: as subtracting from a sum that starts at 0
+                                 halo.x[slot] = 0.0 - v.x;
+                                 halo.y[slot] = 0.0 - v.y;
+                                 ++slot;
                              }
                          });
     });
