@@ -17,50 +17,68 @@ namespace jamsim::app {
 namespace {
 ThreadsChoice g_choice;
 
-/// A whole number >= 1, else 0.
-long positive_count(const std::string& text) {
+/// A whole number from 1 to 4096 in the first n characters of text, else 0 (no allocation:
+/// also called before the process's libraries are initialised).
+long count_in(const char* text, std::size_t n) {
+    char digits[16];
+    if (n == 0 || n >= sizeof digits) return 0;
+    std::memcpy(digits, text, n);
+    digits[n] = '\0';
     char* end = nullptr;
-    const long v = std::strtol(text.c_str(), &end, 10);
-    return !text.empty() && *end == '\0' && v >= 1 && v <= 4096 ? v : 0;
+    const long v = std::strtol(digits, &end, 10);
+    return *end == '\0' && v >= 1 && v <= 4096 ? v : 0;
 }
+long positive_count(const std::string& text) { return count_in(text.c_str(), text.size()); }
+/// OMP_NUM_THREADS's count: its first (outer) level when it is a nested list, else 0.
+long environment_count(const char* value) { return count_in(value, std::strcspn(value, ",")); }
 
 /// OMP_NUM_THREADS as it was when the process started, and whether it was set: libgomp reads
 /// the variable when it is loaded, before main, and prints its own "Invalid value" line for a
-/// value it cannot use. hide_bad_omp_num_threads runs before any library is initialised (the
+/// value it cannot use. at_process_start runs before any library is initialised (the
 /// executable's .preinit_array): it keeps the value here and, when jamsim would refuse it,
 /// renames the variable in place, so that the refusal in main is the only message.
 char g_omp_value[256];
 bool g_omp_set = false;
+/// The CPUs the process may run on, taken before libgomp starts: with OMP_PROC_BIND set,
+/// libgomp binds the initial thread to its first place, and its mask is then one core.
+cpu_set_t g_start_mask;
+bool g_start_mask_set = false;
 
-bool refused_by_jamsim(const char* value) {
-    const char* comma = std::strchr(value, ',');  // a nested list: the outer level
-    const std::size_t n = comma ? static_cast<std::size_t>(comma - value) : std::strlen(value);
-    return positive_count(std::string(value, n)) == 0;
-}
-
-void hide_bad_omp_num_threads(int, char**, char** envp) {
+void at_process_start(int, char**, char** envp) {
+    CPU_ZERO(&g_start_mask);
+    g_start_mask_set = sched_getaffinity(0, sizeof g_start_mask, &g_start_mask) == 0;
     static constexpr char kName[] = "OMP_NUM_THREADS=";
     for (char** e = envp; e != nullptr && *e != nullptr; ++e) {
         if (std::strncmp(*e, kName, sizeof kName - 1) != 0) continue;
         const char* value = *e + sizeof kName - 1;
         g_omp_set = true;
         std::snprintf(g_omp_value, sizeof g_omp_value, "%s", value);
-        if (*value == '\0' || refused_by_jamsim(value)) (*e)[0] = '_';  // _MP_NUM_THREADS: unseen
+        if (*value == '\0' || environment_count(value) == 0) (*e)[0] = '_';  // _MP_NUM_THREADS: unseen
     }
 }
 } // namespace
 
 // Runs before the initialisers of every shared library (libgomp's included).
-[[gnu::section(".preinit_array"), gnu::used]] static void (*hide_bad_omp_num_threads_early)(int, char**,
-                                                                                      char**) = &hide_bad_omp_num_threads;
+[[gnu::section(".preinit_array"), gnu::used]] static void (*at_process_start_early)(int, char**,
+                                                                                      char**) = &at_process_start;
 
 const ThreadsChoice& threads_choice() { return g_choice; }
 
+namespace {
+/// The process's CPUs as they were at its start (see g_start_mask); false if unknown.
+bool start_mask(cpu_set_t& set) {
+    if (g_start_mask_set) {
+        set = g_start_mask;
+        return true;
+    }
+    CPU_ZERO(&set);
+    return sched_getaffinity(0, sizeof set, &set) == 0;
+}
+} // namespace
+
 int usable_cores() {
     cpu_set_t set;
-    CPU_ZERO(&set);
-    if (sched_getaffinity(0, sizeof set, &set) != 0) return 1;
-    return std::max(1, CPU_COUNT(&set));
+    return start_mask(set) ? std::max(1, CPU_COUNT(&set)) : 1;
 }
 
 std::string threads_from_environment() {
@@ -73,10 +91,10 @@ std::string threads_from_environment() {
         set_kernel_threads(1);
         return "";
     }
-    if (refused_by_jamsim(text.c_str()))
+    if (environment_count(text.c_str()) == 0)
         return "OMP_NUM_THREADS = \"" + text + "\" is not allowed: a whole number of threads from 1 to 4096 " +
                "(threads of each rank's replica; --threads sets it too)";
-    g_choice.threads = static_cast<int>(positive_count(text.substr(0, text.find(','))));
+    g_choice.threads = static_cast<int>(environment_count(text.c_str()));
     g_choice.source = "OMP_NUM_THREADS";
     set_kernel_threads(g_choice.threads);
     return "";
@@ -103,8 +121,7 @@ void add_threads_option(CLI::App& command) {
 
 double cores_of_rank(MPI_Comm comm) {
     cpu_set_t mine;
-    CPU_ZERO(&mine);
-    if (sched_getaffinity(0, sizeof mine, &mine) != 0) return 1.0;
+    if (!start_mask(mine)) CPU_ZERO(&mine);  // (an empty mask still takes part in the gather)
     MPI_Comm node = MPI_COMM_NULL;
     mpi::check(MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node), "MPI_Comm_split_type");
     const int ranks = mpi::size(node);
@@ -119,7 +136,7 @@ double cores_of_rank(MPI_Comm comm) {
         for (auto& m : masks) holders += CPU_ISSET(cpu, &m) ? 1 : 0;
         share += 1.0 / std::max(1, holders);
     }
-    return std::max(share, 1e-9);
+    return share > 0 ? share : 1.0;  // no mask known: one core
 }
 
 namespace {
@@ -127,7 +144,7 @@ std::string notes(const std::string& who, double cores_per_rank, int node_ranks)
     std::string out;
     const ThreadsChoice& c = g_choice;
     if (c.source == "--threads" && !c.environment.empty() &&
-        positive_count(c.environment.substr(0, c.environment.find(','))) != c.threads)
+        environment_count(c.environment.c_str()) != c.threads)
         out += who + ": --threads " + std::to_string(c.threads) + " wins over OMP_NUM_THREADS=" + c.environment +
                "\n";
     if (c.threads > 1 && c.threads > cores_per_rank + 1e-6) {  // (more ranks than cores is mpirun's business)

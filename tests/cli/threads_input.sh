@@ -5,7 +5,7 @@
 #     allowed (and no libgomp line: jamsim's message is the only one), nothing written;
 #   flag_wins: --threads wins over a different OMP_NUM_THREADS, and the log says so;
 #   oversubscribed / fits: more threads than the process's cores warn (and run), as many
-#     do not; mpi_oversubscribed / mpi_fits: the same for ranks sharing a node's cores
+#     do not (also with OMP_PROC_BIND set); mpi_oversubscribed / mpi_fits: the same for ranks sharing a node's cores
 #     (MPIEXEC, 2 ranks, not bound).
 set -uo pipefail
 jamsim=$1 campaign=$2 work=$3 case=$4
@@ -78,7 +78,12 @@ case $case in
       env OMP_NUM_THREADS=3 taskset -c 0 "$jamsim" replica "${short[@]}" -o out.h5 ;;
   fits)
     [[ $(nproc) -ge 2 ]] || { echo "skipped: fewer than 2 cores"; exit 77; }
-    ran "on 2 threads," "warning: .*threads per replica" taskset -c 0,1 "$jamsim" replica "${short[@]}" --threads 2 -o out.h5 ;;
+    ran "on 2 threads," "warning: .*threads per replica" taskset -c 0,1 "$jamsim" replica "${short[@]}" --threads 2 -o out.h5
+    # OpenMP placement binds the initial thread to one core before main: the process's
+    # cores are still 2.
+    rm -f out.h5
+    ran "on 2 threads," "warning: .*threads per replica" env OMP_PROC_BIND=close OMP_PLACES=cores \
+      taskset -c 0,1 "$jamsim" replica "${short[@]}" --threads 2 -o out.h5 ;;
   mpi_oversubscribed)  # 2 ranks of 2 threads on the cores of 2 ranks of 1
     [[ $(nproc) -ge 2 ]] || { echo "skipped: fewer than 2 cores"; exit 77; }
     ran "jamsim run: $over 1 core of each rank \(2 ranks on this node\)" "" \
