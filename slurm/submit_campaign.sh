@@ -1,12 +1,15 @@
 #!/usr/bin/env bash
 # Run a campaign as a Slurm array job, one shard per task, and merge the shards afterwards.
 #
-#   slurm/submit_campaign.sh [--wait] [--throttle K] [--retry-failed] CAMPAIGN.toml MERGED.h5 SHARDS [sbatch options]
+#   slurm/submit_campaign.sh [--wait] [--throttle K] [--threads T] [--retry-failed] CAMPAIGN.toml MERGED.h5 SHARDS [sbatch options]
 #
 #   CAMPAIGN.toml   the campaign file (checked here, before anything is queued)
 #   MERGED.h5       the one archive of the campaign; shards go to MERGED.shards/shard_K.h5
 #   SHARDS          number of array tasks; task K runs the replicas with id % SHARDS == K
 #   --throttle K    at most K tasks at once (sbatch --array=0-(SHARDS-1)%K)
+#   --threads T     threads of each rank's replica (default 1): the tasks ask for
+#                   --cpus-per-task=T and run `jamsim run --threads T` with OpenMP placed
+#                   on cores (OMP_PROC_BIND=close, OMP_PLACES=cores)
 #   --retry-failed  the tasks run their failed replicas again (jamsim run --retry-failed)
 #   --wait          return when the merge job has finished: 0 if every replica is finished
 #                   (done or failed), 3 if some are still pending (submit again)
@@ -26,20 +29,22 @@
 # Choose the lead longer than one checkpoint interval of the slowest replica plus 60 s
 # (Slurm may signal up to a minute early), and the time limit well above the lead.
 set -euo pipefail
-usage() { sed -n '4,15p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+usage() { sed -n '4,18p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 if [[ "${1:-}" == "--help" || "${1:-}" == "-h" ]]; then  # the header above, on stdout
   sed -n '2,/^set -euo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'
   exit 0
 fi
 here=$(cd "$(dirname "$0")" && pwd)
-wait_flag=() throttle="" run_args=""
+wait_flag=() throttle="" threads=1 run_args=""
 while [[ $# -gt 0 && $1 == --* ]]; do
   case $1 in
     --wait) wait_flag=(--wait); shift ;;
     --retry-failed) run_args="--retry-failed"; shift ;;
     --throttle) [[ $# -ge 2 ]] || usage; throttle=$2; shift 2 ;;
     --throttle=*) throttle=${1#--throttle=}; shift ;;
-    *) echo "submit_campaign.sh: unknown option '$1' (allowed: --wait, --throttle K, --retry-failed)" >&2; exit 2 ;;
+    --threads) [[ $# -ge 2 ]] || usage; threads=$2; shift 2 ;;
+    --threads=*) threads=${1#--threads=}; shift ;;
+    *) echo "submit_campaign.sh: unknown option '$1' (allowed: --wait, --throttle K, --threads T, --retry-failed)" >&2; exit 2 ;;
   esac
 done
 [[ $# -ge 3 ]] || usage
@@ -53,6 +58,24 @@ if [[ -n $throttle && ! $throttle =~ ^[1-9][0-9]*$ ]]; then
   echo "submit_campaign.sh: --throttle = '$throttle' is not allowed: a positive integer" >&2
   exit 2
 fi
+if ! [[ $threads =~ ^[1-9][0-9]*$ ]] || [[ ${#threads} -gt 4 ]] || [[ $threads -gt 4096 ]]; then
+  echo "submit_campaign.sh: --threads = '$threads' is not allowed: a whole number of threads from 1 to 4096 (threads of each rank's replica)" >&2
+  exit 2
+fi
+# --cpus-per-task among the sbatch options must agree with --threads.
+args=("$@")
+for ((i = 0; i < ${#args[@]}; i++)); do
+  cpus=""
+  case ${args[i]} in
+    --cpus-per-task=*) cpus=${args[i]#--cpus-per-task=} ;;
+    --cpus-per-task | -c) cpus=${args[i + 1]:-} ;;
+    -c*) cpus=${args[i]#-c} ;;
+  esac
+  if [[ -n $cpus && $cpus != "$threads" ]]; then
+    echo "submit_campaign.sh: sbatch option --cpus-per-task = '$cpus' is not allowed with --threads $threads: give the threads per task once, as --threads T (it sets --cpus-per-task=T)" >&2
+    exit 2
+  fi
+done
 [[ -f $campaign ]] || { echo "submit_campaign.sh: campaign file '$campaign' does not exist" >&2; exit 2; }
 installed_jamsim=""  # an installed copy of this script names its jamsim here (cmake --install)
 jamsim=${JAMSIM:-}
@@ -71,7 +94,7 @@ shard_dir=${merged%.h5}.shards
 # Check the campaign (every key, every value) and the archives already there before queueing
 # anything; a dry run checks an existing output against the campaign.
 if [[ $(id -u) -eq 0 ]]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
-plan=$("$jamsim" run "$campaign" --dry-run -o "$merged") || exit 2
+plan=$("$jamsim" run "$campaign" --dry-run -o "$merged" --threads "$threads") || exit 2
 if [[ -e $shard_dir/shard_0.h5 ]]; then
   "$jamsim" run "$campaign" --dry-run -o "$shard_dir/shard_0.h5" >/dev/null || exit 2
 fi
@@ -98,12 +121,12 @@ if [[ ! $lead =~ ^[1-9][0-9]*$ ]]; then
   echo "submit_campaign.sh: JAMSIM_SIGNAL_LEAD = '$lead' is not allowed: seconds, a positive integer" >&2
   exit 2
 fi
-array=$(sbatch --parsable --array="$range" --signal=B:USR1@"$lead" --requeue --open-mode=append \
+array=$(sbatch --parsable --array="$range" --signal=B:USR1@"$lead" --requeue --open-mode=append --cpus-per-task="$threads" \
           --export=ALL,JAMSIM="$jamsim",JAMSIM_RUN_ARGS="$run_args" "$@" \
           "$here/campaign_array.sbatch" "$campaign" "$shard_dir" "$shards")
 array=${array%%;*}
 echo "shards $shards array_job $array" > "$record"
-echo "array job $array: $shards tasks -> $shard_dir/shard_K.h5"
+echo "array job $array: $shards tasks of $threads thread(s) per rank -> $shard_dir/shard_K.h5"
 merge_output=$(dirname "$merged")/jamsim-merge_%j.out
 # Where the cluster needs them, the merge gets the array's account, partition, QOS, ...
 site=()

@@ -35,6 +35,7 @@
 #include "jamsim/params/parameters.hpp"
 #include "jamsim/run/model_registry.hpp"
 #include "jamsim/parallel/mpi.hpp"
+#include "jamsim/parallel/threads.hpp"
 
 namespace jamsim::app {
 
@@ -123,6 +124,8 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
     std::int64_t grow_kept = 0;
     const int node_ranks = opt.dry_run ? opt.plan.ranks : mpi::ranks_on_node(comm);
     const int ranks = opt.dry_run ? opt.plan.ranks : mpi::size(comm);
+    if (!opt.dry_run)  // a note when --threads overrides OMP_NUM_THREADS; more threads than cores
+        if (const std::string notes = threads_notes("jamsim run", comm); rank == 0) std::fputs(notes.c_str(), stderr);
     if (rank == 0) {
         try {
             const CampaignSpec spec = load_campaign(opt.spec_path, opt.max_replicas);
@@ -280,8 +283,10 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
                                .checkpoint_seconds = opt.checkpoint_seconds,
                                .initial_states = initial ? &*initial : nullptr};
         if (rank == 0)
-            std::printf("campaign %s: %zu replicas on %d ranks -> %s%s\n", spec.name.c_str(),
-                        spec.replicas.size(), mpi::size(comm), output.c_str(),
+            std::printf("campaign %s: %zu replicas on %d rank%s x %d thread%s -> %s%s\n", spec.name.c_str(),
+                        spec.replicas.size(), mpi::size(comm), mpi::size(comm) == 1 ? "" : "s", kernel_threads(),
+                        kernel_threads() == 1 ? "" : "s",
+                        output.c_str(),
                         !exists            ? ""
                         : opt.retry_failed ? " (resuming: done replicas are skipped, failed ones run again)"
                                            : " (resuming: finished replicas are skipped)");

@@ -17,6 +17,7 @@
 #include "jamsim/io/replica_file.hpp"
 #include "jamsim/linalg/contact_solver.hpp"
 #include "jamsim/observe/time_series.hpp"
+#include "jamsim/parallel/threads.hpp"
 
 namespace jamsim::app {
 
@@ -79,6 +80,7 @@ void run(const ReplicaOptions& opt) {
     if (!params.petsc_options.empty() && uses_parameter(params, "petsc_options"))
         if (const std::string why = linalg::petsc_options_problem(params.petsc_options); !why.empty())
             usage_error("petsc-options", params.petsc_options, why);
+    std::fputs(threads_notes("jamsim replica").c_str(), stderr);
     for (const auto& [kind, text] : advisories(params))
         std::fprintf(stderr, "jamsim replica: warning: %s\n", text.c_str());
 
@@ -96,10 +98,11 @@ void run(const ReplicaOptions& opt) {
     const double s = mean_after(result.series, &Sample::shear_stress, params.transient);
     const double steps_per_s = static_cast<double>(result.force_evaluations) *
                                static_cast<double>(params.n) / result.wall_seconds;
-    std::printf("replica %s N=%lld phi=%.6g rate=%.6g: %zu samples, %.2f s, %.3g particle-force-"
+    std::printf("replica %s N=%lld phi=%.6g rate=%.6g: %zu samples, %.2f s on %d thread%s, %.3g particle-force-"
                 "evaluations/s\n",
                 params.model.c_str(), static_cast<long long>(params.n), params.phi, params.rate,
-                result.series.size(), result.wall_seconds, steps_per_s);
+                result.series.size(), result.wall_seconds, kernel_threads(), kernel_threads() == 1 ? "" : "s",
+                steps_per_s);
     std::printf("mean pressure     <p>     = %.10g\n", p);
     std::printf("mean shear stress <sigma> = %.10g\n", s);
     std::printf("(averages over strain >= %g; written to %s)\n", params.transient,

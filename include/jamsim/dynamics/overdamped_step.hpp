@@ -38,7 +38,9 @@ void overdamped_step(System& sys, ForceField& forces, double dt, double rate, bo
     scratch.y0.assign(p.y.begin(), p.y.end());
     drift(p.x, p.y, vx, vy, gamma0, step);
     sys.box.set_strain_unwrapped(gamma1);
-    const auto [vx1, vy1] = velocity_at(sys);
+    const auto v1 = velocity_at(sys);
+    // (named spans, not a structured binding: Clang before 16 cannot capture one in a lambda)
+    const std::span<const double> vx1 = v1.first, vy1 = v1.second;
     const double half = 0.5 * step;
     parallel_for(p.size(), [&](std::size_t i) {
         p.x[i] = scratch.x0[i] + half * ((vx[i] - gamma0 * vy[i]) + (vx1[i] - gamma1 * vy1[i]));
