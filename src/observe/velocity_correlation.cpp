@@ -6,8 +6,6 @@
 #include <numeric>
 #include <string>
 
-#include <parallel/algorithm>
-
 #include "jamsim/parallel/reduce.hpp"
 
 namespace jamsim {
@@ -45,12 +43,7 @@ void VelocityCorrelation::accumulate(const System& sys) {
     std::vector<std::size_t> order(n);
     std::iota(order.begin(), order.end(), std::size_t{0});
     const auto below = [&](std::size_t a, std::size_t b) { return yw[a] < yw[b] || (yw[a] == yw[b] && a < b); };
-    if (n >= kThreadedLoopMin && kernel_threads() > 1) {
-        const TimedRegion timed;
-        __gnu_parallel::sort(order.begin(), order.end(), below);
-    } else {
-        std::sort(order.begin(), order.end(), below);
-    }
+    parallel_sort(order, below);
     const double half_strip = 0.5 * strip_, half_side = 0.5 * side_;
     // Each disk's partners above it in y (wrapping past the top), each unordered pair once,
     // for disks order[a0 .. a1), into bins `sum`, `count`.

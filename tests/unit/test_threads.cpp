@@ -9,6 +9,7 @@
 
 #include "jamsim/force/force_field.hpp"
 #include "jamsim/force/pair_forces.hpp"
+#include "jamsim/observe/velocity_correlation.hpp"
 #include "jamsim/parallel/threads.hpp"
 #include "jamsim/run/model_registry.hpp"
 #include "jamsim/run/replica.hpp"
@@ -208,6 +209,28 @@ TEST(Threads, Rd0ReplicaIsTheSameOnAnyThreadCount) {
         EXPECT_TRUE(same_bits(one.correlation_g, many.correlation_g));
         EXPECT_EQ(one.force_evaluations, many.force_evaluations);
         EXPECT_EQ(one.list_builds, many.list_builds);
+    }
+}
+
+TEST(Threads, VelocityCorrelationIsTheSameOnAnyThreadCount) {
+    // g_y over three blocks of disks by height (parallel sort and per-block bins).
+    System sys = testing::random_configuration(10000, 0.84, 0.2, 11);
+    Particles& p = sys.particles;
+    for (std::size_t i = 0; i < p.size(); ++i) p.uy[i] = std::sin(0.7 * static_cast<double>(i));
+    auto sums = [&](int threads) {
+        const ThreadCount count(threads);
+        VelocityCorrelation g(sys.box.side());
+        g.accumulate(sys);
+        g.accumulate(sys);
+        return g.sums();
+    };
+    const VelocityCorrelation::Sums one = sums(1);
+    EXPECT_GT(one.count[0], 0.0);
+    for (const int t : thread_counts()) {
+        const VelocityCorrelation::Sums many = sums(t);
+        EXPECT_TRUE(same_bits(one.sum, many.sum)) << t << " threads";
+        EXPECT_EQ(one.count, many.count);
+        EXPECT_TRUE(same_bits(one.uy2_sum, many.uy2_sum));
     }
 }
 

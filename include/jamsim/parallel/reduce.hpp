@@ -44,4 +44,29 @@ double parallel_max(std::size_t n, F&& f) {
         [](double a, double b) { return std::max(a, b); });
 }
 
+/// Sorts `v` by a strict total order `less` (no two elements equivalent), so that any
+/// correct sort gives the one result: blocks of kReduceBlock sorted side by side, then merged
+/// pairwise, the pairs of each round side by side.
+template <class T, class Less>
+void parallel_sort(std::vector<T>& v, Less less) {
+    const std::size_t n = v.size();
+    const std::size_t blocks = (n + kReduceBlock - 1) / kReduceBlock;
+    if (blocks <= 1 || kernel_threads() == 1) {
+        std::sort(v.begin(), v.end(), less);
+        return;
+    }
+    const auto at = [&](std::vector<T>& a, std::size_t i) { return a.begin() + static_cast<std::ptrdiff_t>(i); };
+    parallel_for_blocks(blocks, [&](std::size_t b) {
+        std::sort(at(v, b * kReduceBlock), at(v, std::min(n, (b + 1) * kReduceBlock)), less);
+    });
+    std::vector<T> merged(n);
+    for (std::size_t width = kReduceBlock; width < n; width *= 2) {
+        parallel_for_blocks((n + 2 * width - 1) / (2 * width), [&](std::size_t p) {
+            const std::size_t lo = 2 * width * p, mid = std::min(n, lo + width), hi = std::min(n, lo + 2 * width);
+            std::merge(at(v, lo), at(v, mid), at(v, mid), at(v, hi), at(merged, lo), less);
+        });
+        v.swap(merged);
+    }
+}
+
 } // namespace jamsim
