@@ -1,6 +1,9 @@
 #include "jamsim/campaign/scheduler.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
+#include <queue>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -172,6 +175,85 @@ std::vector<std::pair<std::int64_t, std::int64_t>> Scheduler::take_failed() {
     std::vector<std::pair<std::int64_t, std::int64_t>> out;
     out.swap(failed_);
     return out;
+}
+
+double SpeedupModel::fraction(std::int64_t n) const {
+    if (serial_fraction >= 0) return std::min(1.0, serial_fraction);
+    if (n < 4096) return 1.0;  // parallel_for's kThreadedLoopMin: every loop on one thread
+    constexpr std::array<std::pair<double, double>, 3> measured{{{16384, 0.22}, {65536, 0.17}, {262144, 0.15}}};
+    const auto x = static_cast<double>(n);
+    if (x <= measured.front().first) return measured.front().second;
+    for (std::size_t k = 1; k < measured.size(); ++k)
+        if (x <= measured[k].first) {
+            const auto& [x0, f0] = measured[k - 1];
+            const auto& [x1, f1] = measured[k];
+            return f0 + (f1 - f0) * std::log(x / x0) / std::log(x1 / x0);
+        }
+    return measured.back().second;
+}
+
+double SpeedupModel::speedup(std::int64_t n, int threads) const {
+    if (threads <= 1) return 1.0;
+    const double f = fraction(n);
+    return 1.0 / (f + (1.0 - f) / threads);
+}
+
+SimulatedRun simulate_schedule(const std::vector<SimulatedReplica>& replicas,
+                               const std::vector<std::int64_t>& predecessor, int workers, int threads) {
+    if (workers < 1 || threads < 1)
+        throw std::invalid_argument("simulate_schedule: " + std::to_string(workers) + " workers of " +
+                                    std::to_string(threads) + " threads; both must be >= 1");
+    const std::size_t n = replicas.size();
+    SimulatedRun run;
+    std::vector<double> cost(n), duration(n);
+    for (std::size_t r = 0; r < n; ++r) {
+        cost[r] = replicas[r].cost;
+        duration[r] = replicas[r].seconds / std::max(1e-300, replicas[r].speedup);
+        run.work += replicas[r].seconds;
+    }
+    // The critical path at these threads, and the chain it lies on.
+    const Chains chains = chains_of(predecessor, n);
+    run.chains = static_cast<std::int64_t>(chains.members.size());
+    const auto next = successors_of(predecessor, n);
+    const auto paths = remaining_paths(duration, chain_order(predecessor, next), next, std::vector<char>(n, 1));
+    for (std::size_t c = 0; c < chains.members.size(); ++c) {
+        const double path = paths[static_cast<std::size_t>(chains.members[c].front())];
+        if (path > run.critical_path) {
+            run.critical_path = path;
+            run.longest_chain = static_cast<std::int64_t>(c);
+        }
+    }
+    const double cores = static_cast<double>(workers) * threads;
+    run.bound = std::max(run.work / cores, run.critical_path);
+    // The discrete-event run: (end time, worker, replica), earliest first, then lowest worker.
+    std::vector<std::int64_t> queue(n);
+    for (std::size_t r = 0; r < n; ++r) queue[r] = static_cast<std::int64_t>(r);
+    Scheduler scheduler(cost, predecessor, queue, std::vector<Scheduler::Before>(n, Scheduler::Before::Open));
+    using Event = std::tuple<double, int, std::int64_t>;
+    std::priority_queue<Event, std::vector<Event>, std::greater<>> running;
+    std::vector<char> busy(static_cast<std::size_t>(workers), 0);
+    double now = 0, busy_core_seconds = 0;
+    for (;;) {
+        for (int w = 0; w < workers; ++w) {
+            if (busy[static_cast<std::size_t>(w)]) continue;
+            const std::int64_t id = scheduler.take();
+            if (id < 0) break;
+            busy[static_cast<std::size_t>(w)] = 1;
+            running.emplace(now + duration[static_cast<std::size_t>(id)], w, id);
+            busy_core_seconds += duration[static_cast<std::size_t>(id)] * threads;
+        }
+        if (running.empty()) break;
+        now = std::get<0>(running.top());
+        while (!running.empty() && std::get<0>(running.top()) == now) {
+            const auto [end, w, id] = running.top();
+            running.pop();
+            scheduler.finished(id, Ended::Done);
+            busy[static_cast<std::size_t>(w)] = 0;
+        }
+    }
+    run.makespan = now;
+    run.idle_core_seconds = std::max(0.0, cores * now - busy_core_seconds);
+    return run;
 }
 
 } // namespace jamsim

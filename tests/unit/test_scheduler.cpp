@@ -1,5 +1,5 @@
-// The farm's scheduler (campaign/scheduler.hpp): its order and its chains, against answers
-// worked out by hand.
+// The farm's scheduler (campaign/scheduler.hpp): its order, its chains, and the
+// discrete-event simulation that drives it, against answers worked out by hand.
 #include <gtest/gtest.h>
 
 #include <stdexcept>
@@ -87,6 +87,61 @@ TEST(Scheduler, StandingBeforeTheRun) {
     EXPECT_EQ(elsewhere.take(), -1);
     EXPECT_FALSE(elsewhere.may_become_ready());
     EXPECT_THROW(Scheduler({1, 1}, {}, {0, 0}, std::vector<Before>(2, Before::Open)), std::invalid_argument);
+}
+
+std::vector<SimulatedReplica> replicas(const std::vector<double>& seconds, double speedup = 1) {
+    std::vector<SimulatedReplica> out;
+    for (const double s : seconds) out.push_back({.cost = s, .seconds = s, .speedup = speedup});
+    return out;
+}
+
+// Three chains on 2 workers: A = 3 + 3 + 3 (replicas 0, 3, 4), B = 5 (1), C = 4 (2).
+// By hand: t = 0 worker 0 takes A1 (path 9), worker 1 B (5); t = 3 A2 (6) on worker 0;
+// t = 5 C on worker 1, to 9; t = 6 A3 on worker 0, to 9. Makespan 9 = the bound
+// max(18 / 2, 9), no core idle. (Longest replica first would run B and C first and end at 13.)
+TEST(Scheduler, SimulationThreeChainsOnTwoWorkers) {
+    const SimulatedRun run = simulate_schedule(replicas({3, 5, 4, 3, 3}), {-1, -1, -1, 0, 3}, 2, 1);
+    EXPECT_DOUBLE_EQ(run.makespan, 9);
+    EXPECT_DOUBLE_EQ(run.work, 18);
+    EXPECT_DOUBLE_EQ(run.critical_path, 9);
+    EXPECT_EQ(run.longest_chain, 0);
+    EXPECT_DOUBLE_EQ(run.bound, 9);
+    EXPECT_DOUBLE_EQ(run.idle_core_seconds, 0);
+    EXPECT_EQ(run.chains, 3);
+}
+
+// A = 6 + 6 (replicas 0, 3), B = 2 (1), C = 2 (2) on 2 workers: t = 0 A1 and B; t = 2 C;
+// t = 4 worker 1 idles (A2 waits for A1); t = 6 A2, to 12. Makespan 12 = the chain; idle
+// core-seconds 2 × 12 − 16 = 8.
+TEST(Scheduler, SimulationALongChainLeavesACoreIdle) {
+    const SimulatedRun run = simulate_schedule(replicas({6, 2, 2, 6}), {-1, -1, -1, 0}, 2, 1);
+    EXPECT_DOUBLE_EQ(run.makespan, 12);
+    EXPECT_DOUBLE_EQ(run.bound, 12);
+    EXPECT_DOUBLE_EQ(run.idle_core_seconds, 8);
+}
+
+// The first case on 1 worker of 2 threads, every replica 1.5× faster there: 18 / 1.5 = 12 s;
+// the bound is max(18 / 2 cores, 9 / 1.5) = 9; both threads busy throughout.
+TEST(Scheduler, SimulationOnThreads) {
+    const SimulatedRun run = simulate_schedule(replicas({3, 5, 4, 3, 3}, 1.5), {-1, -1, -1, 0, 3}, 1, 2);
+    EXPECT_DOUBLE_EQ(run.makespan, 12);
+    EXPECT_DOUBLE_EQ(run.critical_path, 6);
+    EXPECT_DOUBLE_EQ(run.bound, 9);
+    EXPECT_DOUBLE_EQ(run.idle_core_seconds, 0);
+    EXPECT_THROW(simulate_schedule(replicas({1}), {}, 0, 1), std::invalid_argument);
+}
+
+TEST(Scheduler, AmdahlSpeedupModel) {
+    const SpeedupModel model;
+    EXPECT_DOUBLE_EQ(model.fraction(1024), 1.0);  // loops under 4096 run on one thread
+    EXPECT_DOUBLE_EQ(model.speedup(1024, 16), 1.0);
+    EXPECT_DOUBLE_EQ(model.fraction(16384), 0.22);
+    EXPECT_DOUBLE_EQ(model.fraction(65536), 0.17);
+    EXPECT_NEAR(model.fraction(32768), 0.195, 1e-12);  // halfway in log N
+    EXPECT_DOUBLE_EQ(model.fraction(1 << 20), 0.15);
+    EXPECT_NEAR(model.speedup(65536, 16), 1 / (0.17 + 0.83 / 16), 1e-12);
+    EXPECT_DOUBLE_EQ(model.speedup(65536, 1), 1.0);
+    EXPECT_DOUBLE_EQ((SpeedupModel{.serial_fraction = 0.5}).speedup(1024, 2), 1 / 0.75);
 }
 
 } // namespace

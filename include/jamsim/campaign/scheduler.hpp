@@ -1,7 +1,8 @@
 #pragma once
 // Which replica runs next. Pure (no MPI, no files): the farm's Dispatcher (rank 0) drives a
-// Scheduler with the replicas' estimated costs. The order never changes a replica's bits:
-// only when and where it runs.
+// Scheduler with the replicas' estimated costs, and simulate_schedule drives the very same
+// Scheduler with per-replica seconds to predict a campaign's wall time (the dry run, jamsim
+// plan). The order never changes a replica's bits: only when and where it runs.
 #include <cstdint>
 #include <set>
 #include <utility>
@@ -76,5 +77,43 @@ class Scheduler {
     std::int64_t blocked_ = 0, running_ = 0;
     std::vector<std::pair<std::int64_t, std::int64_t>> failed_;
 };
+
+/// How many times faster a replica runs on T threads than on one: Amdahl's law,
+/// 1 / (f + (1 − f) / T), with the serial fraction f of its kernel by N. The default
+/// fractions come from the RD0 kernel measured on a 16-core Xeon (README "Threads inside a
+/// replica": 3.73× at N = 16384 and 4.54× at 65536 on 16 threads, 3.84× at 262144 on 8,
+/// which are f = 0.22, 0.17 and 0.15), interpolated in log N and held beyond the ends; below
+/// 4096 disks the kernel's loops run on one thread (f = 1). `serial_fraction` >= 0 replaces
+/// the table with one fraction for every N.
+struct SpeedupModel {
+    double serial_fraction = -1;
+    double fraction(std::int64_t n) const;
+    double speedup(std::int64_t n, int threads) const;
+};
+
+/// One replica for simulate_schedule.
+struct SimulatedReplica {
+    double cost = 0;     ///< what the farm orders by (its estimated cost)
+    double seconds = 0;  ///< its run time on one thread
+    double speedup = 1;  ///< how many times faster it runs on the run's threads
+};
+
+/// A simulated run of a campaign on `workers` ranks of `threads` threads each.
+struct SimulatedRun {
+    double makespan = 0;       ///< seconds until the last replica ends
+    double work = 0;           ///< total one-thread seconds (core-seconds at full efficiency)
+    double critical_path = 0;  ///< the longest chain's seconds at the run's threads
+    std::int64_t longest_chain = -1;  ///< its index (chains_of)
+    double bound = 0;          ///< max(work / cores, critical_path): no schedule beats it
+    double idle_core_seconds = 0;  ///< cores × makespan − Σ replica seconds × threads
+    std::int64_t chains = 0;   ///< independent chains: at most this many replicas run at once
+};
+
+/// A discrete-event run of the Scheduler: every free worker (lowest index first) takes the
+/// scheduler's next replica and holds it for seconds / speedup; completions at one instant
+/// are all reported before the free workers take new work. Every replica is queued, none
+/// done before.
+SimulatedRun simulate_schedule(const std::vector<SimulatedReplica>& replicas,
+                               const std::vector<std::int64_t>& predecessor, int workers, int threads);
 
 } // namespace jamsim
