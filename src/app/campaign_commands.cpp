@@ -2,6 +2,7 @@
 #include "dry_run.hpp"
 #include "run_checks.hpp"
 #include "threads_option.hpp"
+#include "wall_time.hpp"
 
 #include <unistd.h>
 
@@ -656,6 +657,7 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
         ->check(CLI::PositiveNumber)->default_str("1");
     cmd->add_option("--shards", opt->plan.shards, "--dry-run: Slurm array tasks of the planned run")
         ->check(CLI::PositiveNumber)->default_str("1");
+    add_serial_fraction_option(*cmd, opt->plan.serial_fraction);
     cmd->add_option_function<std::string>(
         "--time-limit",
         [opt](const std::string& v) {
@@ -668,7 +670,8 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
     cmd->add_flag("!--no-calibrate", opt->plan.calibrate,
                   "--dry-run: nominal throughput instead of a short probe per model and N");
     cmd->add_option("--shard", opt->shard,
-                    "K/N: run only replicas with id % N == K (merge shards with jamsim merge)");
+                    "K/N: run only replicas with id % N == K, rate ladders whole (ladder k % N == K; merge shards "
+                    "with jamsim merge)");
     cmd->add_option("--progress", opt->progress,
                     "auto (redraw on a terminal), lines (log files) or redraw")
         ->check(CLI::IsMember({"auto", "lines", "redraw"}))

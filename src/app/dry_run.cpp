@@ -1,5 +1,6 @@
 // `jamsim run --dry-run` (dry_run.hpp).
 #include "dry_run.hpp"
+#include "wall_time.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -16,6 +17,7 @@
 #include "jamsim/io/archive.hpp"
 #include "jamsim/io/archive_file_check.hpp"
 #include "jamsim/io/capacity.hpp"
+#include "jamsim/parallel/threads.hpp"
 #include "jamsim/run/model_registry.hpp"
 #include "jamsim/run/replica.hpp"
 
@@ -157,59 +159,56 @@ Calibration calibrate(const CampaignSpec& spec, const std::string& archive) {
     return out;
 }
 
-/// "42 s", "12.5 min", "3.20 h".
-std::string duration(double seconds) {
-    char buf[32];
-    if (seconds < 120) std::snprintf(buf, sizeof buf, "%.1f s", seconds);
-    else if (seconds < 7200) std::snprintf(buf, sizeof buf, "%.1f min", seconds / 60);
-    else std::snprintf(buf, sizeof buf, "%.2f h", seconds / 3600);
-    return buf;
+/// The probes on one thread (the dry run's seconds are one thread's; the speed-up model
+/// scales them), the kernel's threads restored after.
+Calibration calibrate_on_one_thread(const CampaignSpec& spec, const std::string& archive) {
+    const int threads = kernel_threads();
+    set_kernel_threads(1);
+    try {
+        Calibration c = calibrate(spec, archive);
+        set_kernel_threads(threads);
+        return c;
+    } catch (...) {
+        set_kernel_threads(threads);
+        throw;
+    }
+}
+
+std::string describe_source(const DryRunPlan& plan, const Calibration& rates) {
+    return !plan.calibrate ? "nominal 7e7 particle force evaluations/s"
+                           : "throughput measured on this machine per model, N and phi: " +
+                                 std::to_string(rates.recorded) + " groups from the archive's finished replicas, " +
+                                 std::to_string(rates.probed) + " by a short probe, the rest from those";
 }
 
 } // namespace
 
+ReplicaSeconds replica_seconds(const CampaignSpec& spec, const std::string& archive, const DryRunPlan& plan) {
+    const Calibration rates = plan.calibrate ? calibrate_on_one_thread(spec, archive) : Calibration{};
+    ReplicaSeconds out{.seconds = {}, .source = describe_source(plan, rates)};
+    for (const ReplicaParams& p : spec.replicas) out.seconds.push_back(estimated_cost(p) * rates.seconds_per_cost(p));
+    return out;
+}
+
 void print_dry_run(const CampaignSpec& spec, const std::string& output, const DryRunPlan& plan) {
     std::printf("campaign %s: %zu replicas -> %s (dry run: nothing written)\n", spec.name.c_str(),
                 spec.replicas.size(), output.c_str());
-    const Calibration rates = plan.calibrate ? calibrate(spec, output) : Calibration{};
-    const auto seconds_of = [&](const ReplicaParams& p) { return estimated_cost(p) * rates.seconds_per_cost(p); };
+    const ReplicaSeconds estimate = replica_seconds(spec, output, plan);
     std::printf("%6s %7s %8s %10s %6s %9s %14s %10s\n", "id", "N", "phi", "rate", "seed",
                 "samples", "cost(p-evals)", "est. s");
     double total = 0, largest = 0;
-    std::vector<double> shard_seconds(static_cast<std::size_t>(plan.shards), 0.0);
     for (std::size_t id = 0; id < spec.replicas.size(); ++id) {
         const ReplicaParams& p = spec.replicas[id];
-        const double seconds = seconds_of(p);
+        const double seconds = estimate.seconds[id];
         total += seconds;
         largest = std::max(largest, seconds);
-        shard_seconds[id % shard_seconds.size()] += seconds;
         std::printf("%6zu %7lld %8.4g %10.3g %6llu %9lld %14.4g %10.1f\n", id,
                     static_cast<long long>(p.n), p.phi, p.rate,
                     static_cast<unsigned long long>(p.seed),
                     static_cast<long long>(sample_count(p)), estimated_cost(p), seconds);
     }
-    // The wall time on P ranks: the farm's schedule, longest estimated cost first, each replica
-    // to the rank that becomes free first.
-    std::vector<double> by_cost;
-    for (const ReplicaParams& p : spec.replicas) by_cost.push_back(seconds_of(p));
-    std::sort(by_cost.begin(), by_cost.end(), std::greater<>());
-    std::priority_queue<double, std::vector<double>, std::greater<>> free_at;
-    for (int r = 0; r < plan.ranks; ++r) free_at.push(0.0);
-    double wall = 0;
-    for (const double seconds : by_cost) {
-        const double start = free_at.top();
-        free_at.pop();
-        free_at.push(start + seconds);
-        wall = std::max(wall, start + seconds);
-    }
-    const std::string source =
-        !plan.calibrate ? "nominal 7e7 particle force evaluations/s"
-                        : "throughput measured on this machine per model, N and phi: " + std::to_string(rates.recorded) +
-                              " groups from the archive's finished replicas, " + std::to_string(rates.probed) +
-                              " by a short probe, the rest from those";
-    std::printf("total: %.3g core-hours, %.3g core-seconds (%s); on %d ranks about %s of wall time (the longest "
-                "replica: %s)\n",
-                total / 3600.0, total, source.c_str(), plan.ranks, duration(wall).c_str(), duration(largest).c_str());
+    std::printf("total: %.3g core-hours, %.3g core-seconds on one thread (%s; the longest replica: %s)\n",
+                total / 3600.0, total, estimate.source.c_str(), duration(largest).c_str());
     // A resumed or grown archive: what its finished replicas leave to run.
     std::error_code ec;
     if (std::filesystem::exists(output, ec) && diagnose_archive_file(output).empty()) try {
@@ -219,29 +218,19 @@ void print_dry_run(const CampaignSpec& spec, const std::string& output, const Dr
                 if (stored.status[r] == ReplicaStatus::Done || stored.status[r] == ReplicaStatus::Failed)
                     finished.insert(describe(stored.spec.replicas[r]));
             double left = 0;
-            for (const ReplicaParams& p : spec.replicas)
-                if (!finished.count(describe(p))) left += seconds_of(p);
+            for (std::size_t r = 0; r < spec.replicas.size(); ++r)
+                if (!finished.count(describe(spec.replicas[r]))) left += estimate.seconds[r];
             std::printf("left to run: %.3g core-seconds (the archive's %zu finished replicas are kept)\n", left,
                         finished.size());
         } catch (const std::exception&) {
             // an archive that cannot be read was refused before a dry run lists anything
         }
-    if (plan.time_limit > 0) {
-        const char* lead_env = std::getenv("JAMSIM_SIGNAL_LEAD");
-        const double lead = lead_env ? std::atof(lead_env) : 300.0;
-        const double usable = plan.time_limit - lead - 60.0;  // Slurm may warn a minute early
-        if (usable <= 0) {
-            std::printf("time limit %.0f s: not above the warning lead %.0f s + 60 s; no task can work\n",
-                        plan.time_limit, lead);
-            return;
-        }
-        double worst = 0;
-        for (double s : shard_seconds) worst = std::max(worst, s / plan.ranks);
-        std::printf("%d shards on %d ranks each, time limit %s (warning %.0f s before): the "
-                    "busiest task needs about %s, %d requeues\n",
-                    plan.shards, plan.ranks, duration(plan.time_limit).c_str(), lead, duration(worst).c_str(),
-                    static_cast<int>(std::max(0.0, std::ceil(worst / usable) - 1.0)));
-    }
+    print_wall_time(spec, estimate.seconds,
+                    WallTimePlan{.ranks = plan.ranks,
+                                 .threads = kernel_threads(),
+                                 .shards = plan.shards,
+                                 .time_limit = plan.time_limit,
+                                 .speedup = SpeedupModel{.serial_fraction = plan.serial_fraction}});
 }
 
 } // namespace jamsim::app

@@ -1,7 +1,9 @@
 #pragma once
 // `jamsim run --dry-run`: every replica with its estimated cost, calibrated on this machine,
-// and the wall time of the planned run.
+// and the wall time of the planned run (critical path, makespan bound, the farm's schedule
+// simulated, Slurm shards and their requeues: wall_time.hpp).
 #include <string>
+#include <vector>
 
 #include "jamsim/io/campaign_spec.hpp"
 
@@ -13,7 +15,20 @@ struct DryRunPlan {
     int ranks = 1;           ///< ranks of the planned run
     int shards = 1;          ///< Slurm array tasks
     double time_limit = 0;   ///< seconds per task (0: none)
+    double serial_fraction = -1;  ///< the speed-up model's (campaign/scheduler.hpp; < 0: its table)
 };
+
+/// Every replica's estimated seconds on one thread of this machine, and where the
+/// throughput comes from (in words).
+struct ReplicaSeconds {
+    std::vector<double> seconds;
+    std::string source;
+};
+
+/// The seconds of each replica of `spec`: its estimated cost at the throughput calibrated on
+/// this machine (the finished replicas of `archive`, else short probes on one thread), or
+/// nominal without plan.calibrate.
+ReplicaSeconds replica_seconds(const CampaignSpec& spec, const std::string& archive, const DryRunPlan& plan);
 
 /// The dry run's table and totals on stdout.
 void print_dry_run(const CampaignSpec& spec, const std::string& output, const DryRunPlan& plan);

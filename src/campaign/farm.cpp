@@ -3,12 +3,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <list>
 #include <numeric>
 #include <optional>
 
 #include <filesystem>
 
+#include "jamsim/campaign/scheduler.hpp"
 #include "jamsim/campaign/stop_request.hpp"
 #include "jamsim/io/checkpoint_file.hpp"
 #include "jamsim/parallel/mpi.hpp"
@@ -43,22 +43,37 @@ std::string hms(double s) {
     return buf;
 }
 
-/// Rank 0's bookkeeping: the queue, who is running what, the progress line. A replica of a
-/// rate ladder is ready once its predecessor is done; a worker asking while nothing is ready
-/// but something may become ready waits (its request is answered later); a replica whose
-/// predecessor failed fails too.
+/// The scheduler of this run's queue: every replica's estimated cost, its predecessor, and
+/// how the archive says it stands.
+Scheduler make_scheduler(const CampaignSpec& spec, const std::vector<std::int64_t>& queue,
+                         const std::vector<ReplicaStatus>& status) {
+    std::vector<double> cost(spec.replicas.size());
+    std::vector<Scheduler::Before> before(spec.replicas.size(), Scheduler::Before::Open);
+    for (std::size_t r = 0; r < cost.size(); ++r) {
+        cost[r] = estimated_cost(spec.replicas[r]);
+        if (status[r] == ReplicaStatus::Done) before[r] = Scheduler::Before::Done;
+        if (status[r] == ReplicaStatus::Failed) before[r] = Scheduler::Before::Failed;
+    }
+    return Scheduler(std::move(cost), spec.predecessor, queue, before);
+}
+
+/// Rank 0's bookkeeping: the scheduler (which replica next), who is running what, the
+/// progress line. A replica of a rate ladder is ready once its predecessor is done; a worker
+/// asking while nothing is ready but something may become ready waits (its request is
+/// answered later); a replica whose predecessor failed fails too.
 class Dispatcher {
   public:
     Dispatcher(MPI_Comm comm, const CampaignSpec& spec, const std::vector<std::int64_t>& queue,
-               std::int64_t already_done, std::vector<ReplicaStatus> status,
+               std::int64_t already_done, const std::vector<ReplicaStatus>& status,
                std::function<void(std::int64_t, const std::string&)> fail,
                const ProgressOptions& progress)
-        : comm_(comm), spec_(spec), queue_(queue.begin(), queue.end()), status_(std::move(status)),
-          fail_(std::move(fail)), total_(static_cast<std::int64_t>(queue_.size()) + already_done),
-          done_(already_done), progress_(progress), start_(Clock::now()), last_print_(start_) {
-        for (auto id : queue_) cost_total_run_ += estimated_cost(spec_.replicas[id]);
+        : comm_(comm), spec_(spec), scheduler_(make_scheduler(spec, queue, status)), fail_(std::move(fail)),
+          total_(static_cast<std::int64_t>(queue.size()) + already_done), done_(already_done),
+          progress_(progress), start_(Clock::now()), last_print_(start_) {
+        for (auto id : queue) cost_total_run_ += estimated_cost(spec_.replicas[id]);
         workers_active_ = mpi::size(comm) - 1;
         active_.assign(static_cast<std::size_t>(mpi::size(comm)), true);
+        record_failures();  // replicas whose predecessor had failed before this run
     }
 
     /// Next replica for rank 0 itself, or −1 (waiting, serving requests, while a ladder's
@@ -77,12 +92,13 @@ class Dispatcher {
         --running_;
         if (outcome == Outcome::Interrupted) {
             ++interrupted_;
+            scheduler_.finished(replica, Ended::Interrupted);
             StopRequest::request();  // one replica stopped: the whole run stops
         } else {
             ++(outcome == Outcome::Failed ? failed_ : done_);
-            status_[static_cast<std::size_t>(replica)] =
-                outcome == Outcome::Failed ? ReplicaStatus::Failed : ReplicaStatus::Done;
+            scheduler_.finished(replica, outcome == Outcome::Failed ? Ended::Failed : Ended::Done);
             cost_done_ += estimated_cost(spec_.replicas[replica]);
+            record_failures();
         }
         wake_waiting();
         print(false);
@@ -127,39 +143,23 @@ class Dispatcher {
     std::int64_t interrupted() const { return interrupted_; }
 
   private:
-    bool ready(std::int64_t id) const {
-        if (spec_.predecessor.empty()) return true;
-        const std::int64_t before = spec_.predecessor[static_cast<std::size_t>(id)];
-        return before < 0 || status_[static_cast<std::size_t>(before)] == ReplicaStatus::Done;
+    /// Record the replicas failed because their predecessor failed.
+    void record_failures() {
+        for (const auto& [id, before] : scheduler_.take_failed()) {
+            ++failed_;
+            fail_(id, "its predecessor in the rate ladder, replica " + std::to_string(before) + ", failed");
+        }
     }
 
-    /// The first queued replica that can start now (−1 if none); replicas whose predecessor
-    /// failed are failed on the way.
+    /// The queued replica to start now, by the scheduler's order (−1 if none is ready).
     std::int64_t take_ready() {
-        for (bool changed = true; changed;) {
-            changed = false;
-            for (auto it = queue_.begin(); it != queue_.end(); ++it) {
-                const std::int64_t id = *it;
-                const std::int64_t before = spec_.predecessor.empty() ? -1 : spec_.predecessor[static_cast<std::size_t>(id)];
-                if (before >= 0 && status_[static_cast<std::size_t>(before)] == ReplicaStatus::Failed) {
-                    queue_.erase(it);
-                    status_[static_cast<std::size_t>(id)] = ReplicaStatus::Failed;
-                    ++failed_;
-                    fail_(id, "its predecessor in the rate ladder, replica " + std::to_string(before) + ", failed");
-                    changed = true;
-                    break;
-                }
-                if (!ready(id)) continue;
-                queue_.erase(it);
-                ++running_;
-                return id;
-            }
-        }
-        return -1;
+        const std::int64_t id = scheduler_.take();
+        running_ += id >= 0;
+        return id;
     }
 
     /// Something queued may still become ready: a replica runs that could be a predecessor.
-    bool may_become_ready() const { return !queue_.empty() && running_ > 0; }
+    bool may_become_ready() const { return scheduler_.may_become_ready(); }
 
     void serve_blocking() {
         MPI_Status st;
@@ -227,10 +227,7 @@ class Dispatcher {
 
     MPI_Comm comm_;
     const CampaignSpec& spec_;
-    /// Not yet started, longest estimated cost first; a list, so that taking one (the first,
-    /// without ladders) costs O(1) however many replicas a campaign has.
-    std::list<std::int64_t> queue_;
-    std::vector<ReplicaStatus> status_;  ///< of every replica, as this run knows it
+    Scheduler scheduler_;  ///< the replicas not yet started, and which one next
     std::function<void(std::int64_t, const std::string&)> fail_;  ///< record a failure
     std::vector<int> waiting_;  ///< workers whose request waits for a ready replica
     std::int64_t total_;  ///< replicas of this run's shard
@@ -371,14 +368,10 @@ FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
         const auto status = archive.read_status();
         std::vector<std::int64_t> queue;
         std::int64_t done = 0;
-        // A rate ladder stays in the shard of its first replica.
-        const auto root = [&](std::int64_t r) {
-            while (!spec.predecessor.empty() && spec.predecessor[static_cast<std::size_t>(r)] >= 0)
-                r = spec.predecessor[static_cast<std::size_t>(r)];
-            return r;
-        };
+        // A rate ladder is one chain: whole in one shard.
+        const Chains chains = chains_of(spec.predecessor, spec.replicas.size());
         for (std::size_t r = 0; r < status.size(); ++r) {
-            if (!options.shard.contains(root(static_cast<std::int64_t>(r)))) continue;
+            if (!options.shard.contains(chains.chain_of[r])) continue;
             if (status[r] == ReplicaStatus::Pending || status[r] == ReplicaStatus::Running ||
                 (options.retry_failed && status[r] == ReplicaStatus::Failed))
                 queue.push_back(static_cast<std::int64_t>(r));
@@ -386,10 +379,6 @@ FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
                 ++done;
         }
         summary.skipped = done;
-        // Longest estimated cost first; ties in id order (deterministic).
-        std::stable_sort(queue.begin(), queue.end(), [&](auto a, auto b) {
-            return estimated_cost(spec.replicas[a]) > estimated_cost(spec.replicas[b]);
-        });
         Dispatcher d(comm, spec, queue, done, status,
                      [&](std::int64_t id, const std::string& reason) {
                          archive.write_failed(id, reason, 0.0, rank);

@@ -17,11 +17,14 @@ struct ProgressOptions {
     double interval_seconds = 10; ///< between plain lines (terminal: between redraws, 0.5 s)
 };
 
-/// A slice of a campaign: replicas with id % count == index (Slurm array tasks, say).
+/// A slice of a campaign (Slurm array tasks, say): the chains with chain % count == index,
+/// chains numbered as chains_of numbers them (campaign/scheduler.hpp: by their first
+/// replica's id). A rate ladder is one chain and so never spans shards; without ladders
+/// every replica is a chain of its own and a shard holds the replicas with id % count == index.
 struct Shard {
     int index = 0;
     int count = 1;
-    bool contains(std::int64_t replica) const { return replica % count == index; }
+    bool contains(std::int64_t chain) const { return chain % count == index; }
 };
 
 /// How the farm runs a campaign.
@@ -49,8 +52,10 @@ struct FarmSummary {
 
 /// Run every replica of `spec` (in `options.shard`) whose status in `archive` is pending or
 /// running (and, with retry_failed, failed), over all ranks of `comm`. Rank 0 hands out
-/// replicas longest-estimated-cost first, one at a time, and computes too: it answers
-/// requests between the samples of its own replica, so no rank idles while work remains.
+/// replicas one at a time, longest remaining critical path first (campaign/scheduler.hpp:
+/// the replica's estimated cost plus its rate ladder's later replicas'), and computes too: it
+/// answers requests between the samples of its own replica, so no rank idles while work
+/// remains.
 /// Each rank writes its own replicas to the archive; a replica that throws is recorded as
 /// failed and the campaign goes on. A replica with a checkpoint continues from it; running
 /// replicas save their state at checkpoint steps (beside the archive, rows into it). When a

@@ -1,0 +1,119 @@
+#pragma once
+// Which replica runs next. Pure (no MPI, no files): the farm's Dispatcher (rank 0) drives a
+// Scheduler with the replicas' estimated costs, and simulate_schedule drives the very same
+// Scheduler with per-replica seconds to predict a campaign's wall time (the dry run, jamsim
+// plan). The order never changes a replica's bits: only when and where it runs.
+#include <cstdint>
+#include <set>
+#include <utility>
+#include <vector>
+
+namespace jamsim {
+
+/// The chains of a campaign: replicas linked by `predecessor` (a rate ladder: each replica
+/// starts from its predecessor's end state; −1: none). Every replica is in one chain; a
+/// replica without predecessor (and without successor) is a chain of its own.
+struct Chains {
+    std::vector<std::int64_t> chain_of;               ///< per replica: the index of its chain
+    std::vector<std::vector<std::int64_t>> members;   ///< per chain: its replicas, first to last
+};
+
+/// Chains numbered in the order of their first replica's id; without ladders (`predecessor`
+/// empty) chain k is replica k. Throws std::invalid_argument for a predecessor out of range
+/// or a cycle.
+Chains chains_of(const std::vector<std::int64_t>& predecessor, std::size_t replicas);
+
+/// How a replica ended, for the scheduler.
+enum class Ended { Done, Failed, Interrupted };
+
+/// The farm's order: among the replicas that can start now (no predecessor, or a predecessor
+/// done), the one with the longest remaining critical path (its cost plus the costs of
+/// everything queued after it in its chain), then the longest cost, then the lowest id. A
+/// campaign's makespan then approaches max(total work / cores, longest chain). Deterministic:
+/// the same calls give the same answers.
+class Scheduler {
+  public:
+    /// How a replica stood before this run.
+    enum class Before : std::int8_t { Open, Done, Failed };
+
+    /// `cost`: every replica's estimated cost (any unit > 0; only the order counts);
+    /// `predecessor`: as in chains_of; `queue`: the replicas this run runs; `before`: every
+    /// replica's standing (a queued replica's successors wait for it whatever it says). A
+    /// queued replica whose predecessor failed before (and is not queued) fails at once.
+    Scheduler(std::vector<double> cost, std::vector<std::int64_t> predecessor,
+              const std::vector<std::int64_t>& queue, const std::vector<Before>& before);
+
+    /// The ready replica of highest priority, now counted as running; −1 when none is ready.
+    std::int64_t take();
+    /// A running replica ended. Done: its successors may start. Failed: its queued
+    /// successors fail with it (see take_failed). Interrupted: it stays unfinished.
+    void finished(std::int64_t id, Ended how);
+    /// Replicas failed because their predecessor failed, each with that predecessor, since
+    /// the last call (in chain order).
+    std::vector<std::pair<std::int64_t, std::int64_t>> take_failed();
+
+    /// A queued replica waits for one that runs now.
+    bool may_become_ready() const { return blocked_ > 0 && running_ > 0; }
+    bool idle() const { return ready_.empty() && running_ == 0; }
+    std::int64_t running() const { return running_; }
+    std::int64_t queued() const { return static_cast<std::int64_t>(ready_.size()) + blocked_; }
+    /// A queued replica's remaining critical path (its cost plus its queued successors').
+    double critical_path(std::int64_t id) const { return path_[static_cast<std::size_t>(id)]; }
+
+  private:
+    struct Order {
+        const Scheduler* s;
+        bool operator()(std::int64_t a, std::int64_t b) const;
+    };
+    enum class State : std::int8_t { Outside, Blocked, Ready, Running, Done, Failed };
+    void fail_successors(std::int64_t id);
+    State& state(std::int64_t id) { return state_[static_cast<std::size_t>(id)]; }
+
+    std::vector<double> cost_, path_;
+    std::vector<std::int64_t> predecessor_;
+    std::vector<std::vector<std::int64_t>> successors_;
+    std::vector<State> state_;
+    std::set<std::int64_t, Order> ready_{Order{this}};
+    std::int64_t blocked_ = 0, running_ = 0;
+    std::vector<std::pair<std::int64_t, std::int64_t>> failed_;
+};
+
+/// How many times faster a replica runs on T threads than on one: Amdahl's law,
+/// 1 / (f + (1 − f) / T), with the serial fraction f of its kernel by N. The default
+/// fractions come from the RD0 kernel measured on a 16-core Xeon (README "Threads inside a
+/// replica": 3.73× at N = 16384 and 4.54× at 65536 on 16 threads, 3.84× at 262144 on 8,
+/// which are f = 0.22, 0.17 and 0.15), interpolated in log N and held beyond the ends; below
+/// 4096 disks the kernel's loops run on one thread (f = 1). `serial_fraction` >= 0 replaces
+/// the table with one fraction for every N.
+struct SpeedupModel {
+    double serial_fraction = -1;
+    double fraction(std::int64_t n) const;
+    double speedup(std::int64_t n, int threads) const;
+};
+
+/// One replica for simulate_schedule.
+struct SimulatedReplica {
+    double cost = 0;     ///< what the farm orders by (its estimated cost)
+    double seconds = 0;  ///< its run time on one thread
+    double speedup = 1;  ///< how many times faster it runs on the run's threads
+};
+
+/// A simulated run of a campaign on `workers` ranks of `threads` threads each.
+struct SimulatedRun {
+    double makespan = 0;       ///< seconds until the last replica ends
+    double work = 0;           ///< total one-thread seconds (core-seconds at full efficiency)
+    double critical_path = 0;  ///< the longest chain's seconds at the run's threads
+    std::int64_t longest_chain = -1;  ///< its index (chains_of)
+    double bound = 0;          ///< max(work / cores, critical_path): no schedule beats it
+    double idle_core_seconds = 0;  ///< cores × makespan − Σ replica seconds × threads
+    std::int64_t chains = 0;   ///< independent chains: at most this many replicas run at once
+};
+
+/// A discrete-event run of the Scheduler: every free worker (lowest index first) takes the
+/// scheduler's next replica and holds it for seconds / speedup; completions at one instant
+/// are all reported before the free workers take new work. Every replica is queued, none
+/// done before.
+SimulatedRun simulate_schedule(const std::vector<SimulatedReplica>& replicas,
+                               const std::vector<std::int64_t>& predecessor, int workers, int threads);
+
+} // namespace jamsim

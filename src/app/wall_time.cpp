@@ -1,0 +1,167 @@
+// A campaign's wall time from the farm's scheduler simulated (wall_time.hpp).
+#include "wall_time.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "jamsim/run/model_registry.hpp"
+
+namespace jamsim::app {
+
+std::vector<SimulatedReplica> simulated_replicas(const CampaignSpec& spec, const std::vector<double>& seconds,
+                                                 int threads, const SpeedupModel& model) {
+    std::vector<SimulatedReplica> out(spec.replicas.size());
+    for (std::size_t r = 0; r < out.size(); ++r)
+        out[r] = {.cost = estimated_cost(spec.replicas[r]),
+                  .seconds = seconds[r],
+                  .speedup = model.speedup(spec.replicas[r].n, threads)};
+    return out;
+}
+
+SimulatedRun simulate_part(const CampaignSpec& spec, const std::vector<SimulatedReplica>& replicas,
+                           const std::vector<std::int64_t>& ids, int ranks, int threads) {
+    std::vector<std::int64_t> local(replicas.size(), -1);  // id -> its index in the part
+    for (std::size_t k = 0; k < ids.size(); ++k) local[static_cast<std::size_t>(ids[k])] = static_cast<std::int64_t>(k);
+    std::vector<SimulatedReplica> part;
+    std::vector<std::int64_t> predecessor;
+    for (const std::int64_t id : ids) {
+        part.push_back(replicas[static_cast<std::size_t>(id)]);
+        const std::int64_t before = spec.predecessor.empty() ? -1 : spec.predecessor[static_cast<std::size_t>(id)];
+        predecessor.push_back(before < 0 ? -1 : local[static_cast<std::size_t>(before)]);
+    }
+    return simulate_schedule(part, predecessor, ranks, threads);
+}
+
+std::string describe_chain(const CampaignSpec& spec, const Chains& chains, std::int64_t chain) {
+    const auto& members = chains.members[static_cast<std::size_t>(chain)];
+    const ReplicaParams& first = spec.replicas[static_cast<std::size_t>(members.front())];
+    if (members.size() == 1)
+        return "replica " + std::to_string(members.front()) + " (" + describe(first) + ")";
+    std::string ids;
+    for (std::size_t k = 0; k < members.size(); ++k) {
+        if (k == 3 && members.size() > 4) {
+            ids += ", ...";
+            break;
+        }
+        ids += (k ? ", " : "") + std::to_string(members[k]);
+    }
+    char buf[256];
+    std::snprintf(buf, sizeof buf, " (a rate ladder: N = %lld, phi = %g, seed = %llu; %zu rates, %g down to %g)",
+                  static_cast<long long>(first.n), first.phi, static_cast<unsigned long long>(first.seed),
+                  members.size(), first.rate, spec.replicas[static_cast<std::size_t>(members.back())].rate);
+    return "chain " + std::to_string(chain) + ": replicas " + ids + buf;
+}
+
+std::string duration(double seconds) {
+    char buf[32];
+    if (seconds < 120) std::snprintf(buf, sizeof buf, "%.1f s", seconds);
+    else if (seconds < 7200) std::snprintf(buf, sizeof buf, "%.1f min", seconds / 60);
+    else std::snprintf(buf, sizeof buf, "%.2f h", seconds / 3600);
+    return buf;
+}
+
+std::string describe_speedup(const SpeedupModel& model) {
+    char buf[200];
+    if (model.serial_fraction >= 0)
+        std::snprintf(buf, sizeof buf, "Amdahl's law with serial fraction %g (--serial-fraction)", model.serial_fraction);
+    else
+        std::snprintf(buf, sizeof buf, "Amdahl's law with the RD0 kernel's serial fraction by N (0.22 at N <= 16384, "
+                                       "0.17 at 65536, 0.15 from 262144, 1 below 4096; --serial-fraction sets one)");
+    return buf;
+}
+
+namespace {
+
+/// The shards' table and the busiest task's requeues under plan.time_limit.
+void print_shards(const CampaignSpec& spec, const Chains& chains, const std::vector<SimulatedReplica>& replicas,
+                  const WallTimePlan& plan) {
+    const char* lead_env = std::getenv("JAMSIM_SIGNAL_LEAD");
+    const double lead = lead_env ? std::atof(lead_env) : 300.0;
+    const double usable = plan.time_limit - lead - 60.0;  // Slurm may warn a minute early
+    if (plan.time_limit > 0 && usable <= 0) {
+        std::printf("time limit %.0f s: not above the warning lead %.0f s + 60 s; no task can work\n", plan.time_limit,
+                    lead);
+        return;
+    }
+    const auto requeues = [&](double seconds) {
+        return plan.time_limit > 0 ? static_cast<int>(std::max(0.0, std::ceil(seconds / usable) - 1.0)) : 0;
+    };
+    std::printf("shards: %d Slurm tasks of %d ranks x %d threads, rate ladders kept whole (chain %% %d):\n",
+                plan.shards, plan.ranks, plan.threads, plan.shards);
+    std::printf("%6s %7s %9s %14s %14s %14s %9s\n", "shard", "chains", "replicas", "work (core-h)", "critical path",
+                "makespan", "requeues");
+    double worst = 0;
+    for (int k = 0; k < plan.shards; ++k) {
+        std::vector<std::int64_t> ids;
+        std::int64_t count = 0;
+        for (std::size_t c = k; c < chains.members.size(); c += static_cast<std::size_t>(plan.shards)) {
+            ids.insert(ids.end(), chains.members[c].begin(), chains.members[c].end());
+            ++count;
+        }
+        std::sort(ids.begin(), ids.end());
+        const SimulatedRun run = simulate_part(spec, replicas, ids, plan.ranks, plan.threads);
+        worst = std::max(worst, run.makespan);
+        const std::string name = std::to_string(k) + "/" + std::to_string(plan.shards);  // as --shard K/S
+        std::printf("%6s %7lld %9zu %14.4g %14s %14s %9d\n", name.c_str(), static_cast<long long>(count), ids.size(),
+                    run.work / 3600, duration(run.critical_path).c_str(), duration(run.makespan).c_str(),
+                    requeues(run.makespan));
+    }
+    std::printf("wall time with every task running at once: about %s (%.0f s)\n", duration(worst).c_str(), worst);
+    if (plan.time_limit > 0)
+        std::printf("%d shards on %d ranks each, time limit %s (warning %.0f s before): the busiest task needs "
+                    "about %s, %d requeues\n",
+                    plan.shards, plan.ranks, duration(plan.time_limit).c_str(), lead, duration(worst).c_str(),
+                    requeues(worst));
+}
+
+} // namespace
+
+void print_wall_time(const CampaignSpec& spec, const std::vector<double>& seconds, const WallTimePlan& plan) {
+    const Chains chains = chains_of(spec.predecessor, spec.replicas.size());
+    const auto replicas = simulated_replicas(spec, seconds, plan.threads, plan.speedup);
+    const SimulatedRun run = simulate_schedule(replicas, spec.predecessor, plan.ranks, plan.threads);
+    if (run.longest_chain < 0) return;  // no replicas
+    double chain_seconds = 0;  // the longest chain on one thread
+    for (const std::int64_t r : chains.members[static_cast<std::size_t>(run.longest_chain)])
+        chain_seconds += seconds[static_cast<std::size_t>(r)];
+    const int cores = plan.ranks * plan.threads;
+    std::printf("threads: %d per rank; a replica's speed-up on them: %s\n", plan.threads,
+                describe_speedup(plan.speedup).c_str());
+    std::printf("critical path: %s (%.0f s) on %d threads: %s, %s on one thread\n", duration(run.critical_path).c_str(),
+                run.critical_path, plan.threads, describe_chain(spec, chains, run.longest_chain).c_str(),
+                duration(chain_seconds).c_str());
+    std::printf("at once: at most %lld replicas run together (%lld %s), so at most %lld ranks x %d threads = %lld "
+                "cores\n",
+                static_cast<long long>(run.chains), static_cast<long long>(run.chains),
+                spec.predecessor.empty() ? "independent replicas" : "chains", static_cast<long long>(run.chains),
+                plan.threads, static_cast<long long>(run.chains) * plan.threads);
+    std::printf("wall time on %d ranks x %d threads: about %s (%.0f s; the farm's scheduler simulated on these "
+                "costs); no schedule beats %s = max(work / %d cores = %s, critical path = %s); cores idle: "
+                "%.3g core-hours, %.0f%%\n",
+                plan.ranks, plan.threads, duration(run.makespan).c_str(), run.makespan, duration(run.bound).c_str(),
+                cores, duration(run.work / cores).c_str(), duration(run.critical_path).c_str(),
+                run.idle_core_seconds / 3600, 100 * run.idle_core_seconds / std::max(1e-300, cores * run.makespan));
+    if (plan.shards > 1 || plan.time_limit > 0) print_shards(spec, chains, replicas, plan);
+}
+
+void add_serial_fraction_option(CLI::App& command, double& fraction) {
+    command
+        .add_option_function<std::string>(
+            "--serial-fraction",
+            [&fraction](const std::string& text) {
+                char* end = nullptr;
+                const double v = std::strtod(text.c_str(), &end);
+                if (text.empty() || *end != '\0' || !(v >= 0 && v <= 1))
+                    throw CLI::ValidationError("--serial-fraction = " + text +
+                                               " is not allowed: a number from 0 to 1 (the part of a replica's "
+                                               "time that does not speed up on threads)");
+                fraction = v;
+            },
+            "The wall-time estimate's speed-up on threads: Amdahl's law with this serial fraction for every N "
+            "(default: the RD0 kernel's, measured, by N)")
+        ->type_name("F");
+}
+
+} // namespace jamsim::app

@@ -1,0 +1,259 @@
+#include "jamsim/campaign/scheduler.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <queue>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+
+namespace jamsim {
+
+namespace {
+
+/// Each replica's successors (the replicas whose predecessor it is).
+std::vector<std::vector<std::int64_t>> successors_of(const std::vector<std::int64_t>& predecessor,
+                                                     std::size_t replicas) {
+    std::vector<std::vector<std::int64_t>> next(replicas);
+    if (predecessor.empty()) return next;
+    if (predecessor.size() != replicas)
+        throw std::invalid_argument("scheduler: " + std::to_string(predecessor.size()) + " predecessors for " +
+                                    std::to_string(replicas) + " replicas");
+    for (std::size_t r = 0; r < replicas; ++r) {
+        const std::int64_t before = predecessor[r];
+        if (before < -1 || before >= static_cast<std::int64_t>(replicas))
+            throw std::invalid_argument("scheduler: replica " + std::to_string(r) + " has predecessor " +
+                                        std::to_string(before) + ", not a replica");
+        if (before >= 0) next[static_cast<std::size_t>(before)].push_back(static_cast<std::int64_t>(r));
+    }
+    return next;
+}
+
+/// Replicas with every predecessor before its successors: chain by chain, in the order of
+/// their first replica's id. Throws for a cycle (replicas no first replica leads to).
+std::vector<std::int64_t> chain_order(const std::vector<std::int64_t>& predecessor,
+                                      const std::vector<std::vector<std::int64_t>>& next) {
+    std::vector<std::int64_t> order;
+    order.reserve(next.size());
+    for (std::size_t r = 0; r < next.size(); ++r) {
+        if (!predecessor.empty() && predecessor[r] >= 0) continue;
+        std::size_t k = order.size();
+        order.push_back(static_cast<std::int64_t>(r));
+        for (; k < order.size(); ++k)  // breadth first: a chain's replicas first to last
+            for (const std::int64_t s : next[static_cast<std::size_t>(order[k])]) order.push_back(s);
+    }
+    if (order.size() != next.size())
+        throw std::invalid_argument("scheduler: the predecessors of " + std::to_string(next.size() - order.size()) +
+                                    " replicas form a cycle");
+    return order;
+}
+
+/// Per replica: its own length plus the longest path of the included replicas after it.
+std::vector<double> remaining_paths(const std::vector<double>& length, const std::vector<std::int64_t>& order,
+                                    const std::vector<std::vector<std::int64_t>>& next,
+                                    const std::vector<char>& included) {
+    std::vector<double> path(length.size(), 0.0);
+    for (auto it = order.rbegin(); it != order.rend(); ++it) {
+        const auto r = static_cast<std::size_t>(*it);
+        double after = 0;
+        for (const std::int64_t s : next[r])
+            if (included[static_cast<std::size_t>(s)]) after = std::max(after, path[static_cast<std::size_t>(s)]);
+        path[r] = length[r] + after;
+    }
+    return path;
+}
+
+} // namespace
+
+Chains chains_of(const std::vector<std::int64_t>& predecessor, std::size_t replicas) {
+    const auto next = successors_of(predecessor, replicas);
+    const auto order = chain_order(predecessor, next);
+    Chains c;
+    c.chain_of.assign(replicas, -1);
+    for (const std::int64_t r : order) {
+        const std::int64_t before = predecessor.empty() ? -1 : predecessor[static_cast<std::size_t>(r)];
+        if (before < 0) {
+            c.chain_of[static_cast<std::size_t>(r)] = static_cast<std::int64_t>(c.members.size());
+            c.members.emplace_back();
+        } else {
+            c.chain_of[static_cast<std::size_t>(r)] = c.chain_of[static_cast<std::size_t>(before)];
+        }
+        c.members[static_cast<std::size_t>(c.chain_of[static_cast<std::size_t>(r)])].push_back(r);
+    }
+    return c;
+}
+
+bool Scheduler::Order::operator()(std::int64_t a, std::int64_t b) const {
+    const auto i = static_cast<std::size_t>(a), j = static_cast<std::size_t>(b);
+    return std::make_tuple(-s->path_[i], -s->cost_[i], a) < std::make_tuple(-s->path_[j], -s->cost_[j], b);
+}
+
+Scheduler::Scheduler(std::vector<double> cost, std::vector<std::int64_t> predecessor,
+                     const std::vector<std::int64_t>& queue, const std::vector<Before>& before)
+    : cost_(std::move(cost)), predecessor_(std::move(predecessor)) {
+    const std::size_t n = cost_.size();
+    if (before.size() != n)
+        throw std::invalid_argument("scheduler: " + std::to_string(before.size()) + " standings for " +
+                                    std::to_string(n) + " replicas");
+    successors_ = successors_of(predecessor_, n);
+    if (predecessor_.empty()) predecessor_.assign(n, -1);
+    state_.assign(n, State::Outside);
+    std::vector<char> queued(n, 0);
+    for (const std::int64_t id : queue) {
+        if (id < 0 || static_cast<std::size_t>(id) >= n || queued[static_cast<std::size_t>(id)])
+            throw std::invalid_argument("scheduler: queued replica " + std::to_string(id) +
+                                        " is not a replica, or queued twice");
+        queued[static_cast<std::size_t>(id)] = 1;
+        state(id) = State::Blocked;
+    }
+    blocked_ = static_cast<std::int64_t>(queue.size());
+    path_ = remaining_paths(cost_, chain_order(predecessor_, successors_), successors_, queued);
+    std::vector<std::int64_t> sorted = queue;
+    std::sort(sorted.begin(), sorted.end());
+    for (const std::int64_t id : sorted) {
+        const std::int64_t pred = predecessor_[static_cast<std::size_t>(id)];
+        if (state(id) != State::Blocked || (pred >= 0 && queued[static_cast<std::size_t>(pred)])) continue;
+        const Before was = pred < 0 ? Before::Done : before[static_cast<std::size_t>(pred)];
+        if (was == Before::Done) {
+            state(id) = State::Ready;
+            --blocked_;
+            ready_.insert(id);
+        } else if (was == Before::Failed) {
+            state(id) = State::Failed;
+            --blocked_;
+            failed_.emplace_back(id, pred);
+            fail_successors(id);
+        }  // a predecessor neither done nor queued: it waits (may_become_ready says no)
+    }
+}
+
+std::int64_t Scheduler::take() {
+    if (ready_.empty()) return -1;
+    const std::int64_t id = *ready_.begin();
+    ready_.erase(ready_.begin());
+    state(id) = State::Running;
+    ++running_;
+    return id;
+}
+
+void Scheduler::finished(std::int64_t id, Ended how) {
+    if (id < 0 || static_cast<std::size_t>(id) >= state_.size() || state(id) != State::Running)
+        throw std::logic_error("scheduler: replica " + std::to_string(id) + " finished but was not running");
+    --running_;
+    switch (how) {
+    case Ended::Done:
+        state(id) = State::Done;
+        for (const std::int64_t s : successors_[static_cast<std::size_t>(id)])
+            if (state(s) == State::Blocked) {
+                state(s) = State::Ready;
+                --blocked_;
+                ready_.insert(s);
+            }
+        break;
+    case Ended::Failed:
+        state(id) = State::Failed;
+        fail_successors(id);
+        break;
+    case Ended::Interrupted:
+        state(id) = State::Outside;  // saved, unfinished: its successors keep waiting
+        break;
+    }
+}
+
+void Scheduler::fail_successors(std::int64_t id) {
+    for (const std::int64_t s : successors_[static_cast<std::size_t>(id)])
+        if (state(s) == State::Blocked) {
+            state(s) = State::Failed;
+            --blocked_;
+            failed_.emplace_back(s, id);
+            fail_successors(s);
+        }
+}
+
+std::vector<std::pair<std::int64_t, std::int64_t>> Scheduler::take_failed() {
+    std::vector<std::pair<std::int64_t, std::int64_t>> out;
+    out.swap(failed_);
+    return out;
+}
+
+double SpeedupModel::fraction(std::int64_t n) const {
+    if (serial_fraction >= 0) return std::min(1.0, serial_fraction);
+    if (n < 4096) return 1.0;  // parallel_for's kThreadedLoopMin: every loop on one thread
+    constexpr std::array<std::pair<double, double>, 3> measured{{{16384, 0.22}, {65536, 0.17}, {262144, 0.15}}};
+    const auto x = static_cast<double>(n);
+    if (x <= measured.front().first) return measured.front().second;
+    for (std::size_t k = 1; k < measured.size(); ++k)
+        if (x <= measured[k].first) {
+            const auto& [x0, f0] = measured[k - 1];
+            const auto& [x1, f1] = measured[k];
+            return f0 + (f1 - f0) * std::log(x / x0) / std::log(x1 / x0);
+        }
+    return measured.back().second;
+}
+
+double SpeedupModel::speedup(std::int64_t n, int threads) const {
+    if (threads <= 1) return 1.0;
+    const double f = fraction(n);
+    return 1.0 / (f + (1.0 - f) / threads);
+}
+
+SimulatedRun simulate_schedule(const std::vector<SimulatedReplica>& replicas,
+                               const std::vector<std::int64_t>& predecessor, int workers, int threads) {
+    if (workers < 1 || threads < 1)
+        throw std::invalid_argument("simulate_schedule: " + std::to_string(workers) + " workers of " +
+                                    std::to_string(threads) + " threads; both must be >= 1");
+    const std::size_t n = replicas.size();
+    SimulatedRun run;
+    std::vector<double> cost(n), duration(n);
+    for (std::size_t r = 0; r < n; ++r) {
+        cost[r] = replicas[r].cost;
+        duration[r] = replicas[r].seconds / std::max(1e-300, replicas[r].speedup);
+        run.work += replicas[r].seconds;
+    }
+    // The critical path at these threads, and the chain it lies on.
+    const Chains chains = chains_of(predecessor, n);
+    run.chains = static_cast<std::int64_t>(chains.members.size());
+    const auto next = successors_of(predecessor, n);
+    const auto paths = remaining_paths(duration, chain_order(predecessor, next), next, std::vector<char>(n, 1));
+    for (std::size_t c = 0; c < chains.members.size(); ++c) {
+        const double path = paths[static_cast<std::size_t>(chains.members[c].front())];
+        if (path > run.critical_path) {
+            run.critical_path = path;
+            run.longest_chain = static_cast<std::int64_t>(c);
+        }
+    }
+    const double cores = static_cast<double>(workers) * threads;
+    run.bound = std::max(run.work / cores, run.critical_path);
+    // The discrete-event run: (end time, worker, replica), earliest first, then lowest worker.
+    std::vector<std::int64_t> queue(n);
+    for (std::size_t r = 0; r < n; ++r) queue[r] = static_cast<std::int64_t>(r);
+    Scheduler scheduler(cost, predecessor, queue, std::vector<Scheduler::Before>(n, Scheduler::Before::Open));
+    using Event = std::tuple<double, int, std::int64_t>;
+    std::priority_queue<Event, std::vector<Event>, std::greater<>> running;
+    std::vector<char> busy(static_cast<std::size_t>(workers), 0);
+    double now = 0, busy_core_seconds = 0;
+    for (;;) {
+        for (int w = 0; w < workers; ++w) {
+            if (busy[static_cast<std::size_t>(w)]) continue;
+            const std::int64_t id = scheduler.take();
+            if (id < 0) break;
+            busy[static_cast<std::size_t>(w)] = 1;
+            running.emplace(now + duration[static_cast<std::size_t>(id)], w, id);
+            busy_core_seconds += duration[static_cast<std::size_t>(id)] * threads;
+        }
+        if (running.empty()) break;
+        now = std::get<0>(running.top());
+        while (!running.empty() && std::get<0>(running.top()) == now) {
+            const auto [end, w, id] = running.top();
+            running.pop();
+            scheduler.finished(id, Ended::Done);
+            busy[static_cast<std::size_t>(w)] = 0;
+        }
+    }
+    run.makespan = now;
+    run.idle_core_seconds = std::max(0.0, cores * now - busy_core_seconds);
+    return run;
+}
+
+} // namespace jamsim
