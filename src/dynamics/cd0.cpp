@@ -1,6 +1,7 @@
 #include "jamsim/dynamics/cd0.hpp"
 
 #include "jamsim/dynamics/overdamped_stability.hpp"
+#include "jamsim/parallel/threads.hpp"
 
 namespace jamsim {
 
@@ -34,7 +35,7 @@ void Cd0::solve(const ForceField& forces, const Box& box, std::span<const double
         const std::uint8_t* const parent_touching = recorded->touching.data();
         const std::uint32_t* const parent_entry = list.parent_entry().data();
         std::uint8_t* const touching_out = in_contact_.data();
-        for (std::size_t k = 0; k < list.size(); ++k) touching_out[k] = parent_touching[parent_entry[k]];
+        parallel_for(list.size(), [=](std::size_t k) { touching_out[k] = parent_touching[parent_entry[k]]; });
         sum_ry = recorded->sum_ry.data();
     } else {
         sum_ry_.assign(n, 0.0);
@@ -49,10 +50,12 @@ void Cd0::solve(const ForceField& forces, const Box& box, std::span<const double
         });
         sum_ry = sum_ry_.data();
     }
-    for (std::size_t i = 0; i < n; ++i) {
-        bx_[i] = fx[i] * inv_kd - rate * sum_ry[i];
-        by_[i] = fy[i] * inv_kd;
-    }
+    double* const bx = bx_.data();
+    double* const by = by_.data();
+    parallel_for(n, [=](std::size_t i) {
+        bx[i] = fx[i] * inv_kd - rate * sum_ry[i];
+        by[i] = fy[i] * inv_kd;
+    });
     if (!solver_) solver_ = linalg::make_contact_solver(backend_, n, delta_, petsc_options_);
     last_ = solver_->solve(pairs_, in_contact_, pairs_version_, tag, bx_, by_, ux, uy);
 }
