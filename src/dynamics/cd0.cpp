@@ -1,6 +1,10 @@
 #include "jamsim/dynamics/cd0.hpp"
 
+#include <cmath>
+
 #include "jamsim/dynamics/overdamped_stability.hpp"
+#include "jamsim/dynamics/rd0.hpp"
+#include "jamsim/force/force_field.hpp"
 #include "jamsim/parallel/threads.hpp"
 
 namespace jamsim {
@@ -108,6 +112,21 @@ Dissipation Cd0::dissipation(const System& sys, const ForceField& /*forces*/,
     return d;
 }
 
+void relax_cd0_start(System& sys, const ReplicaParams& p) {
+    const double dt = std::min(p.dt, 0.5 * reservoir_drag_stable_dt(p));
+    const auto steps = static_cast<std::int64_t>(std::ceil(kCd0StartRelaxTime * p.kd / dt));
+    ForceField forces(potential::make_soft_sphere(p.alpha), p.skin);
+    ReplicaParams relax;
+    relax.integrator = "euler";
+    relax.kd = p.kd;
+    Rd0 model(relax);
+    for (std::int64_t step = 0; step < steps; ++step) {
+        forces.compute(sys, Tally::ForcesOnly);
+        model.prepare(sys, forces, 0.0);
+        model.advance(sys, forces, dt, 0.0, step);
+    }
+}
+
 namespace {
 constexpr std::string_view kCd0Parameters[] = {"dt", "integrator", "kd", "delta", "solver",
                                                "petsc_options"};
@@ -123,7 +142,8 @@ DynamicsInfo cd0_model() {
             .make = [](const ReplicaParams& p, const RandomKey&) -> std::unique_ptr<Model> { return std::make_unique<Cd0>(p); },
             .bytes_per_disk = 1536.0,  // the contact matrix and its factor: ~1.1 kB measured
             .stable_dt_basis = contact_drag_dt_basis,
-            .advisory = [](const ReplicaParams& p) { return overdamped_dt_advisory(p, contact_drag_stable_dt); }};
+            .advisory = [](const ReplicaParams& p) { return overdamped_dt_advisory(p, contact_drag_stable_dt); },
+            .relax_start = relax_cd0_start};
 }
 
 } // namespace jamsim

@@ -340,6 +340,15 @@ struct CholmodUpdatedFactor::Impl {
     static constexpr int kSubtreeShare = 64, kSubtreeMin = 256;
     std::vector<int> part;
     int parts = 0;
+    /// The columns of each subtree g, ascending, at [part_column_start[g],
+    /// part_column_start[g + 1]) of part_columns; the top's as group `parts`, last.
+    std::vector<int> part_column_start, part_columns;
+    /// tail[j]: where column j's entries in rows outside its subtree begin in L's arrays (its
+    /// rows ascend, and the subtree's are below its root: the top's come last); for a column
+    /// of the top, its first entry below the diagonal. top_and_tails: the columns with
+    /// entries in the top's rows (the top's and the subtrees' with a tail), ascending.
+    std::vector<int> tail, top_and_tails;
+    /// The elimination tree, its subtrees and the solve's plan of them, from L's pattern.
     void find_etree();
     std::vector<std::uint8_t> nests_next;  // column j + 1's rows are column j's after its first
     std::vector<int> slot_of;    // sweep: a row's place in the workspace

@@ -210,6 +210,33 @@ void CholmodUpdatedFactor::Impl::find_etree() {
         const int up = etree[uj];
         part[uj] = up >= 0 && part[static_cast<std::size_t>(up)] >= 0 ? part[static_cast<std::size_t>(up)] : parts++;
     }
+    // Each subtree's columns (and the top's, group `parts`), ascending; the subtrees' roots.
+    const auto group_of = [&](int j) {
+        const int g = part[static_cast<std::size_t>(j)];
+        return static_cast<std::size_t>(g < 0 ? parts : g);
+    };
+    const auto groups = static_cast<std::size_t>(parts) + 1;
+    part_column_start.assign(groups + 1, 0);
+    for (int j = 0; j < n; ++j) ++part_column_start[group_of(j) + 1];
+    for (std::size_t g = 1; g <= groups; ++g) part_column_start[g] += part_column_start[g - 1];
+    part_columns.resize(static_cast<std::size_t>(n));
+    std::vector<int> root(static_cast<std::size_t>(parts), -1), next(part_column_start.begin(), part_column_start.end() - 1);
+    for (int j = 0; j < n; ++j) {
+        const std::size_t g = group_of(j);
+        part_columns[static_cast<std::size_t>(next[g]++)] = j;
+        if (g < static_cast<std::size_t>(parts)) root[g] = j;  // the largest column of a subtree is its root
+    }
+    // Where each column's rows leave its subtree.
+    tail.resize(static_cast<std::size_t>(n));
+    top_and_tails.clear();
+    for (int j = 0; j < n; ++j) {
+        const int first = Lp[j] + 1, end = Lp[j] + Lnz[j];
+        const int g = part[static_cast<std::size_t>(j)];
+        const int at = g < 0 ? first
+                             : static_cast<int>(std::upper_bound(Li + first, Li + end, root[static_cast<std::size_t>(g)]) - Li);
+        tail[static_cast<std::size_t>(j)] = at;
+        if (at < end) top_and_tails.push_back(j);
+    }
 }
 
 } // namespace jamsim::linalg

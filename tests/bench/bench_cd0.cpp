@@ -91,7 +91,7 @@ std::string state_path(const ReplicaParams& p) {
            std::to_string(std::lround(p.phi * 100)) + ".h5";
 }
 
-/// The random start sheared by CD0 to strain 0.2 at the benchmark's rate: the same state for
+/// CD0's start (random positions relaxed by relax_cd0_start) sheared by CD0 to strain 0.2 at the benchmark's rate: the same state for
 /// every backend at a given (N, φ), made once (or read from JAMSIM_BENCH_CD0_STATES). Made
 /// with the cholmod backend, which PETSc options on the command line do not reach (the
 /// default gives the same bits).
@@ -106,7 +106,7 @@ System sheared_start(const ReplicaParams& p) {
             throw std::runtime_error("bench_cd0: " + cached + " is not a state of N = " + std::to_string(p.n));
         return made.emplace(key, std::move(sys)).first->second;
     }
-    System sys = initial_system(p);
+    System sys = start_system(p);  // a CD0 replica's start: random positions, relaxed
     ForceField ff(potential::make_soft_sphere(2.0), p.skin);
     ReplicaParams flow = p;
     flow.solver = "cholmod";
