@@ -1,6 +1,11 @@
 #include "jamsim/dynamics/cd0.hpp"
 
+#include <cmath>
+
 #include "jamsim/dynamics/overdamped_stability.hpp"
+#include "jamsim/dynamics/rd0.hpp"
+#include "jamsim/force/force_field.hpp"
+#include "jamsim/parallel/threads.hpp"
 
 namespace jamsim {
 
@@ -34,7 +39,7 @@ void Cd0::solve(const ForceField& forces, const Box& box, std::span<const double
         const std::uint8_t* const parent_touching = recorded->touching.data();
         const std::uint32_t* const parent_entry = list.parent_entry().data();
         std::uint8_t* const touching_out = in_contact_.data();
-        for (std::size_t k = 0; k < list.size(); ++k) touching_out[k] = parent_touching[parent_entry[k]];
+        parallel_for(list.size(), [=](std::size_t k) { touching_out[k] = parent_touching[parent_entry[k]]; });
         sum_ry = recorded->sum_ry.data();
     } else {
         sum_ry_.assign(n, 0.0);
@@ -49,10 +54,12 @@ void Cd0::solve(const ForceField& forces, const Box& box, std::span<const double
         });
         sum_ry = sum_ry_.data();
     }
-    for (std::size_t i = 0; i < n; ++i) {
-        bx_[i] = fx[i] * inv_kd - rate * sum_ry[i];
-        by_[i] = fy[i] * inv_kd;
-    }
+    double* const bx = bx_.data();
+    double* const by = by_.data();
+    parallel_for(n, [=](std::size_t i) {
+        bx[i] = fx[i] * inv_kd - rate * sum_ry[i];
+        by[i] = fy[i] * inv_kd;
+    });
     if (!solver_) solver_ = linalg::make_contact_solver(backend_, n, delta_, petsc_options_);
     last_ = solver_->solve(pairs_, in_contact_, pairs_version_, tag, bx_, by_, ux, uy);
 }
@@ -105,6 +112,21 @@ Dissipation Cd0::dissipation(const System& sys, const ForceField& /*forces*/,
     return d;
 }
 
+void relax_cd0_start(System& sys, const ReplicaParams& p) {
+    const double dt = std::min(p.dt, 0.5 * reservoir_drag_stable_dt(p));
+    const auto steps = static_cast<std::int64_t>(std::ceil(kCd0StartRelaxTime * p.kd / dt));
+    ForceField forces(potential::make_soft_sphere(p.alpha), p.skin);
+    ReplicaParams relax;
+    relax.integrator = "euler";
+    relax.kd = p.kd;
+    Rd0 model(relax);
+    for (std::int64_t step = 0; step < steps; ++step) {
+        forces.compute(sys, Tally::ForcesOnly);
+        model.prepare(sys, forces, 0.0);
+        model.advance(sys, forces, dt, 0.0, step);
+    }
+}
+
 namespace {
 constexpr std::string_view kCd0Parameters[] = {"dt", "integrator", "kd", "delta", "solver",
                                                "petsc_options"};
@@ -120,7 +142,8 @@ DynamicsInfo cd0_model() {
             .make = [](const ReplicaParams& p, const RandomKey&) -> std::unique_ptr<Model> { return std::make_unique<Cd0>(p); },
             .bytes_per_disk = 1536.0,  // the contact matrix and its factor: ~1.1 kB measured
             .stable_dt_basis = contact_drag_dt_basis,
-            .advisory = [](const ReplicaParams& p) { return overdamped_dt_advisory(p, contact_drag_stable_dt); }};
+            .advisory = [](const ReplicaParams& p) { return overdamped_dt_advisory(p, contact_drag_stable_dt); },
+            .relax_start = relax_cd0_start};
 }
 
 } // namespace jamsim

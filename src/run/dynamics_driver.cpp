@@ -29,6 +29,12 @@ System initial_system(const ReplicaParams& p) {
     return random_system(p.n, p.phi, SizeMix{p.size_ratio}, key.seed, key.identity);
 }
 
+System start_system(const ReplicaParams& p) {
+    System sys = initial_system(p);
+    if (const auto relax = model_of(p).relax_start) relax(sys, p);
+    return sys;
+}
+
 ReplicaResult run_replica(const ReplicaParams& p, const RunContext& context) {
     const auto errors = validate(p);
     if (!errors.empty())

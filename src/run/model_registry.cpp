@@ -54,7 +54,8 @@ ModelInfo dynamics(const DynamicsInfo& d) {
             .extendable = true,
             .bytes_per_disk = d.bytes_per_disk,
             .stable_dt_basis = d.stable_dt_basis,
-            .advisory = d.advisory};
+            .advisory = d.advisory,
+            .relax_start = d.relax_start};
 }
 
 /// One line per model or protocol: adding one is its own file plus a line here.

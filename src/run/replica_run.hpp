@@ -21,7 +21,7 @@ class ReplicaRun {
           result{.series = {},
                  .final_state = context.resume    ? context.resume->system
                                 : context.initial ? *context.initial
-                                                  : initial_system(p)},
+                                                  : start_system(p)},
           forces(potential::make_soft_sphere(p.alpha), p.skin) {
         if (const ReplicaState* r = context.resume) {
             result.series = r->series;

@@ -34,11 +34,18 @@
 #include "jamsim/dynamics/rd0.hpp"
 #include "jamsim/force/force_field.hpp"
 #include "jamsim/io/checkpoint_file.hpp"
+#include "jamsim/parallel/threads.hpp"
 #include "jamsim/run/replica.hpp"
 
 using namespace jamsim;
 
 namespace {
+
+double wall_seconds() {
+    timespec t{};
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
 
 double cpu_seconds() {
     timespec t{};
@@ -84,7 +91,7 @@ std::string state_path(const ReplicaParams& p) {
            std::to_string(std::lround(p.phi * 100)) + ".h5";
 }
 
-/// The random start sheared by CD0 to strain 0.2 at the benchmark's rate: the same state for
+/// CD0's start (random positions relaxed by relax_cd0_start) sheared by CD0 to strain 0.2 at the benchmark's rate: the same state for
 /// every backend at a given (N, φ), made once (or read from JAMSIM_BENCH_CD0_STATES). Made
 /// with the cholmod backend, which PETSc options on the command line do not reach (the
 /// default gives the same bits).
@@ -99,7 +106,7 @@ System sheared_start(const ReplicaParams& p) {
             throw std::runtime_error("bench_cd0: " + cached + " is not a state of N = " + std::to_string(p.n));
         return made.emplace(key, std::move(sys)).first->second;
     }
-    System sys = initial_system(p);
+    System sys = start_system(p);  // a CD0 replica's start: random positions, relaxed
     ForceField ff(potential::make_soft_sphere(2.0), p.skin);
     ReplicaParams flow = p;
     flow.solver = "cholmod";
@@ -143,6 +150,56 @@ void run_cd0(benchmark::State& state, const char* solver, const char* options) {
     state.counters["rank1_updates_per_step"] = updates / steps;
     state.counters["upkeep_us"] = upkeep / steps * 1e6;
     state.counters["factor_solve_us"] = factor_solve / steps * 1e6;
+}
+
+/// Wall-clock seconds per RD0 step from a copy of `start` on the current thread count.
+double rd0_step_wall_seconds(const System& start, const ReplicaParams& p) {
+    System sys = start;
+    ForceField ff(potential::make_soft_sphere(2.0), p.skin);
+    Rd0 model(p);
+    for (int s = 0; s < 20; ++s) step(model, sys, ff, p);
+    const int steps = std::max(50, static_cast<int>(2e7 / static_cast<double>(p.n) / 4.0));
+    const double t0 = wall_seconds();
+    for (int s = 0; s < steps; ++s) step(model, sys, ff, p);
+    return (wall_seconds() - t0) / steps;
+}
+
+/// CD0 (default backend) on T threads inside the replica, in CD0's own flow at φ = 0.84:
+/// wall-clock time per step (threads share the work, so CPU time would count it T times),
+/// particle-steps per second, and the same run's RD0 steps on the same thread count before
+/// and after (cd0_over_rd0). `factor_us` is the wall-clock time per step in the updated
+/// CHOLMOD factor (its upkeep and its solves), `factor_fraction` its share of the step.
+void BM_Cd0Threads(benchmark::State& state) {
+    const int before = kernel_threads();
+    ReplicaParams p = bench_params(state);
+    p.phi = 0.84;
+    System sys = sheared_start(p);  // made on the caller's thread count (the same bits on any)
+    set_kernel_threads(static_cast<int>(state.range(1)));
+    ForceField ff(potential::make_soft_sphere(2.0), p.skin);
+    const double rd0_before = rd0_step_wall_seconds(sys, p);
+    Cd0 model(p);
+    step(model, sys, ff, p);  // the first factorisation is not a step's cost
+    double upkeep = 0, factor_solve = 0, updates = 0;
+    const double t0 = wall_seconds();
+    for (auto _ : state) {
+        step(model, sys, ff, p);
+        const auto info = model.last_solve();
+        upkeep += info.factor_upkeep_seconds;
+        factor_solve += info.factor_solve_seconds;
+        updates += info.factor_updates;
+    }
+    const auto steps = static_cast<double>(state.iterations());
+    const double cd0 = (wall_seconds() - t0) / steps;
+    const double rd0 = 0.5 * (rd0_before + rd0_step_wall_seconds(sys, p));
+    state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * p.n);
+    state.counters["cd0_us"] = cd0 * 1e6;
+    state.counters["rd0_us"] = rd0 * 1e6;
+    state.counters["cd0_over_rd0"] = cd0 / rd0;
+    state.counters["upkeep_us"] = upkeep / steps * 1e6;
+    state.counters["factor_solve_us"] = factor_solve / steps * 1e6;
+    state.counters["factor_fraction"] = (upkeep + factor_solve) / steps / cd0;
+    state.counters["rank1_updates_per_step"] = updates / steps;
+    set_kernel_threads(before);
 }
 
 void BM_Rd0Step(benchmark::State& state) {
@@ -190,6 +247,12 @@ int main(int argc, char** argv) {
                     ->Unit(benchmark::kMicrosecond);
             }
         }
+    // CD0 on threads (φ = 0.84; here: --benchmark_filter='BM_Cd0Threads.*threads:(1|2)$').
+    for (long n : {16384L, 65536L})
+        for (long t : {1L, 2L, 4L, 8L, 16L})
+            benchmark::RegisterBenchmark("BM_Cd0Threads", BM_Cd0Threads)
+                ->ArgNames({"N", "threads"})->Args({n, t})->Iterations(steps(n))
+                ->UseRealTime()->Unit(benchmark::kMicrosecond);
     benchmark::Initialize(&argc, argv);
     // Remaining arguments are PETSc options (-cd0_ksp_type, -cd0_pc_type, -cd0_ksp_rtol, ...).
     PetscInitialize(&argc, &argv, nullptr, nullptr);

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "../../src/linalg/cholmod_factor.hpp"
+#include "jamsim/parallel/threads.hpp"
 
 using jamsim::linalg::CholmodUpdatedFactor;
 using jamsim::linalg::ContactPair;
@@ -38,6 +39,38 @@ std::vector<ContactPair> neighbour_pairs(int n, double range, std::mt19937_64& r
             dy = std::min(dy, 1.0 - dy);
             if (dx * dx + dy * dy < range * range) pairs.push_back({i, j});
         }
+    return pairs;
+}
+
+/// neighbour_pairs for larger n: the same pairs (in another order), found through a grid of
+/// cells of side >= range.
+std::vector<ContactPair> binned_neighbour_pairs(int n, double range, std::mt19937_64& rng) {
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    const auto un = static_cast<std::size_t>(n);
+    std::vector<double> x(un), y(un);
+    for (std::size_t i = 0; i < un; ++i) {
+        x[i] = u(rng);
+        y[i] = u(rng);
+    }
+    const int cells = std::max(3, static_cast<int>(1.0 / range));
+    std::vector<std::vector<int>> cell(static_cast<std::size_t>(cells * cells));
+    const auto cell_of = [&](double v) { return std::min(cells - 1, static_cast<int>(v * cells)); };
+    for (int i = 0; i < n; ++i)
+        cell[static_cast<std::size_t>(cell_of(x[static_cast<std::size_t>(i)]) * cells + cell_of(y[static_cast<std::size_t>(i)]))].push_back(i);
+    std::vector<ContactPair> pairs;
+    for (int i = 0; i < n; ++i) {
+        const int cx = cell_of(x[static_cast<std::size_t>(i)]), cy = cell_of(y[static_cast<std::size_t>(i)]);
+        for (int ox = -1; ox <= 1; ++ox)
+            for (int oy = -1; oy <= 1; ++oy)
+                for (const int j : cell[static_cast<std::size_t>(((cx + ox + cells) % cells) * cells + (cy + oy + cells) % cells)]) {
+                    if (j <= i) continue;
+                    double dx = std::abs(x[static_cast<std::size_t>(i)] - x[static_cast<std::size_t>(j)]);
+                    double dy = std::abs(y[static_cast<std::size_t>(i)] - y[static_cast<std::size_t>(j)]);
+                    dx = std::min(dx, 1.0 - dx);
+                    dy = std::min(dy, 1.0 - dy);
+                    if (dx * dx + dy * dy < range * range) pairs.push_back({i, j});
+                }
+    }
     return pairs;
 }
 
@@ -225,5 +258,68 @@ TEST(CholmodFactor, WideVectorKernelsGiveTheBaselineBits) {
         // The wide kernels ran on whole blocks.
         EXPECT_GT(wide[k]->counts().block_updates, 10000);
         EXPECT_EQ(wide[k]->counts().refactored, 0);
+    }
+}
+
+// On several threads the sweep splits the entries of its large columns over the threads and
+// the solve takes the x and y halves side by side: the factor must give the one-thread bits
+// on 2, 3 and 4 threads (oversubscribed here), through fresh factors, many changes per step
+// and a relabelling that adds candidate pairs outside the pattern. 8192 points: enough
+// changes per pass for its subtrees to run side by side (counted), and n reaches the
+// threaded solve.
+TEST(CholmodFactor, UpdatesAndSolvesGiveTheSameBitsOnAnyThreadCount) {
+    const int n = 8192;
+    std::mt19937_64 pattern_rng(23);
+    const std::vector<ContactPair> pairs = binned_neighbour_pairs(n, 0.015, pattern_rng);
+    std::vector<ContactPair> second = binned_neighbour_pairs(n, 0.015, pattern_rng);  // another list
+    std::vector<std::int32_t> labels(static_cast<std::size_t>(n)), relabelled(labels.size());
+    for (int i = 0; i < n; ++i) {
+        labels[static_cast<std::size_t>(i)] = i;
+        relabelled[static_cast<std::size_t>(i)] = (i * 7919) % n;  // 7919 is prime to 2^13
+    }
+    struct Outcome {
+        std::vector<double> solutions;
+        long threaded_columns = 0, subtree_passes = 0;
+    };
+    const auto run = [&](int threads) {
+        const int before = jamsim::kernel_threads();
+        jamsim::set_kernel_threads(threads);
+        std::mt19937_64 rng(29);
+        CholmodUpdatedFactor factor(static_cast<std::size_t>(n), kDelta, CholmodUpdatedFactor::Ordering::metis);
+        std::vector<std::uint8_t> in_contact(pairs.size());
+        std::bernoulli_distribution half(0.5);
+        for (auto& c : in_contact) c = half(rng);
+        factor.adopt(pairs, labels);
+        factor.factorize(pairs, in_contact);
+        Outcome out;
+        std::normal_distribution<double> g;
+        std::vector<double> b(2 * static_cast<std::size_t>(n)), x(b.size());
+        const auto step = [&](std::span<const ContactPair> list, double p) {
+            std::bernoulli_distribution flip(p);
+            for (auto& c : in_contact)
+                if (flip(rng)) c = !c;
+            factor.follow(list, in_contact);
+            for (double& v : b) v = g(rng);
+            factor.solve(b.data(), x.data());
+            out.solutions.insert(out.solutions.end(), x.begin(), x.end());
+        };
+        for (int s = 0; s < 3; ++s) step(pairs, s % 2 == 0 ? 0.02 : 0.002);
+        in_contact.assign(second.size(), 0);
+        if (!factor.adopt(second, relabelled)) factor.factorize(second, in_contact);
+        for (int s = 0; s < 2; ++s) step(second, 0.01);
+        out.threaded_columns = factor.counts().threaded_columns;
+        out.subtree_passes = factor.counts().subtree_passes;
+        jamsim::set_kernel_threads(before);
+        return out;
+    };
+    const Outcome one = run(1);
+    EXPECT_EQ(one.threaded_columns, 0);
+    EXPECT_EQ(one.subtree_passes, 0);
+    for (const int t : {2, 3, 4}) {
+        SCOPED_TRACE("threads " + std::to_string(t));
+        const Outcome many = run(t);
+        EXPECT_GT(many.subtree_passes, 0);
+        ASSERT_EQ(one.solutions.size(), many.solutions.size());
+        EXPECT_EQ(std::memcmp(one.solutions.data(), many.solutions.data(), one.solutions.size() * sizeof(double)), 0);
     }
 }

@@ -68,6 +68,19 @@ class Cd0 final : public Model {
     std::vector<double> bx_, by_, fx1_, fy1_, ux1_, uy1_, sum_ry_;
 };
 
+/// CD0's start protocol (DynamicsInfo::relax_start): random positions at φ overlap so much
+/// that the first contact solves see several times the contacts of a sheared state and
+/// change most of them every step, and the updated factor's fill, with it the replica's
+/// memory, grows far beyond the steady state's (peak RSS 632 MB against 166 MB at N = 65536,
+/// about 10.5 GB against 0.37 GB at 262144; README, CD0). So the random start is first relaxed
+/// by kCd0StartRelaxTime of RD0 dynamics without shear (reservoir drag k_d, Euler, Δt =
+/// min(dt, half RD0's stable Δt), a fixed number of steps): the energy falls about 50-fold
+/// (N = 1024, φ = 0.84) and the contact solves start near a packing. Deterministic, and the
+/// same bits on any thread count (RD0's kernel).
+void relax_cd0_start(System& sys, const ReplicaParams& p);
+/// The time of that relaxation, in units of k_d/k_e (τ at k_d = 1).
+inline constexpr double kCd0StartRelaxTime = 20.0;
+
 /// Registration (src/run/model_registry.cpp).
 DynamicsInfo cd0_model();
 

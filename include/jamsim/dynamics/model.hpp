@@ -89,6 +89,10 @@ struct DynamicsInfo {
     std::string (*stable_dt_basis)(const ReplicaParams& p) = nullptr;
     /// A note for the run log where a limit is only advisory ("" when none); nullptr: none.
     std::string (*advisory)(const ReplicaParams& p) = nullptr;
+    /// The model's start protocol, applied to the random positions of a replica that starts
+    /// from them (not to an initial configuration, a resumed or an extended state); nullptr:
+    /// none. Deterministic and the same bits on any thread count (start_system).
+    void (*relax_start)(System& sys, const ReplicaParams& p) = nullptr;
 };
 
 inline double no_dt_limit(const ReplicaParams&) { return std::numeric_limits<double>::infinity(); }

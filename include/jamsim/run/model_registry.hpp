@@ -65,6 +65,8 @@ struct ModelInfo {
     std::string (*stable_dt_basis)(const ReplicaParams& p) = nullptr;
     /// An advisory note for the run log ("" when none; DynamicsInfo::advisory).
     std::string (*advisory)(const ReplicaParams& p) = nullptr;
+    /// The start protocol on random positions (DynamicsInfo::relax_start); nullptr: none.
+    void (*relax_start)(System& sys, const ReplicaParams& p) = nullptr;
 };
 
 /// Every registered model, in registration order.

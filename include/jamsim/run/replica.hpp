@@ -85,8 +85,12 @@ struct RunContext {
 };
 
 
-/// The initial configuration of a replica: random positions keyed by (seed, replica_identity).
+/// Random positions keyed by (seed, replica_identity).
 System initial_system(const ReplicaParams& params);
+
+/// The configuration a replica starts from when it has no initial one: initial_system,
+/// relaxed by its model's start protocol where it has one (CD0: relax_cd0_start).
+System start_system(const ReplicaParams& params);
 
 /// Run one replica from its initial configuration (or context.resume) through its
 /// registration's run function; throws std::invalid_argument for unusable parameters,

@@ -1,0 +1,362 @@
+#pragma once
+// The state of the updated CD0 factor (cholmod_factor.hpp), shared by its files: the factor
+// and its bookkeeping (cholmod_factor.cpp), the sweep that applies a step's contact changes
+// (cholmod_sweep.cpp) and the sweep's per-column kernels (SweepColumns, here). Internal to
+// src/linalg.
+#include <cholmod.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include "cholmod_factor.hpp"
+#include "cholmod_kernels.hpp"
+#include "jamsim/parallel/threads.hpp"
+
+namespace jamsim::linalg {
+
+namespace factor_kernels {
+
+/// Adds the wall-clock seconds of its scope to `total`, unless an enclosing one (which shares
+/// `running`) already counts them.
+class ScopeTimer {
+  public:
+    ScopeTimer(double& total, bool& running)
+        : total_(running ? nullptr : &total), running_(running), start_(std::chrono::steady_clock::now()) {
+        running_ = true;
+    }
+    ~ScopeTimer() {
+        if (!total_) return;
+        *total_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+        running_ = false;
+    }
+    ScopeTimer(const ScopeTimer&) = delete;
+    ScopeTimer& operator=(const ScopeTimer&) = delete;
+
+  private:
+    double* total_;
+    bool& running_;
+    std::chrono::steady_clock::time_point start_;
+};
+
+/// The entry updates of the sweep's columns: a column's changes (their coefficients in
+/// step_p, step_beta, step_w) on its entries.
+struct SweepColumns {
+    // The changes of one column (step_p, step_beta, step_w) applied to its entries l[0, len),
+    // whose rows are given as places in the workspace: for each change in order,
+    // w_r ← w_r − p l_r, then l_r ← l_r + β w_r. Runs of consecutive places go to the
+    // consecutive-row kernels (`consecutive_kernel`, `consecutive2_kernel`, chosen by vector
+    // width), the other entries kBlock at a time (independent chains the processor overlaps).
+    static constexpr int kBlock = 8;
+    static constexpr int kRank = 63;  // changes per sweep at most (bits of a 64-bit mask, less one)
+    const char* vector_kernels = "sse2";  // the vectors of the kernels below
+    ConsecutiveKernel consecutive_kernel = consecutive_sse2;
+    Consecutive2Kernel consecutive2_kernel = consecutive2_sse2;
+    double step_p[kRank], step_beta[kRank];
+    double* step_w[kRank];
+    // The second column of a pair (see `sweep`): its changes' coefficients.
+    double step_p2[kRank], step_beta2[kRank];
+    double* step_w2[kRank];
+    long block_updates = 0;  // entry updates (entries × changes) by the consecutive-row kernels
+    long threaded_columns = 0;  // columns split over threads
+    bool failed = false;          // a downdate met a pivot that was not positive
+    std::vector<int> slot_rows;   // a column's rows as places in the workspace
+
+    /// A column's `count` changes (step_p, step_beta, step_w) on its entries l[0, len), whose
+    /// workspace rows are `rows`.
+    void apply_column(double* l, const int* rows, int len, int count) {
+        by_rows(len, count, [&](int lo, int hi) {
+            long updates = 0;
+            by_runs(rows + lo, hi - lo, [&](int from, int to) {
+                const int k = consecutive_kernel(ColumnChanges{step_p, step_beta, step_w}, l + lo + from,
+                                                 rows[lo + from], to - from, count);
+                updates += static_cast<long>(k) * count;
+                return from + k;
+            }, [&](int from, int to) { apply_scattered(l + lo + from, rows + lo + from, to - from, count); });
+            return updates;
+        });
+    }
+
+    /// The two columns of a pair on the same rows (the second column's coefficients in
+    /// step_p2, step_beta2; the same changes): per entry and change, the first column's step
+    /// before the second's, as column after column.
+    void apply_pair(double* l1, double* l2, const int* rows, int len, int count) {
+        by_rows(len, count, [&](int lo, int hi) {
+            long updates = 0;
+            by_runs(rows + lo, hi - lo, [&](int from, int to) {
+                const int k = consecutive2_kernel(ColumnChanges{step_p, step_beta, step_w},
+                                                  ColumnChanges{step_p2, step_beta2, step_w}, l1 + lo + from,
+                                                  l2 + lo + from, rows[lo + from], to - from, count);
+                updates += 2L * k * count;
+                return from + k;
+            }, [&](int from, int to) {
+                apply_scattered2(l1 + lo + from, l2 + lo + from, rows + lo + from, to - from, count);
+            });
+            return updates;
+        });
+    }
+
+    /// A column's entries [0, len) in ranges `range(lo, hi)` (returning its block updates):
+    /// one range on one thread, or, when the column's work (entries × changes) is at least
+    /// kThreadedWork and the kernel has several threads, one range of whole blocks of rows per
+    /// thread. Entries are independent of each other within a column (each takes every
+    /// change in turn, and its workspace rows are its own), so the split does not change a bit.
+    /// The columns this reaches are the dense separators at the top of the tree, where every
+    /// change's path ends and most of the sweep's work is.
+    static constexpr long kThreadedWork = 24576;
+    template <class Range> void by_rows(int len, int count, Range&& range) {
+        if (static_cast<long>(len) * count < kThreadedWork || kernel_threads() < 2 || omp_in_parallel()) {
+            block_updates += range(0, len);
+            return;
+        }
+        long updates = 0;
+#pragma omp parallel reduction(+ : updates)
+        {
+            const int threads = omp_get_num_threads(), t = omp_get_thread_num();
+            const int chunk = ((len + threads - 1) / threads + 15) / 16 * 16;  // whole blocks
+            const int lo = std::min(len, t * chunk), hi = std::min(len, lo + chunk);
+            if (lo < hi) updates += range(lo, hi);
+        }
+        block_updates += updates;
+        ++threaded_columns;
+    }
+
+    /// A column's entries [0, len) split by their places in the workspace: runs of at least
+    /// kMinRun consecutive places go to the consecutive-row kernel (`whole(from, to)`, which
+    /// does whole blocks and returns where it stopped), everything else, the rest of a run
+    /// included, to the scattered kernel (`scattered(from, to)`). Two thirds of the scattered
+    /// columns' entry updates lie in such runs at N = 65536, φ = 0.80 (a lower separator's
+    /// rows in its own chain and in the separators above it). Each entry gets the same
+    /// operations in the same order whichever kernel takes it, so the same bits.
+    static constexpr int kMinRun = 8;
+    template <class Whole, class Scattered>
+    static void by_runs(const int* rows, int len, Whole&& whole, Scattered&& scattered) {
+        int rest = 0;  // entries from `rest` on are not done yet
+        if (len > 0 && rows[len - 1] - rows[0] == len - 1) {  // one run (places ascend): no scan
+            rest = len >= kMinRun ? whole(0, len) : 0;
+            if (len > rest) scattered(rest, len);
+            return;
+        }
+        for (int e = 0; e < len;) {
+            int f = e + 1;
+            while (f < len && rows[f] == rows[f - 1] + 1) ++f;
+            if (f - e >= kMinRun) {
+                if (e > rest) scattered(rest, e);
+                rest = whole(e, f);
+            }
+            e = f;
+        }
+        if (len > rest) scattered(rest, len);
+    }
+
+    /// One entry (in workspace row `row`) alone.
+    void apply_entry(double& entry, int row, int count) const {
+        double v = entry;
+        for (int s = 0; s < count; ++s) {
+            double& wr = step_w[s][row];
+            const double wk = wr - step_p[s] * v;
+            wr = wk;
+            v += step_beta[s] * wk;
+        }
+        entry = v;
+    }
+
+    void apply_scattered(double* l, const int* rows, int len, int count) const {
+        int k = 0;
+        for (; k + kBlock <= len; k += kBlock) {
+            double v[kBlock];
+            int r[kBlock];
+            for (int u = 0; u < kBlock; ++u) {
+                v[u] = l[k + u];
+                r[u] = rows[k + u];
+            }
+            for (int s = 0; s < count; ++s) {
+                double* wt = step_w[s];
+                const double p = step_p[s], beta = step_beta[s];
+                for (int u = 0; u < kBlock; ++u) {
+                    const double wk = wt[r[u]] - p * v[u];
+                    wt[r[u]] = wk;
+                    v[u] += beta * wk;
+                }
+            }
+            for (int u = 0; u < kBlock; ++u) l[k + u] = v[u];
+        }
+        for (; k < len; ++k) apply_entry(l[k], rows[k], count);
+    }
+
+    // Two columns of a pair over the same rows, each with its own coefficients (step_p,
+    // step_beta; step_p2, step_beta2) and the same changes (step_w): per workspace entry and
+    // change, the first column's step before the second's, as column after column.
+    void apply_entry2(double& e1, double& e2, int row, int count) const {
+        double v1 = e1, v2 = e2;
+        for (int s = 0; s < count; ++s) {
+            double& wr = step_w[s][row];
+            double wk = wr - step_p[s] * v1;
+            v1 += step_beta[s] * wk;
+            wk = wk - step_p2[s] * v2;
+            wr = wk;
+            v2 += step_beta2[s] * wk;
+        }
+        e1 = v1;
+        e2 = v2;
+    }
+
+    void apply_scattered2(double* l1, double* l2, const int* rows, int len, int count) const {
+        constexpr int kRows = 4;
+        int k = 0;
+        for (; k + kRows <= len; k += kRows) {
+            double v1[kRows], v2[kRows];
+            int r[kRows];
+            for (int u = 0; u < kRows; ++u) {
+                v1[u] = l1[k + u];
+                v2[u] = l2[k + u];
+                r[u] = rows[k + u];
+            }
+            for (int s = 0; s < count; ++s) {
+                double* wt = step_w[s];
+                const double p1 = step_p[s], beta1 = step_beta[s], p2 = step_p2[s], beta2 = step_beta2[s];
+                for (int u = 0; u < kRows; ++u) {
+                    double wk = wt[r[u]] - p1 * v1[u];
+                    v1[u] += beta1 * wk;
+                    wk = wk - p2 * v2[u];
+                    wt[r[u]] = wk;
+                    v2[u] += beta2 * wk;
+                }
+            }
+            for (int u = 0; u < kRows; ++u) {
+                l1[k + u] = v1[u];
+                l2[k + u] = v2[u];
+            }
+        }
+        for (; k < len; ++k) apply_entry2(l1[k], l2[k], rows[k], count);
+    }
+};
+
+} // namespace factor_kernels
+
+struct CholmodUpdatedFactor::Impl {
+    using ScopeTimer = factor_kernels::ScopeTimer;
+    int n = 0;
+    double delta = 0;
+    cholmod_common c{};
+    cholmod_sparse* A = nullptr;   // lower triangle (stype −1), pattern = candidate pairs
+    cholmod_factor* L = nullptr;
+    std::vector<int> diag_slot, pair_slot;  // positions in A->x
+    std::vector<int> pinv;                  // pinv[i] = row of L holding original row i
+    bool analysis_current = false;          // A and the analysis are of the current pairs
+    std::vector<std::int32_t> labels;       // labels of the rows at the last factorize/adopt
+    double fresh_fill = 0;                  // entries of L after the last fresh factor
+    std::vector<int> scratch;
+
+    double fill() const {
+        const auto* nz = static_cast<const int*>(L->nz);
+        double total = 0;
+        for (int j = 0; j < n; ++j) total += nz[j];
+        return total;
+    }
+    std::vector<std::uint8_t> factored;     // contact set the factor represents
+    std::vector<double> xy;                 // solve: the permuted right-hand sides, interleaved
+    // Workspace of `sweep`: one column per change over the rows of the union of the changes'
+    // elimination-tree paths, that union, and per column of L which changes pass through it.
+    std::vector<double> w;
+    std::vector<std::uint64_t> on_path;
+    static constexpr std::uint64_t kVisited = std::uint64_t{1} << 63;
+    std::vector<int> path_union;
+    std::vector<std::uint64_t> union_bits;  // sweep: the union as a bitmap of columns (zero between sweeps)
+    Counts counts;
+    bool timing = false;  // a ScopeTimer is counting
+    bool have_factor = false;
+    // The contacts of the last factorize(), adopt() or follow(): the first n_contacts entries
+    // (follow() writes all pairs' slots without a branch, so the storage is as long as them).
+    std::vector<ContactPair> contacts;
+    std::size_t n_contacts = 0;
+    std::vector<std::size_t> formed, broken, outside;
+    std::vector<std::pair<int, int>> sweep_rows;
+
+    void fail(const char* what) const {
+        throw std::runtime_error(std::string("CD0 CHOLMOD factor: ") + what + " failed (status " +
+                                 std::to_string(c.status) + ")");
+    }
+
+    /// Rows (of L) a < b of a pair's change e_a − e_b, and whether L's pattern already has
+    /// entry (b, a): then the change's path is the etree path from a (through b) and makes
+    /// no fill, so `sweep` can apply it in place.
+    bool fits(const ContactPair& pair, int& a, int& b) const {
+        a = pinv[static_cast<std::size_t>(pair.i)];
+        b = pinv[static_cast<std::size_t>(pair.j)];
+        if (a > b) std::swap(a, b);
+        const auto* Lp = static_cast<const int*>(L->p);
+        const auto* Li = static_cast<const int*>(L->i);
+        const auto* Lnz = static_cast<const int*>(L->nz);
+        const int* first = Li + Lp[a] + 1;
+        const int* last = Li + Lp[a] + Lnz[a];
+        return std::binary_search(first, last, b);  // CHOLMOD keeps columns sorted
+    }
+
+    /// LDLᵀ ← LDLᵀ + Σ_t σ_t w_t w_tᵀ, w_t = e_{a_t} − e_{b_t} (rows of L; the pattern must
+    /// already hold each (b_t, a_t), see `fits`), σ_t = +1 for t < n_up, −1 after: the rank-1
+    /// modifications in sequence (method C1 of Gill, Golub, Murray and Saunders, as CHOLMOD
+    /// uses) interleaved in one pass over the union of their elimination-tree paths, column by
+    /// column (a column's ancestors come later), up to kSweepRank at a time (bit 63 of a
+    /// column's mask marks the union). A column's runs of consecutive rows (all of a dense
+    /// separator's at the top of the tree, where every path ends, and most of the others')
+    /// run as contiguous vector loops (`by_runs`). Two columns of a supernode (the second's
+    /// rows are the first's after its first) take their changes together, row by row, so
+    /// that each workspace entry is loaded and stored once for both (the same bits as
+    /// column after column). Sets sweep_failed when a downdate meets a pivot that is not
+    /// positive (the caller refactors).
+    static constexpr int kSweepRank = factor_kernels::SweepColumns::kRank;
+    void sweep(std::span<const std::pair<int, int>> rows, std::size_t n_up);
+    /// The columns at workspace places `order` (ascending) of one pass of the sweep, on the
+    /// coefficients of `cols`; `shared_parents`: a column's parent may be processed by another
+    /// thread at the same time (its changes are passed on atomically).
+    void sweep_places(factor_kernels::SweepColumns& cols, std::span<const int> order, std::size_t slots,
+                      double* alpha, bool shared_parents);
+
+    /// Column j's pivot (at workspace place `slot`) through its changes in turn, the changes
+    /// passed on to its parent, and the coefficients of the changes (those whose w is not
+    /// exactly zero here) for its entries: into step_p, step_beta, step_w (Second = 0) or
+    /// step_p2, step_beta2, step_w2 (1, the second column of a pair) of `cols`. Returns how many.
+    template <int Second>
+    int column_pivots(factor_kernels::SweepColumns& cols, int j, std::size_t slot, std::size_t slots, double* alpha,
+                      bool shared_parents);
+
+    /// The elimination tree of L's pattern: a column's parent is its first row below the
+    /// diagonal (−1 at a root). Cleared whenever the pattern may change.
+    std::vector<int> etree;
+    /// The tree's subtrees that the sweep processes side by side on several threads: the
+    /// largest ones of at most max(n / kSubtreeShare, kSubtreeMin) columns. part[j] is the
+    /// subtree of column j (0 … parts − 1), or −1 for the columns above them (the top of the
+    /// tree, processed after them). A change's path runs up through its own subtree alone
+    /// before it reaches the top, so subtrees share no column, entry or change: processing
+    /// them apart applies every entry's operations in the same order as column after column.
+    /// Fixed by the tree alone, not by the thread count.
+    static constexpr int kSubtreeShare = 64, kSubtreeMin = 256;
+    std::vector<int> part;
+    int parts = 0;
+    /// The columns of each subtree g, ascending, at [part_column_start[g],
+    /// part_column_start[g + 1]) of part_columns; the top's as group `parts`, last.
+    std::vector<int> part_column_start, part_columns;
+    /// tail[j]: where column j's entries in rows outside its subtree begin in L's arrays (its
+    /// rows ascend, and the subtree's are below its root: the top's come last); for a column
+    /// of the top, its first entry below the diagonal. top_and_tails: the columns with
+    /// entries in the top's rows (the top's and the subtrees' with a tail), ascending.
+    std::vector<int> tail, top_and_tails;
+    /// The elimination tree, its subtrees and the solve's plan of them, from L's pattern.
+    void find_etree();
+    std::vector<std::uint8_t> nests_next;  // column j + 1's rows are column j's after its first
+    std::vector<int> slot_of;    // sweep: a row's place in the workspace
+    std::vector<int> order, part_start;  // sweep: places grouped by subtree, then the top's
+    std::vector<factor_kernels::SweepColumns> workers;  // the sweep's kernels, one per thread (≥ 1)
+
+    /// LDLᵀ ← LDLᵀ ± W Wᵀ, W's columns P (e_i − e_j) for the listed pairs (all at once).
+    void modify(bool update, std::span<const ContactPair> pairs, const std::vector<std::size_t>& which);
+};
+
+} // namespace jamsim::linalg
