@@ -186,15 +186,23 @@ TEST(Threads, NeighbourListIsTheSameOnAnyThreadCount) {
     }
 }
 
-TEST(Threads, Rd0ReplicaIsTheSameOnAnyThreadCount) {
+/// A sheared replica of `model` at φ = 0.84, γ̇ = 1e-3 (the tests below).
+ReplicaParams sheared(const std::string& model, std::int64_t n, double strain, double sample_interval,
+                      const std::string& integrator) {
     ReplicaParams p;
-    p.model = "RD0";
-    p.n = 4096;
+    p.model = model;
+    p.n = n;
     p.phi = 0.84;
     p.rate = 1e-3;
-    p.strain = 0.05;
-    p.sample_interval = 0.01;
-    p.integrator = "heun";
+    p.strain = strain;
+    p.sample_interval = sample_interval;
+    p.integrator = integrator;
+    return p;
+}
+
+TEST(Threads, Rd0ReplicaIsTheSameOnAnyThreadCount) {
+    // 10000 disks: three blocks of the force loop and of the sums over disks.
+    const ReplicaParams p = sheared("RD0", 10000, 0.02, 0.005, "heun");
     const ReplicaResult one = [&] {
         const ThreadCount count(1);
         return run_replica(p);
@@ -239,14 +247,7 @@ TEST(Threads, VelocityCorrelationIsTheSameOnAnyThreadCount) {
 /// steps: fresh factors, in-place updates of the factor and its solves all run) through the
 /// `solver` backend, on `threads` threads.
 ReplicaResult cd0_replica(const std::string& solver, const std::string& integrator, int threads) {
-    ReplicaParams p;
-    p.model = "CD0";
-    p.n = 8192;
-    p.phi = 0.84;
-    p.rate = 1e-3;
-    p.strain = 0.008;
-    p.sample_interval = 0.002;
-    p.integrator = integrator;
+    ReplicaParams p = sheared("CD0", 8192, 0.008, 0.002, integrator);
     p.solver = solver;
     const ThreadCount count(threads);
     return run_replica(p);
