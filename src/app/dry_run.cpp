@@ -32,7 +32,29 @@ CostGroup cost_group(const ReplicaParams& p) { return {p.model, p.n, p.phi}; }
 /// Seconds per estimated cost unit on this machine, per group, and where they come from.
 struct Calibration {
     std::map<CostGroup, double> measured;  ///< groups measured (recorded or probed)
+    /// Probed groups: seconds of one sample per disk (the sampled observables, g_y: serial
+    /// work that threads do not shorten, and that the kernel's probe leaves out).
+    std::map<CostGroup, double> per_sample;
     int recorded = 0, probed = 0;          ///< groups from an earlier run's archive, from probes
+
+    /// Seconds of p's samples: its group's probe, else the mean per disk of its model's
+    /// probed groups, else 0 (nominal; and groups recorded from an archive, whose wall times
+    /// hold their samples).
+    double sample_seconds(const ReplicaParams& p) const {
+        double rate = 0;
+        if (const auto it = per_sample.find(cost_group(p)); it != per_sample.end()) {
+            rate = it->second;
+        } else if (!measured.count(cost_group(p))) {
+            int count = 0;
+            for (const auto& [group, r] : per_sample)
+                if (std::get<0>(group) == p.model) {
+                    rate += r;
+                    ++count;
+                }
+            rate = count > 0 ? rate / count : 0.0;
+        }
+        return rate * static_cast<double>(sample_count(p)) * static_cast<double>(p.n);
+    }
 
     /// A group measured, else the model's measured groups (the same N first), else nominal.
     double seconds_per_cost(const ReplicaParams& p) const {
@@ -111,10 +133,12 @@ Calibration calibrate(const CampaignSpec& spec, const std::string& archive) {
         // A dynamics probe runs the replica for `steps` and for 3 × `steps` and takes the
         // difference, so that the set-up (initial state, first list, first factorisation)
         // is not spread over a few hundred steps; a replica shorter than that runs whole.
-        auto shortened = [&](double steps) {
+        // A third run of `steps` with kSampleProbe samples gives the seconds of a sample.
+        constexpr double kSampleProbe = 10;
+        auto shortened = [&](double steps, double samples = 1) {
             ReplicaParams probe = p;
             (p.rate > 0 ? probe.strain : probe.time) = steps * p.dt * (p.rate > 0 ? p.rate : 1.0);
-            probe.sample_interval = probe.rate > 0 ? probe.strain : probe.time;
+            probe.sample_interval = (probe.rate > 0 ? probe.strain : probe.time) / samples;
             probe.transient = 0.0;  // the probe is shorter than the replica's transient may be
             probe.checkpoint_steps = 1'000'000'000;
             return probe;
@@ -122,7 +146,8 @@ Calibration calibrate(const CampaignSpec& spec, const std::string& archive) {
         std::vector<ReplicaParams> runs{p};
         if (dynamics) {
             const double steps = std::max(20.0, 1e7 / (static_cast<double>(p.n) * evaluations_per_step(p)));
-            if (3 * steps < static_cast<double>(schedule_of(p).steps)) runs = {shortened(steps), shortened(3 * steps)};
+            if (3 * steps < static_cast<double>(schedule_of(p).steps))
+                runs = {shortened(steps), shortened(3 * steps), shortened(steps, kSampleProbe)};
         } else if (estimated_cost(p) * out.seconds_per_cost(p) > std::min(10.0, kProbeBudgetSeconds - spent)) {
             continue;
         }
@@ -140,9 +165,12 @@ Calibration calibrate(const CampaignSpec& spec, const std::string& archive) {
                 measured.emplace_back(seconds, cost);
             }
             double seconds = measured.back().first, cost = measured.back().second;
-            if (measured.size() == 2 && measured[1].first > measured[0].first && measured[1].second > measured[0].second) {
+            if (measured.size() == 3 && measured[1].first > measured[0].first && measured[1].second > measured[0].second) {
                 seconds = measured[1].first - measured[0].first;
                 cost = measured[1].second - measured[0].second;
+                const double extra = static_cast<double>(sample_count(runs[2]) - sample_count(runs[0]));
+                if (extra > 0 && measured[2].first > measured[0].first)
+                    out.per_sample[key] = (measured[2].first - measured[0].first) / (extra * static_cast<double>(p.n));
             }
             if (cost > 0 && seconds > 0) {
                 auto& [sum_seconds, sum_costs] = probed[key];
@@ -185,8 +213,11 @@ std::string describe_source(const DryRunPlan& plan, const Calibration& rates) {
 
 ReplicaSeconds replica_seconds(const CampaignSpec& spec, const std::string& archive, const DryRunPlan& plan) {
     const Calibration rates = plan.calibrate ? calibrate_on_one_thread(spec, archive) : Calibration{};
-    ReplicaSeconds out{.seconds = {}, .source = describe_source(plan, rates)};
-    for (const ReplicaParams& p : spec.replicas) out.seconds.push_back(estimated_cost(p) * rates.seconds_per_cost(p));
+    ReplicaSeconds out{.seconds = {}, .serial = {}, .source = describe_source(plan, rates)};
+    for (const ReplicaParams& p : spec.replicas) {
+        out.serial.push_back(rates.sample_seconds(p));
+        out.seconds.push_back(estimated_cost(p) * rates.seconds_per_cost(p) + out.serial.back());
+    }
     return out;
 }
 
@@ -194,18 +225,18 @@ void print_dry_run(const CampaignSpec& spec, const std::string& output, const Dr
     std::printf("campaign %s: %zu replicas -> %s (dry run: nothing written)\n", spec.name.c_str(),
                 spec.replicas.size(), output.c_str());
     const ReplicaSeconds estimate = replica_seconds(spec, output, plan);
-    std::printf("%6s %7s %8s %10s %6s %9s %14s %10s\n", "id", "N", "phi", "rate", "seed",
-                "samples", "cost(p-evals)", "est. s");
+    std::printf("%6s %7s %8s %10s %6s %9s %14s %10s %9s\n", "id", "N", "phi", "rate", "seed",
+                "samples", "cost(p-evals)", "est. s", "sampling");
     double total = 0, largest = 0;
     for (std::size_t id = 0; id < spec.replicas.size(); ++id) {
         const ReplicaParams& p = spec.replicas[id];
         const double seconds = estimate.seconds[id];
         total += seconds;
         largest = std::max(largest, seconds);
-        std::printf("%6zu %7lld %8.4g %10.3g %6llu %9lld %14.4g %10.1f\n", id,
+        std::printf("%6zu %7lld %8.4g %10.3g %6llu %9lld %14.4g %10.1f %9.1f\n", id,
                     static_cast<long long>(p.n), p.phi, p.rate,
                     static_cast<unsigned long long>(p.seed),
-                    static_cast<long long>(sample_count(p)), estimated_cost(p), seconds);
+                    static_cast<long long>(sample_count(p)), estimated_cost(p), seconds, estimate.serial[id]);
     }
     std::printf("total: %.3g core-hours, %.3g core-seconds on one thread (%s; the longest replica: %s)\n",
                 total / 3600.0, total, estimate.source.c_str(), duration(largest).c_str());
@@ -225,7 +256,7 @@ void print_dry_run(const CampaignSpec& spec, const std::string& output, const Dr
         } catch (const std::exception&) {
             // an archive that cannot be read was refused before a dry run lists anything
         }
-    print_wall_time(spec, estimate.seconds,
+    print_wall_time(spec, estimate.seconds, estimate.serial,
                     WallTimePlan{.ranks = plan.ranks,
                                  .threads = kernel_threads(),
                                  .shards = plan.shards,

@@ -22,12 +22,14 @@ struct DryRunPlan {
 /// throughput comes from (in words).
 struct ReplicaSeconds {
     std::vector<double> seconds;
+    std::vector<double> serial;  ///< the part of `seconds` in samples (serial: threads leave it)
     std::string source;
 };
 
 /// The seconds of each replica of `spec`: its estimated cost at the throughput calibrated on
 /// this machine (the finished replicas of `archive`, else short probes on one thread), or
-/// nominal without plan.calibrate.
+/// nominal without plan.calibrate, plus its samples' seconds (probed: a run of the probe's
+/// steps with 10 samples against one with 1).
 ReplicaSeconds replica_seconds(const CampaignSpec& spec, const std::string& archive, const DryRunPlan& plan);
 
 /// The dry run's table and totals on stdout.

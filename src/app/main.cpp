@@ -8,6 +8,7 @@
 #include "campaign_commands.hpp"
 #include "export_command.hpp"
 #include "minimize_command.hpp"
+#include "plan_command.hpp"
 #include "reference_commands.hpp"
 #include "replica_command.hpp"
 #include "threads_option.hpp"
@@ -35,6 +36,7 @@ int main(int argc, char** argv) {
     jamsim::app::add_run_command(app, argc, argv);
     jamsim::app::add_status_command(app);
     jamsim::app::add_merge_command(app, argc, argv);
+    jamsim::app::add_plan_command(app, argc, argv);
     jamsim::app::add_export_command(app);
     jamsim::app::add_minimize_command(app);
     jamsim::app::add_parameters_command(app);

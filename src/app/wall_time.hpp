@@ -22,9 +22,11 @@ struct WallTimePlan {
 };
 
 /// The replicas as simulate_schedule takes them: the farm's estimated cost, `seconds` (one
-/// thread, per replica) and the model's speed-up of each on `threads`.
+/// thread, per replica) and the speed-up of each on `threads`: the model's for its kernel
+/// part, none for its `serial` part (its samples).
 std::vector<SimulatedReplica> simulated_replicas(const CampaignSpec& spec, const std::vector<double>& seconds,
-                                                 int threads, const SpeedupModel& model);
+                                                 const std::vector<double>& serial, int threads,
+                                                 const SpeedupModel& model);
 
 /// The farm run on `ranks` × `threads` of the replicas `ids` (whole chains) simulated.
 SimulatedRun simulate_part(const CampaignSpec& spec, const std::vector<SimulatedReplica>& replicas,
@@ -42,7 +44,8 @@ std::string describe_speedup(const SpeedupModel& model);
 /// On stdout: the critical path, the most cores usable at once, the makespan bound, the
 /// simulated makespan on plan.ranks × plan.threads, and per shard its work, makespan and the
 /// requeues it needs under plan.time_limit (with the warning JAMSIM_SIGNAL_LEAD s before).
-void print_wall_time(const CampaignSpec& spec, const std::vector<double>& seconds, const WallTimePlan& plan);
+void print_wall_time(const CampaignSpec& spec, const std::vector<double>& seconds, const std::vector<double>& serial,
+                     const WallTimePlan& plan);
 
 /// `--serial-fraction F` (0 <= F <= 1) on `command`, into `fraction`: the speed-up model's one
 /// serial fraction for every N instead of its table.

@@ -2,7 +2,8 @@
 """usage: check_dry_run_plan.py LISTING THREADS [USABLE_SECONDS]
 
 The wall time of `jamsim run --dry-run` on a rate-ladder campaign tells the truth: from
-the listing's own per-replica seconds (rows "id N phi rate seed samples cost est.s"), the
+the listing's own per-replica seconds (rows "id N phi rate seed samples cost est.s
+sampling"), the
 longest chain (the replicas of one N, phi and seed) is summed here, and the printed critical
 path must be at least that sum divided by THREADS (a replica on T threads is at most T
 times faster), and equal to the sum on one thread; the simulated wall time, and the wall
@@ -25,7 +26,7 @@ def main():
     threads = int(sys.argv[2])
     chains = defaultdict(float)
     rows = 0
-    for m in re.finditer(r"^ *(\d+) +(\d+) +(\S+) +(\S+) +(\d+) +\d+ +\S+ +(\S+)$", text, re.M):
+    for m in re.finditer(r"^ *(\d+) +(\d+) +(\S+) +(\S+) +(\d+) +\d+ +\S+ +(\S+) +\S+$", text, re.M):
         chains[(m[2], m[3], m[5])] += float(m[6])
         rows += 1
     replicas = int(re.search(r"^campaign \S+: (\d+) replicas", text, re.M)[1])

@@ -1,0 +1,177 @@
+// `jamsim plan`: a campaign's wall time on machines this one is not, by the farm's scheduler
+// simulated (plan_command.hpp).
+#include "plan_command.hpp"
+#include "dry_run.hpp"
+#include "wall_time.hpp"
+
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "jamsim/campaign/scheduler.hpp"
+#include "jamsim/io/campaign_spec.hpp"
+#include "jamsim/linalg/contact_solver.hpp"
+#include "jamsim/parallel/mpi.hpp"
+
+namespace jamsim::app {
+
+namespace {
+
+struct PlanOptions {
+    std::string spec_path;
+    std::string costs;   ///< a dry run's listing to take the seconds from ("": estimate them)
+    std::string output;  ///< the archive whose finished replicas calibrate ("": the campaign's)
+    std::vector<int> nodes{1, 4, 16, 64};
+    std::vector<int> threads{1};
+    int cores_per_node = 64;
+    DryRunPlan estimate;
+};
+
+/// A refused input: one message naming the file, the value and what is allowed.
+struct PlanError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+/// Each replica's seconds and sampling seconds from the listing of `jamsim run --dry-run` (the
+/// rows "id N phi rate seed samples cost est.s sampling"): every replica of `spec` once, with
+/// its N.
+ReplicaSeconds seconds_from_listing(const std::string& path, const CampaignSpec& spec) {
+    std::ifstream in(path);
+    if (!in) throw PlanError("jamsim plan: --costs " + path + ": cannot be read");
+    static const std::regex row(R"(^\s*(\d+)\s+(\d+)\s+\S+\s+\S+\s+\d+\s+\d+\s+\S+\s+([0-9.eE+-]+)\s+([0-9.eE+-]+)\s*$)");
+    std::vector<double> seconds(spec.replicas.size(), -1.0), serial(spec.replicas.size(), 0.0);
+    std::size_t found = 0;
+    std::string line;
+    for (int number = 1; std::getline(in, line); ++number) {
+        std::smatch m;
+        if (!std::regex_match(line, m, row)) continue;
+        const std::size_t id = std::stoull(m[1]);
+        const long long n = std::stoll(m[2]);
+        const std::string where = "jamsim plan: --costs " + path + ":" + std::to_string(number) + ": replica " + m[1].str();
+        if (id >= spec.replicas.size() || spec.replicas[id].n != n)
+            throw PlanError(where + " (N = " + m[2].str() + ") is not replica " + m[1].str() + " of " + spec.path +
+                            ": give the listing of `jamsim run --dry-run " + spec.path + "`");
+        if (seconds[id] >= 0) throw PlanError(where + " is listed twice");
+        seconds[id] = std::stod(m[3]);
+        serial[id] = std::stod(m[4]);
+        ++found;
+    }
+    if (found != spec.replicas.size())
+        throw PlanError("jamsim plan: --costs " + path + " lists " + std::to_string(found) + " of the " +
+                        std::to_string(spec.replicas.size()) + " replicas of " + spec.path +
+                        ": give the whole listing of `jamsim run --dry-run " + spec.path + "`");
+    return {.seconds = seconds, .serial = serial, .source = "one-thread seconds from " + path};
+}
+
+int plan(const PlanOptions& opt, int& argc, char**& argv) {
+    mpi::Session session(argc, argv);
+    const linalg::PetscScope petsc;  // a probe of CD0 solves with PETSc
+    if (mpi::rank(MPI_COMM_WORLD) != 0) return 0;
+    for (const int t : opt.threads)
+        if (opt.cores_per_node % t != 0)
+            throw PlanError("jamsim plan: --threads " + std::to_string(t) + " is not allowed with --cores-per-node " +
+                            std::to_string(opt.cores_per_node) + ": a divisor of the cores per node");
+    const CampaignSpec spec = load_campaign(opt.spec_path);
+    ReplicaSeconds estimate;
+    if (!opt.costs.empty()) {
+        estimate = seconds_from_listing(opt.costs, spec);
+    } else {
+        estimate = replica_seconds(spec, opt.output.empty() ? spec.output : opt.output, opt.estimate);
+    }
+    const Chains chains = chains_of(spec.predecessor, spec.replicas.size());
+    const SpeedupModel model{.serial_fraction = opt.estimate.serial_fraction};
+    double work = 0;
+    for (const double s : estimate.seconds) work += s;
+    const SimulatedRun serial = simulate_schedule(
+        simulated_replicas(spec, estimate.seconds, estimate.serial, 1, model), spec.predecessor, 1, 1);
+    std::printf("campaign %s: %zu replicas in %zu chains, %.4g core-hours on one thread (%s)\n", spec.name.c_str(),
+                spec.replicas.size(), chains.members.size(), work / 3600, estimate.source.c_str());
+    if (serial.longest_chain >= 0)
+        std::printf("longest chain on one thread: %s, %s\n", duration(serial.critical_path).c_str(),
+                    describe_chain(spec, chains, serial.longest_chain).c_str());
+    std::printf("speed-up on threads: %s\n", describe_speedup(model).c_str());
+    std::printf("the farm's scheduler (longest remaining chain first) simulated on nodes of %d cores, each rank "
+                "running one replica at a time on its threads; bound = max(work / cores, critical path); idle: "
+                "cores without a replica; efficiency: one-thread work / (cores x makespan):\n\n",
+                opt.cores_per_node);
+    std::printf("| nodes | ranks × threads | makespan | bound | critical path | cores idle (mean) | idle | "
+                "efficiency |\n");
+    std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+    for (const int k : opt.nodes)
+        for (const int t : opt.threads) {
+            const int ranks = k * opt.cores_per_node / t;
+            const SimulatedRun run =
+                simulate_schedule(simulated_replicas(spec, estimate.seconds, estimate.serial, t, model),
+                                  spec.predecessor, ranks, t);
+            const double cores = static_cast<double>(ranks) * t;
+            const double core_time = std::max(1e-300, cores * run.makespan);
+            std::printf("| %d | %d × %d | %s | %s | %s | %.1f of %.0f | %.0f%% | %.0f%% |\n", k, ranks, t,
+                        duration(run.makespan).c_str(), duration(run.bound).c_str(),
+                        duration(run.critical_path).c_str(), run.idle_core_seconds / std::max(1e-300, run.makespan),
+                        cores, 100 * run.idle_core_seconds / core_time, 100 * run.work / core_time);
+        }
+    return 0;
+}
+
+/// A comma-separated list of whole numbers >= 1 ("1,4,16"), or an exception naming it.
+std::vector<int> positive_list(const std::string& option, const std::string& text) {
+    std::vector<int> out;
+    std::stringstream in(text);
+    for (std::string item; std::getline(in, item, ',');) {
+        char* end = nullptr;
+        const long v = std::strtol(item.c_str(), &end, 10);
+        if (item.empty() || *end != '\0' || v < 1 || v > 1'000'000)
+            throw CLI::ValidationError("jamsim plan: " + option + " = " + text +
+                                       " is not allowed: whole numbers >= 1, separated by commas (e.g. 1,4,16)");
+        out.push_back(static_cast<int>(v));
+    }
+    if (out.empty())
+        throw CLI::ValidationError("jamsim plan: " + option + " = \"\" is not allowed: whole numbers >= 1");
+    return out;
+}
+
+} // namespace
+
+CLI::App* add_plan_command(CLI::App& app, int& argc, char**& argv) {
+    auto opt = std::make_shared<PlanOptions>();
+    auto* cmd = app.add_subcommand(
+        "plan", "A campaign's wall time on K nodes of C cores (the farm's scheduler simulated on the dry run's "
+                "per-replica costs): makespan, its bound, cores left idle");
+    cmd->add_option("campaign", opt->spec_path, "Campaign file (TOML)")->required();
+    cmd->add_option_function<std::string>(
+           "--nodes", [opt](const std::string& v) { opt->nodes = positive_list("--nodes", v); },
+           "Node counts, comma-separated")
+        ->default_str("1,4,16,64");
+    cmd->add_option("--cores-per-node", opt->cores_per_node, "Cores of each node")
+        ->check(CLI::Range(1, 1'000'000))
+        ->capture_default_str();
+    cmd->add_option_function<std::string>(
+           "--threads", [opt](const std::string& v) { opt->threads = positive_list("--threads", v); },
+           "Threads per rank (each a divisor of the cores per node), comma-separated")
+        ->default_str("1");
+    cmd->add_option("--costs", opt->costs,
+                    "The output of `jamsim run --dry-run CAMPAIGN` saved to a file: its per-replica seconds, "
+                    "instead of probing again");
+    cmd->add_option("-o,--output", opt->output, "The archive whose finished replicas calibrate the throughput");
+    cmd->add_flag("!--no-calibrate", opt->estimate.calibrate,
+                  "Nominal throughput instead of a short probe per model and N");
+    add_serial_fraction_option(*cmd, opt->estimate.serial_fraction);
+    cmd->callback([opt, &argc, &argv] {
+        int rc = 2;
+        try {
+            rc = plan(*opt, argc, argv);
+        } catch (const PlanError& e) {
+            std::fprintf(stderr, "%s\n", e.what());
+        } catch (const SpecError& e) {
+            std::fprintf(stderr, "jamsim plan: %s\n", e.what());
+        }
+        if (rc != 0) throw CLI::RuntimeError(rc);
+    });
+    return cmd;
+}
+
+} // namespace jamsim::app
