@@ -80,9 +80,9 @@ class Scheduler {
 
 /// How many times faster a replica runs on T threads than on one: Amdahl's law,
 /// 1 / (f + (1 − f) / T), with the serial fraction f of its kernel by N. The default
-/// fractions come from the RD0 kernel measured on a 16-core Xeon (README "Threads inside a
-/// replica": 3.73× at N = 16384 and 4.54× at 65536 on 16 threads, 3.84× at 262144 on 8,
-/// which are f = 0.22, 0.17 and 0.15), interpolated in log N and held beyond the ends; below
+/// fractions come from the RD0 kernel before its block decomposition, measured on a 16-core
+/// Xeon (3.73× at N = 16384 and 4.54× at 65536 on 16 threads, 3.84× at 262144 on 8, which
+/// are f = 0.22, 0.17 and 0.15; cautious for today's kernel, see README "Planning"), interpolated in log N and held beyond the ends; below
 /// 4096 disks the kernel's loops run on one thread (f = 1). `serial_fraction` >= 0 replaces
 /// the table with one fraction for every N.
 struct SpeedupModel {
