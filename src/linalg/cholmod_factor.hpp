@@ -27,9 +27,9 @@ namespace jamsim::linalg {
 ///    after `adopt`, goes through cholmod_updown, which allocates the fill;
 ///  - `solve` applies A⁻¹ to both right-hand sides (n × 2, column major) in one pass over L
 ///    for both.
-/// Deterministic (fixed ordering), and the same bits on any number of threads: on several,
-/// the sweep splits each large column's entries over the threads (each entry takes the same
-/// operations in the same order) and `solve` solves the x and y halves side by side.
+/// Deterministic (fixed ordering), and the same bits on any number of threads: the updates
+/// run on one thread, and on several `solve` takes the x and y halves side by side (each
+/// with the operations of the paired pass on its half).
 class CholmodUpdatedFactor {
   public:
     enum class Ordering { metis, amd };
@@ -75,11 +75,9 @@ class CholmodUpdatedFactor {
     /// its solves, for benchmarks.
     /// `block_updates`: entry updates (entries × changes) made by the consecutive-row kernels
     /// on whole blocks of rows, the part that `Vectors` selects.
-    /// `threaded_columns`: columns whose entries the sweep split over threads (kernel_threads()
-    /// > 1 and enough work in the column: the dense separators at the top of the tree);
-    /// `subtree_passes`: passes of the sweep whose subtrees ran side by side on threads.
+    /// `split_solves`: solves whose x and y halves ran side by side on two threads.
     struct Counts {
-        long swept = 0, filled = 0, refactored = 0, block_updates = 0, threaded_columns = 0, subtree_passes = 0;
+        long swept = 0, filled = 0, refactored = 0, block_updates = 0, split_solves = 0;
         double upkeep_seconds = 0, solve_seconds = 0;
     };
     Counts counts() const;

@@ -4,7 +4,6 @@
 // (cholmod_sweep.cpp) and the sweep's per-column kernels (SweepColumns, here). Internal to
 // src/linalg.
 #include <cholmod.h>
-#include <omp.h>
 
 #include <algorithm>
 #include <chrono>
@@ -64,67 +63,30 @@ struct SweepColumns {
     double step_p2[kRank], step_beta2[kRank];
     double* step_w2[kRank];
     long block_updates = 0;  // entry updates (entries × changes) by the consecutive-row kernels
-    long threaded_columns = 0;  // columns split over threads
-    bool failed = false;          // a downdate met a pivot that was not positive
-    std::vector<int> slot_rows;   // a column's rows as places in the workspace
+    bool failed = false;         // a downdate met a pivot that was not positive
+    std::vector<int> slot_rows;  // a column's rows as places in the workspace
 
     /// A column's `count` changes (step_p, step_beta, step_w) on its entries l[0, len), whose
     /// workspace rows are `rows`.
     void apply_column(double* l, const int* rows, int len, int count) {
-        by_rows(len, count, [&](int lo, int hi) {
-            long updates = 0;
-            by_runs(rows + lo, hi - lo, [&](int from, int to) {
-                const int k = consecutive_kernel(ColumnChanges{step_p, step_beta, step_w}, l + lo + from,
-                                                 rows[lo + from], to - from, count);
-                updates += static_cast<long>(k) * count;
-                return from + k;
-            }, [&](int from, int to) { apply_scattered(l + lo + from, rows + lo + from, to - from, count); });
-            return updates;
-        });
+        by_runs(rows, len, [&](int from, int to) {
+            const int k = consecutive_kernel(ColumnChanges{step_p, step_beta, step_w}, l + from, rows[from], to - from, count);
+            block_updates += static_cast<long>(k) * count;
+            return from + k;
+        }, [&](int from, int to) { apply_scattered(l + from, rows + from, to - from, count); });
     }
 
     /// The two columns of a pair on the same rows (the second column's coefficients in
     /// step_p2, step_beta2; the same changes): per entry and change, the first column's step
     /// before the second's, as column after column.
     void apply_pair(double* l1, double* l2, const int* rows, int len, int count) {
-        by_rows(len, count, [&](int lo, int hi) {
-            long updates = 0;
-            by_runs(rows + lo, hi - lo, [&](int from, int to) {
-                const int k = consecutive2_kernel(ColumnChanges{step_p, step_beta, step_w},
-                                                  ColumnChanges{step_p2, step_beta2, step_w}, l1 + lo + from,
-                                                  l2 + lo + from, rows[lo + from], to - from, count);
-                updates += 2L * k * count;
-                return from + k;
-            }, [&](int from, int to) {
-                apply_scattered2(l1 + lo + from, l2 + lo + from, rows + lo + from, to - from, count);
-            });
-            return updates;
-        });
-    }
-
-    /// A column's entries [0, len) in ranges `range(lo, hi)` (returning its block updates):
-    /// one range on one thread, or, when the column's work (entries × changes) is at least
-    /// kThreadedWork and the kernel has several threads, one range of whole blocks of rows per
-    /// thread. Entries are independent of each other within a column (each takes every
-    /// change in turn, and its workspace rows are its own), so the split does not change a bit.
-    /// The columns this reaches are the dense separators at the top of the tree, where every
-    /// change's path ends and most of the sweep's work is.
-    static constexpr long kThreadedWork = 24576;
-    template <class Range> void by_rows(int len, int count, Range&& range) {
-        if (static_cast<long>(len) * count < kThreadedWork || kernel_threads() < 2 || omp_in_parallel()) {
-            block_updates += range(0, len);
-            return;
-        }
-        long updates = 0;
-#pragma omp parallel reduction(+ : updates)
-        {
-            const int threads = omp_get_num_threads(), t = omp_get_thread_num();
-            const int chunk = ((len + threads - 1) / threads + 15) / 16 * 16;  // whole blocks
-            const int lo = std::min(len, t * chunk), hi = std::min(len, lo + chunk);
-            if (lo < hi) updates += range(lo, hi);
-        }
-        block_updates += updates;
-        ++threaded_columns;
+        by_runs(rows, len, [&](int from, int to) {
+            const int k = consecutive2_kernel(ColumnChanges{step_p, step_beta, step_w},
+                                              ColumnChanges{step_p2, step_beta2, step_w}, l1 + from, l2 + from,
+                                              rows[from], to - from, count);
+            block_updates += 2L * k * count;
+            return from + k;
+        }, [&](int from, int to) { apply_scattered2(l1 + from, l2 + from, rows + from, to - from, count); });
     }
 
     /// A column's entries [0, len) split by their places in the workspace: runs of at least
@@ -313,47 +275,21 @@ struct CholmodUpdatedFactor::Impl {
     /// positive (the caller refactors).
     static constexpr int kSweepRank = factor_kernels::SweepColumns::kRank;
     void sweep(std::span<const std::pair<int, int>> rows, std::size_t n_up);
-    /// The columns at workspace places `order` (ascending) of one pass of the sweep, on the
-    /// coefficients of `cols`; `shared_parents`: a column's parent may be processed by another
-    /// thread at the same time (its changes are passed on atomically).
-    void sweep_places(factor_kernels::SweepColumns& cols, std::span<const int> order, std::size_t slots,
-                      double* alpha, bool shared_parents);
 
     /// Column j's pivot (at workspace place `slot`) through its changes in turn, the changes
     /// passed on to its parent, and the coefficients of the changes (those whose w is not
     /// exactly zero here) for its entries: into step_p, step_beta, step_w (Second = 0) or
-    /// step_p2, step_beta2, step_w2 (1, the second column of a pair) of `cols`. Returns how many.
-    template <int Second>
-    int column_pivots(factor_kernels::SweepColumns& cols, int j, std::size_t slot, std::size_t slots, double* alpha,
-                      bool shared_parents);
+    /// step_p2, step_beta2, step_w2 (1, the second column of a pair) of `columns`. Returns how
+    /// many.
+    template <int Second> int column_pivots(int j, std::size_t slot, std::size_t slots, double* alpha);
 
     /// The elimination tree of L's pattern: a column's parent is its first row below the
     /// diagonal (−1 at a root). Cleared whenever the pattern may change.
     std::vector<int> etree;
-    /// The tree's subtrees that the sweep processes side by side on several threads: the
-    /// largest ones of at most max(n / kSubtreeShare, kSubtreeMin) columns. part[j] is the
-    /// subtree of column j (0 … parts − 1), or −1 for the columns above them (the top of the
-    /// tree, processed after them). A change's path runs up through its own subtree alone
-    /// before it reaches the top, so subtrees share no column, entry or change: processing
-    /// them apart applies every entry's operations in the same order as column after column.
-    /// Fixed by the tree alone, not by the thread count.
-    static constexpr int kSubtreeShare = 64, kSubtreeMin = 256;
-    std::vector<int> part;
-    int parts = 0;
-    /// The columns of each subtree g, ascending, at [part_column_start[g],
-    /// part_column_start[g + 1]) of part_columns; the top's as group `parts`, last.
-    std::vector<int> part_column_start, part_columns;
-    /// tail[j]: where column j's entries in rows outside its subtree begin in L's arrays (its
-    /// rows ascend, and the subtree's are below its root: the top's come last); for a column
-    /// of the top, its first entry below the diagonal. top_and_tails: the columns with
-    /// entries in the top's rows (the top's and the subtrees' with a tail), ascending.
-    std::vector<int> tail, top_and_tails;
-    /// The elimination tree, its subtrees and the solve's plan of them, from L's pattern.
     void find_etree();
     std::vector<std::uint8_t> nests_next;  // column j + 1's rows are column j's after its first
-    std::vector<int> slot_of;    // sweep: a row's place in the workspace
-    std::vector<int> order, part_start;  // sweep: places grouped by subtree, then the top's
-    std::vector<factor_kernels::SweepColumns> workers;  // the sweep's kernels, one per thread (≥ 1)
+    std::vector<int> slot_of;              // sweep: a row's place in the workspace
+    factor_kernels::SweepColumns columns;  // the sweep's entry updates and their coefficients
 
     /// LDLᵀ ← LDLᵀ ± W Wᵀ, W's columns P (e_i − e_j) for the listed pairs (all at once).
     void modify(bool update, std::span<const ContactPair> pairs, const std::vector<std::size_t>& which);

@@ -17,7 +17,7 @@
 //                   and cholmod backends): keeping it equal to the matrix, and its solves
 // JAMSIM_BENCH_CD0_STATES=<directory> keeps the sheared states there between runs (making
 // them is most of a run: about 2 minutes per φ at N = 65536, 40 at 262144, where shearing
-// from the random start also peaks at 10 GB of memory).
+// from the random start peaked at 10 GB of memory before CD0 relaxed its random start).
 // Solver options for the PETSc backend come from the command line through PETSc's options
 // database, e.g.  jamsim_bench_cd0 --benchmark_filter=Petsc -cd0_pc_type icc
 #include <benchmark/benchmark.h>
