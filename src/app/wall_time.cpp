@@ -67,15 +67,14 @@ std::string duration(double seconds) {
 }
 
 std::string describe_speedup(const SpeedupModel& model) {
-    char buf[200];
-    if (model.serial_fraction >= 0)
-        std::snprintf(buf, sizeof buf, "the kernel by Amdahl's law with serial fraction %g (--serial-fraction), the "
-                                       "samples not at all", model.serial_fraction);
-    else
-        std::snprintf(buf, sizeof buf, "the kernel by Amdahl's law with the RD0 kernel's serial fraction by N (0.22 at "
-                                       "N <= 16384, 0.17 at 65536, 0.15 from 262144, 1 below 4096; --serial-fraction "
-                                       "sets one), the samples not at all");
-    return buf;
+    const std::string blocks = " on at most as many threads as the force loop has blocks (N / 4096, at most 32), "
+                               "the samples not at all";
+    if (model.serial_fraction < 0)
+        return "the kernel by Amdahl's law with the RD0 kernel's serial fraction by N (0.21 at N <= 16384, 0.05 at "
+               "65536, 0.045 from 262144, 1 below 4096; --serial-fraction sets one)" + blocks;
+    char fraction[32];
+    std::snprintf(fraction, sizeof fraction, "%g", model.serial_fraction);
+    return "the kernel by Amdahl's law with serial fraction " + std::string(fraction) + " (--serial-fraction)" + blocks;
 }
 
 namespace {

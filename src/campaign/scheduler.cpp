@@ -1,5 +1,7 @@
 #include "jamsim/campaign/scheduler.hpp"
 
+#include "jamsim/neighbor/force_blocks.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -180,7 +182,7 @@ std::vector<std::pair<std::int64_t, std::int64_t>> Scheduler::take_failed() {
 double SpeedupModel::fraction(std::int64_t n) const {
     if (serial_fraction >= 0) return std::min(1.0, serial_fraction);
     if (n < 4096) return 1.0;  // parallel_for's kThreadedLoopMin: every loop on one thread
-    constexpr std::array<std::pair<double, double>, 3> measured{{{16384, 0.22}, {65536, 0.17}, {262144, 0.15}}};
+    constexpr std::array<std::pair<double, double>, 3> measured{{{16384, 0.21}, {65536, 0.05}, {262144, 0.045}}};
     const auto x = static_cast<double>(n);
     if (x <= measured.front().first) return measured.front().second;
     for (std::size_t k = 1; k < measured.size(); ++k)
@@ -193,9 +195,12 @@ double SpeedupModel::fraction(std::int64_t n) const {
 }
 
 double SpeedupModel::speedup(std::int64_t n, int threads) const {
-    if (threads <= 1) return 1.0;
+    if (threads <= 1 || n < 1) return 1.0;
+    const auto disks = static_cast<std::size_t>(n);
+    const std::size_t blocks = (disks + ForceBlocks::block_size(disks) - 1) / ForceBlocks::block_size(disks);
+    const double useful = static_cast<double>(std::min<std::size_t>(static_cast<std::size_t>(threads), blocks));
     const double f = fraction(n);
-    return 1.0 / (f + (1.0 - f) / threads);
+    return 1.0 / (f + (1.0 - f) / useful);
 }
 
 SimulatedRun simulate_schedule(const std::vector<SimulatedReplica>& replicas,

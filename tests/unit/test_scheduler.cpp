@@ -135,13 +135,18 @@ TEST(Scheduler, AmdahlSpeedupModel) {
     const SpeedupModel model;
     EXPECT_DOUBLE_EQ(model.fraction(1024), 1.0);  // loops under 4096 run on one thread
     EXPECT_DOUBLE_EQ(model.speedup(1024, 16), 1.0);
-    EXPECT_DOUBLE_EQ(model.fraction(16384), 0.22);
-    EXPECT_DOUBLE_EQ(model.fraction(65536), 0.17);
-    EXPECT_NEAR(model.fraction(32768), 0.195, 1e-12);  // halfway in log N
-    EXPECT_DOUBLE_EQ(model.fraction(1 << 20), 0.15);
-    EXPECT_NEAR(model.speedup(65536, 16), 1 / (0.17 + 0.83 / 16), 1e-12);
+    EXPECT_DOUBLE_EQ(model.fraction(16384), 0.21);
+    EXPECT_DOUBLE_EQ(model.fraction(65536), 0.05);
+    EXPECT_NEAR(model.fraction(32768), 0.13, 1e-12);  // halfway in log N
+    EXPECT_DOUBLE_EQ(model.fraction(1 << 20), 0.045);
+    EXPECT_NEAR(model.speedup(65536, 16), 1 / (0.05 + 0.95 / 16), 1e-12);  // 16 blocks: all 16 threads
     EXPECT_DOUBLE_EQ(model.speedup(65536, 1), 1.0);
-    EXPECT_DOUBLE_EQ((SpeedupModel{.serial_fraction = 0.5}).speedup(1024, 2), 1 / 0.75);
+    // The pair loop shares out whole blocks: 4 at N = 16384, so 16 threads do what 4 do.
+    EXPECT_NEAR(model.speedup(16384, 16), 1 / (0.21 + 0.79 / 4), 1e-12);
+    EXPECT_DOUBLE_EQ(model.speedup(16384, 16), model.speedup(16384, 4));
+    EXPECT_LT(model.speedup(16384, 2), model.speedup(16384, 4));
+    EXPECT_DOUBLE_EQ((SpeedupModel{.serial_fraction = 0.5}).speedup(65536, 2), 1 / 0.75);
+    EXPECT_DOUBLE_EQ((SpeedupModel{.serial_fraction = 0.5}).speedup(1024, 2), 1.0);  // one block
 }
 
 } // namespace

@@ -79,12 +79,14 @@ class Scheduler {
 };
 
 /// How many times faster a replica runs on T threads than on one: Amdahl's law,
-/// 1 / (f + (1 − f) / T), with the serial fraction f of its kernel by N. The default
-/// fractions come from the RD0 kernel before its block decomposition, measured on a 16-core
-/// Xeon (3.73× at N = 16384 and 4.54× at 65536 on 16 threads, 3.84× at 262144 on 8, which
-/// are f = 0.22, 0.17 and 0.15; cautious for today's kernel, see README "Planning"), interpolated in log N and held beyond the ends; below
-/// 4096 disks the kernel's loops run on one thread (f = 1). `serial_fraction` >= 0 replaces
-/// the table with one fraction for every N.
+/// 1 / (f + (1 − f) / T'), with T' = min(T, the force loop's blocks at N) (the pair loop
+/// shares out whole blocks: 4 at N = 16384, 16 at 65536, 32 from 131072) and the serial
+/// fraction f of its kernel by N, fitted to the RD0 kernel on a 16-core Xeon
+/// (tests/bench/scaling.sh; README "Benchmarks"): 2.46× at N = 16384 on 16 threads (4 blocks),
+/// 9.50× at 65536 and 9.57× at 262144, which are f = 0.21, 0.046 and 0.045, rounded up to
+/// 0.21, 0.05 and 0.045 and interpolated in log N, held beyond the ends; below 4096 disks
+/// the kernel's loops run on one thread (f = 1). `serial_fraction` >= 0 replaces the table
+/// with one fraction for every N (the block cap stays).
 struct SpeedupModel {
     double serial_fraction = -1;
     double fraction(std::int64_t n) const;
