@@ -5,21 +5,26 @@
 #include <cstdio>
 #include <numeric>
 #include <optional>
+#include <thread>
 
 #include <filesystem>
 
+#include "jamsim/campaign/core_lending.hpp"
 #include "jamsim/campaign/scheduler.hpp"
 #include "jamsim/campaign/stop_request.hpp"
 #include "jamsim/io/checkpoint_file.hpp"
 #include "jamsim/parallel/mpi.hpp"
+#include "jamsim/parallel/threads.hpp"
 
 namespace jamsim {
 
 namespace {
 
 constexpr int kTagRequest = 11;  // worker → rank 0: Report of the replica just finished
-constexpr int kTagAssign = 12;   // rank 0 → worker: replica id, kNoMoreWork or kStop
+constexpr int kTagAssign = 12;   // rank 0 → worker: Assignment
 constexpr int kTagStop = 13;     // rank 0 → worker, once: stop at the next checkpoint step
+constexpr int kTagThreads = 14;  // rank 0 → worker: threads for its running replica (cores lent)
+constexpr int kTagFarmOver = 15; // rank 0 → every worker, at the end: leave the farm
 constexpr std::int64_t kNoMoreWork = -1, kStop = -2;
 
 enum class Outcome : std::int64_t { Done = 0, Failed = 1, Interrupted = 2 };
@@ -28,6 +33,13 @@ enum class Outcome : std::int64_t { Done = 0, Failed = 1, Interrupted = 2 };
 struct Report {
     std::int64_t replica;  ///< −1 on the first request
     Outcome outcome;
+};
+
+/// Rank 0's answer to a request.
+struct Assignment {
+    std::int64_t replica = kNoMoreWork;  ///< replica id, kNoMoreWork or kStop
+    std::int64_t threads = 1;            ///< threads to start it on (its own, or more when lent)
+    std::int64_t updates = 0;            ///< kTagThreads messages sent to this worker so far
 };
 
 using Clock = std::chrono::steady_clock;
@@ -66,13 +78,18 @@ class Dispatcher {
     Dispatcher(MPI_Comm comm, const CampaignSpec& spec, const std::vector<std::int64_t>& queue,
                std::int64_t already_done, const std::vector<ReplicaStatus>& status,
                std::function<void(std::int64_t, const std::string&)> fail,
-               const ProgressOptions& progress)
+               const ProgressOptions& progress, std::vector<RankCores> cores)
         : comm_(comm), spec_(spec), scheduler_(make_scheduler(spec, queue, status)), fail_(std::move(fail)),
           total_(static_cast<std::int64_t>(queue.size()) + already_done), done_(already_done),
           progress_(progress), start_(Clock::now()), last_print_(start_) {
         for (auto id : queue) cost_total_run_ += estimated_cost(spec_.replicas[id]);
         workers_active_ = mpi::size(comm) - 1;
         active_.assign(static_cast<std::size_t>(mpi::size(comm)), true);
+        cores_ = std::move(cores);
+        replica_of_.assign(cores_.size(), -1);
+        updates_sent_.assign(cores_.size(), 0);
+        lent_seen_.assign(cores_.size(), 0);
+        for (const RankCores& c : cores_) threads_.push_back(c.own);
         record_failures();  // replicas whose predecessor had failed before this run
     }
 
@@ -82,14 +99,21 @@ class Dispatcher {
         for (;;) {
             check_stop();
             if (stopping_) return -1;
-            if (const std::int64_t id = take_ready(); id >= 0) return id;
+            if (const std::int64_t id = take_ready(); id >= 0) {
+                replica_of_[0] = id;
+                rebalance(-1);
+                set_kernel_threads(threads_[0]);  // (unchanged by rebalance when it is its own)
+                return id;
+            }
             if (!may_become_ready()) return -1;
             serve_blocking();
         }
     }
 
-    void finished(std::int64_t replica, Outcome outcome) {
+    /// `replica`, run by `rank`, ended.
+    void finished(std::int64_t replica, Outcome outcome, int rank) {
         --running_;
+        replica_of_[static_cast<std::size_t>(rank)] = -1;
         if (outcome == Outcome::Interrupted) {
             ++interrupted_;
             scheduler_.finished(replica, Ended::Interrupted);
@@ -101,6 +125,7 @@ class Dispatcher {
             record_failures();
         }
         wake_waiting();
+        rebalance(-1);
         print(false);
     }
 
@@ -161,26 +186,78 @@ class Dispatcher {
     /// Something queued may still become ready: a replica runs that could be a predecessor.
     bool may_become_ready() const { return scheduler_.may_become_ready(); }
 
+    /// Wait for the next request without keeping the core busy (MPI_Probe spins), so that
+    /// an idle rank 0 lends its core too: probe, then sleep 50 µs doubling to 10 ms.
     void serve_blocking() {
-        MPI_Status st;
-        mpi::check(MPI_Probe(MPI_ANY_SOURCE, kTagRequest, comm_, &st), "MPI_Probe");
-        serve_one(st.MPI_SOURCE);
+        auto pause = std::chrono::microseconds(50);
+        for (;;) {
+            int flag = 0;
+            MPI_Status st;
+            mpi::check(MPI_Iprobe(MPI_ANY_SOURCE, kTagRequest, comm_, &flag, &st), "MPI_Iprobe");
+            if (flag) return serve_one(st.MPI_SOURCE);
+            std::this_thread::sleep_for(pause);
+            pause = std::min(pause * 2, std::chrono::microseconds(10000));
+        }
     }
 
     void reply(int worker, std::int64_t next) {
+        const auto w = static_cast<std::size_t>(worker);
         if (next < 0) {
             --workers_active_;
-            active_[static_cast<std::size_t>(worker)] = false;
+            active_[w] = false;
             if (stopping_) next = kStop;
+        } else {
+            replica_of_[w] = next;
         }
-        mpi::check(MPI_Send(&next, 1, MPI_INT64_T, worker, kTagAssign, comm_), "MPI_Send (assignment)");
+        rebalance(worker);  // the worker's own threads go in the assignment
+        const Assignment a{.replica = next, .threads = threads_[w], .updates = updates_sent_[w]};
+        mpi::check(MPI_Send(&a, sizeof a, MPI_BYTE, worker, kTagAssign, comm_), "MPI_Send (assignment)");
+    }
+
+    /// Share the idle ranks' cores among the running ranks of their node (lend_cores) and
+    /// tell each running rank whose threads change: rank 0 at once (it is between samples or
+    /// replicas), a worker by a kTagThreads message that it takes at its next sample; `assigned`
+    /// (a worker being sent its replica) gets its threads in the assignment instead.
+    void rebalance(int assigned) {
+        std::vector<RankWork> work(cores_.size());
+        for (std::size_t r = 0; r < cores_.size(); ++r)
+            if (const std::int64_t id = replica_of_[r]; id >= 0)
+                work[r] = {.running = true, .priority = scheduler_.critical_path(id),
+                           .useful = useful_threads(spec_.replicas[static_cast<std::size_t>(id)].n)};
+        const std::vector<int> threads = lend_cores(cores_, work);
+        for (std::size_t r = 0; r < cores_.size(); ++r) {
+            if (threads[r] == threads_[r]) continue;
+            threads_[r] = threads[r];
+            if (!work[r].running) continue;  // idle: its next replica comes with its threads
+            if (threads[r] != cores_[r].own || lent_seen_[r])
+                note_lending(static_cast<int>(r), replica_of_[r], threads[r]);
+            if (r == 0) {
+                set_kernel_threads(threads[r]);
+            } else if (static_cast<int>(r) != assigned) {
+                const std::int64_t n = threads[r];
+                mpi::check(MPI_Send(&n, 1, MPI_INT64_T, static_cast<int>(r), kTagThreads, comm_),
+                           "MPI_Send (threads)");
+                ++updates_sent_[r];
+            }
+        }
+    }
+
+    /// One line when a running replica's threads change through lending.
+    void note_lending(int rank, std::int64_t replica, int threads) {
+        const int own = cores_[static_cast<std::size_t>(rank)].own;
+        lent_seen_[static_cast<std::size_t>(rank)] = threads != own;
+        std::fprintf(stdout, "[%s] replica %lld (rank %d) now on %d thread%s%s\n", spec_.name.c_str(),
+                     static_cast<long long>(replica), rank, threads, threads == 1 ? "" : "s",
+                     threads > own ? (", " + std::to_string(threads - own) + " lent by idle ranks of its node").c_str()
+                                   : ", its own");
+        std::fflush(stdout);
     }
 
     void serve_one(int source) {
         Report r{};
         mpi::check(MPI_Recv(&r, sizeof r, MPI_BYTE, source, kTagRequest, comm_, MPI_STATUS_IGNORE),
                    "MPI_Recv (work request)");
-        if (r.replica >= 0) finished(r.replica, r.outcome);
+        if (r.replica >= 0) finished(r.replica, r.outcome, source);
         check_stop();
         const std::int64_t next = stopping_ ? -1 : take_ready();
         if (next < 0 && !stopping_ && may_become_ready()) {
@@ -235,6 +312,11 @@ class Dispatcher {
     int workers_active_ = 0;
     std::vector<bool> active_;  ///< by rank: a worker not yet told that there is no more work
     bool stopping_ = false;
+    std::vector<RankCores> cores_;           ///< by rank: its node and cores
+    std::vector<std::int64_t> replica_of_;   ///< by rank: the replica it runs, −1 when idle
+    std::vector<int> threads_;               ///< by rank: its threads now
+    std::vector<std::int64_t> updates_sent_; ///< by rank: kTagThreads messages sent
+    std::vector<char> lent_seen_;            ///< by rank: it runs on lent cores now
     double cost_total_run_ = 0, cost_done_ = 0;  ///< estimated costs of this run's queue
     ProgressOptions progress_;
     Clock::time_point start_, last_print_;
@@ -361,6 +443,8 @@ FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
     const int rank = mpi::rank(comm);
     const auto t0 = Clock::now();
     FarmSummary summary;
+    const std::vector<RankCores> cores = gather_rank_cores(comm);  // collective
+    const int own_threads = kernel_threads();
     std::vector<char> feeds(spec.replicas.size(), 0);  // replicas a rate ladder continues from
     for (const std::int64_t before : spec.predecessor)
         if (before >= 0) feeds[static_cast<std::size_t>(before)] = 1;
@@ -384,7 +468,7 @@ FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
                          archive.write_failed(id, reason, 0.0, rank);
                          ++summary.failed;
                      },
-                     options.progress);
+                     options.progress, cores);
         const std::function<void()> serve = [&d] { d.serve_pending(); };
         const std::function<bool()> stop = [&d] {
             d.check_stop();
@@ -392,14 +476,32 @@ FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
         };
         for (std::int64_t id = d.take(); id >= 0; id = d.take()) {
             const Outcome outcome = run_one(spec, id, feeds[static_cast<std::size_t>(id)] != 0, archive, rank, options, serve, stop, summary);
-            d.finished(id, outcome);
+            d.finished(id, outcome, 0);
             d.serve_pending();
         }
         d.serve_until_workers_stop();
+        // Every worker is parked (it lends its cores while it waits): let them go.
+        for (int w = 1; w < mpi::size(comm); ++w)
+            mpi::check(MPI_Send(nullptr, 0, MPI_BYTE, w, kTagFarmOver, comm), "MPI_Send (farm over)");
     } else {
         bool stop_seen = false;  // kTagStop received from rank 0
+        std::int64_t updates_seen = 0;  // kTagThreads messages received
+        const auto take_threads = [&](bool wait) {  // apply rank 0's latest thread count
+            for (int flag = 1; flag;) {
+                if (!wait)
+                    mpi::check(MPI_Iprobe(0, kTagThreads, comm, &flag, MPI_STATUS_IGNORE), "MPI_Iprobe (threads)");
+                if (!flag) break;
+                std::int64_t threads = 1;
+                mpi::check(MPI_Recv(&threads, 1, MPI_INT64_T, 0, kTagThreads, comm, MPI_STATUS_IGNORE),
+                           "MPI_Recv (threads)");
+                ++updates_seen;
+                set_kernel_threads(static_cast<int>(threads));
+                if (wait) return;
+            }
+        };
         const std::function<void()> poll = [&] {
             int flag = 0;
+            take_threads(false);
             if (stop_seen) return;
             mpi::check(MPI_Iprobe(0, kTagStop, comm, &flag, MPI_STATUS_IGNORE), "MPI_Iprobe (stop)");
             if (!flag) return;
@@ -416,9 +518,13 @@ FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
         for (;;) {
             mpi::check(MPI_Send(&report, sizeof report, MPI_BYTE, 0, kTagRequest, comm),
                        "MPI_Send (work request)");
-            std::int64_t id = kNoMoreWork;
-            mpi::check(MPI_Recv(&id, 1, MPI_INT64_T, 0, kTagAssign, comm, MPI_STATUS_IGNORE),
-                       "MPI_Recv (assignment)");
+            Assignment a;  // waited for parked: this rank's cores are lent meanwhile
+            MPI_Request request = MPI_REQUEST_NULL;
+            mpi::check(MPI_Irecv(&a, sizeof a, MPI_BYTE, 0, kTagAssign, comm, &request), "MPI_Irecv (assignment)");
+            park_until_complete(request, "MPI_Test (assignment)");
+            while (updates_seen < a.updates) take_threads(true);  // sent for its last replica
+            const std::int64_t id = a.replica;
+            if (id >= 0) set_kernel_threads(static_cast<int>(a.threads));
             if (id == kStop && !stop_seen) {  // rank 0 sent kTagStop first: take it
                 std::int64_t ignored = 0;
                 mpi::check(MPI_Recv(&ignored, 1, MPI_INT64_T, 0, kTagStop, comm, MPI_STATUS_IGNORE),
@@ -429,7 +535,11 @@ FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
             const Outcome outcome = run_one(spec, id, feeds[static_cast<std::size_t>(id)] != 0, archive, rank, options, poll, stop, summary);
             report = {id, outcome};
         }
+        MPI_Request over = MPI_REQUEST_NULL;  // parked until the whole farm is over
+        mpi::check(MPI_Irecv(nullptr, 0, MPI_BYTE, 0, kTagFarmOver, comm, &over), "MPI_Irecv (farm over)");
+        park_until_complete(over, "MPI_Test (farm over)");
     }
+    set_kernel_threads(own_threads);
     summary.wall_seconds = seconds_since(t0);
     return summary;
 }

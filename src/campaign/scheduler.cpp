@@ -196,8 +196,7 @@ double SpeedupModel::fraction(std::int64_t n) const {
 
 double SpeedupModel::speedup(std::int64_t n, int threads) const {
     if (threads <= 1 || n < 1) return 1.0;
-    const auto disks = static_cast<std::size_t>(n);
-    const std::size_t blocks = (disks + ForceBlocks::block_size(disks) - 1) / ForceBlocks::block_size(disks);
+    const std::size_t blocks = ForceBlocks::block_count(static_cast<std::size_t>(n));
     const double useful = static_cast<double>(std::min<std::size_t>(static_cast<std::size_t>(threads), blocks));
     const double f = fraction(n);
     return 1.0 / (f + (1.0 - f) / useful);

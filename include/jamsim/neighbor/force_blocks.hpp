@@ -28,6 +28,8 @@ struct ForceBlocks {
         constexpr std::size_t kMinimum = 4096, kBlocks = 32;
         return std::max(kMinimum, (n + kBlocks - 1) / kBlocks);
     }
+    /// Blocks for N disks (at least 1): more threads than this gain nothing in the pair loop.
+    static std::size_t block_count(std::size_t n) { return n == 0 ? 1 : (n + block_size(n) - 1) / block_size(n); }
 
     std::size_t size = 0;   ///< disks per block (the last may hold fewer)
     std::size_t count = 0;  ///< blocks

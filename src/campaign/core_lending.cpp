@@ -1,0 +1,75 @@
+#include "jamsim/campaign/core_lending.hpp"
+
+#include <omp.h>
+#include <sched.h>
+
+#include <algorithm>
+#include <chrono>
+#include <map>
+#include <numeric>
+#include <thread>
+
+#include "jamsim/neighbor/force_blocks.hpp"
+#include "jamsim/parallel/mpi.hpp"
+#include "jamsim/parallel/threads.hpp"
+
+namespace jamsim {
+
+std::vector<int> lend_cores(const std::vector<RankCores>& cores, const std::vector<RankWork>& work) {
+    std::vector<int> threads(cores.size());
+    std::map<std::int64_t, int> spare;  // by node: the own threads of its idle ranks
+    for (std::size_t r = 0; r < cores.size(); ++r) {
+        threads[r] = cores[r].own;
+        if (!work[r].running) spare[cores[r].node] += cores[r].own;
+    }
+    std::vector<std::size_t> order(cores.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return work[a].priority > work[b].priority; });
+    for (const std::size_t r : order) {
+        if (!work[r].running) continue;
+        int& left = spare[cores[r].node];
+        const int most = std::max(cores[r].own, std::min(cores[r].most, work[r].useful));
+        const int extra = std::min(left, most - cores[r].own);
+        threads[r] += extra;
+        left -= extra;
+    }
+    return threads;
+}
+
+std::vector<RankCores> gather_rank_cores(MPI_Comm comm) {
+    MPI_Comm node = MPI_COMM_NULL;
+    mpi::check(MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node), "MPI_Comm_split_type");
+    int leader = mpi::rank(comm);  // the node's lowest rank names it
+    const int rc = MPI_Allreduce(MPI_IN_PLACE, &leader, 1, MPI_INT, MPI_MIN, node);
+    mpi::check(MPI_Comm_free(&node), "MPI_Comm_free");
+    mpi::check(rc, "MPI_Allreduce (node leader)");
+    int most = kernel_threads();
+    cpu_set_t mask;
+    if (omp_get_proc_bind() == omp_proc_bind_false && sched_getaffinity(0, sizeof mask, &mask) == 0)
+        most = std::max(most, CPU_COUNT(&mask));
+    const long long mine[3] = {leader, kernel_threads(), most};
+    std::vector<long long> all(3 * static_cast<std::size_t>(mpi::size(comm)));
+    mpi::check(MPI_Allgather(mine, 3, MPI_LONG_LONG, all.data(), 3, MPI_LONG_LONG, comm), "MPI_Allgather (cores)");
+    std::vector<RankCores> out(static_cast<std::size_t>(mpi::size(comm)));
+    for (std::size_t r = 0; r < out.size(); ++r)
+        out[r] = {.node = all[3 * r], .own = static_cast<int>(all[3 * r + 1]), .most = static_cast<int>(all[3 * r + 2])};
+    return out;
+}
+
+int useful_threads(std::int64_t n) {
+    return n <= 0 ? 1 : static_cast<int>(ForceBlocks::block_count(static_cast<std::size_t>(n)));
+}
+
+void park_until_complete(MPI_Request& request, const char* what) {
+    auto pause = std::chrono::microseconds(50);
+    for (;;) {
+        int done = 0;
+        mpi::check(MPI_Test(&request, &done, MPI_STATUS_IGNORE), what);
+        if (done) return;
+        std::this_thread::sleep_for(pause);
+        pause = std::min(pause * 2, std::chrono::microseconds(10000));
+    }
+}
+
+} // namespace jamsim

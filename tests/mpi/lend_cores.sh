@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# usage: lend_cores.sh JAMSIM WORKDIR COMPARE_PY DATA_DIR
+# Ranks without work park and lend their cores (campaign/core_lending.hpp):
+#  1. one replica on 2 ranks: the rank without work waits without spinning (its CPU time is
+#     well under its wall time; a rank spinning in an MPI wait would use all of it);
+#  2. a rate ladder of N = 8192 on 2 unbound ranks x 1 thread: while one rank runs the ladder
+#     the other lends its core (the log says so), and the archive holds the same bits as on
+#     1 rank x 1 thread.
+set -uo pipefail
+jamsim=$1 work=$2 compare=$3 data=$4
+mpirun=${MPIEXEC:-mpiexec}
+rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
+
+# 1. Each rank's CPU seconds (user + system) over its wall seconds.
+cat > timed.sh <<'SH'
+#!/usr/bin/env bash
+start=$(date +%s.%N); "$@" > "rank$OMPI_COMM_WORLD_RANK.log" 2>&1; rc=$?; end=$(date +%s.%N)
+times > "times$OMPI_COMM_WORLD_RANK.txt"  # (in this shell: its children's times on the last line)
+read -r cu cs < <(tail -1 "times$OMPI_COMM_WORLD_RANK.txt" | sed 's/\([0-9]*\)m\([0-9.]*\)s/\1 \2/g' | awk '{print $1 * 60 + $2, $3 * 60 + $4}')
+echo "$OMPI_COMM_WORLD_RANK $cu $cs $start $end" > "cpu$OMPI_COMM_WORLD_RANK.txt"
+exit $rc
+SH
+chmod +x timed.sh
+timeout 300 "$mpirun" -n 2 ./timed.sh "$jamsim" run "$data/park.toml" -o park.h5 --threads 1 || { cat rank*.log; exit 1; }
+cat cpu0.txt cpu1.txt | awk '
+  { ratio = ($2 + $3) / ($5 - $4); printf "rank %d: %.2f CPU s in %.2f s\n", $1, $2 + $3, $5 - $4
+    if (min == "" || ratio < min) min = ratio }
+  END { if (min >= 0.5) { print "FAIL: no rank waited without spinning (least CPU / wall " min ")"; exit 1 }
+        print "ok: the rank without work parked (CPU / wall " min ")" }' || exit 1
+
+# 2. Lent cores, the same bits.
+timeout 300 "$mpirun" -n 1 "$jamsim" run "$data/lend_ladder.toml" -o ref.h5 --threads 1 > ref.log 2>&1 || { cat ref.log; exit 1; }
+timeout 300 "$mpirun" -n 2 --bind-to none "$jamsim" run "$data/lend_ladder.toml" -o lend.h5 --threads 1 > lend.log 2>&1 ||
+  { cat lend.log; exit 1; }
+grep -q "now on 2 threads, 1 lent by idle ranks of its node" lend.log || { cat lend.log; echo "FAIL: no core lent"; exit 1; }
+/usr/bin/python3 "$compare" ref.h5 lend.h5
