@@ -48,11 +48,41 @@ class ReportOptions:
     auto_window: bool = False
 
 
-def fit_rows(name, values, errors, chi2=None, dof=None, extra=""):
-    """Table rows (one per parameter) of a fit."""
+# A fit is flagged when its chi2 is this improbable in either tail (chi2/dof far from 1).
+FLAG_P = 0.01
+ADVICE = ("try the collapse window chosen from the data (--auto-window), more seeds per point "
+          "(error bars from the spread between seeds need several), or lower rates (closer to the "
+          "scaling regime)")
+
+
+def fit_quality(chi2, dof):
+    """(p-value P(chi2' >= chi2), flag): flag is "" for an acceptable fit, else says whether
+    chi2/dof is too large (p < FLAG_P: model or error bars wrong) or too small (P(chi2' <=
+    chi2) < FLAG_P: error bars too large)."""
+    from scipy.stats import chi2 as dist
+
+    if chi2 is None or not dof or not np.isfinite(chi2):
+        return np.nan, ""
+    p = float(dist.sf(chi2, dof))
+    if p < FLAG_P:
+        return p, f"chi2/dof = {chi2 / dof:.3g} too large (p = {p:.2g})"
+    if dist.cdf(chi2, dof) < FLAG_P:
+        return p, f"chi2/dof = {chi2 / dof:.3g} too small (p(below) = {dist.cdf(chi2, dof):.2g})"
+    return p, ""
+
+
+def fit_rows(name, values, errors, chi2=None, dof=None, extra="", scaled=True):
+    """Table rows (one per parameter) of a fit. scaled: the errors already include the
+    factor sqrt(max(1, chi2/dof)) (least-squares fits here) rather than, e.g., a bootstrap.
+    A fit flagged by fit_quality with chi2/dof > 1 also gets error_inflated = the plain error
+    times sqrt(chi2/dof)."""
+    p, flag = fit_quality(chi2, dof)
+    factor = np.sqrt(chi2 / dof) if flag and chi2 > dof else np.nan
+    done = np.sqrt(max(1.0, chi2 / dof)) if scaled and np.isfinite(factor) else 1.0
     rows = [dict(analysis=name, parameter=k, value=v, error=errors.get(k, np.nan),
                  chi2_per_dof=(chi2 / dof if dof else np.nan) if chi2 is not None else np.nan,
-                 dof=dof if dof is not None else "", note=extra) for k, v in values.items()]
+                 dof=dof if dof is not None else "", note=extra, p_value=p,
+                 error_inflated=errors.get(k, np.nan) / done * factor, flag=flag) for k, v in values.items()]
     return rows
 
 
@@ -83,13 +113,23 @@ class Report:
         d = self.doc
         d.heading("Fitted values")
         if self.fits:
-            d.table(pd.DataFrame(self.fits))
+            table = pd.DataFrame(self.fits)
+            d.table(table)
+            flagged = table[table["flag"] != ""].drop_duplicates("analysis")
+            if len(flagged):
+                d.paragraph(f"Flagged fits (chi2 p-value below {FLAG_P:g} in either tail): "
+                            + "; ".join(f"{r.analysis}: {r.flag}" for r in flagged.itertuples())
+                            + ". Their errors are also given inflated by sqrt(chi2/dof) (error_inflated) "
+                            "where chi2/dof > 1; a fit this far from its error bars is not to be quoted as it "
+                            f"stands: {ADVICE}.")
+            else:
+                d.paragraph(f"Every fit's chi2/dof is consistent with 1 (p-value >= {FLAG_P:g} in both tails).")
         else:
             d.paragraph("No fit could run on this archive.")
         d.heading("Analyses not run")
         d.table(pd.DataFrame(self.skipped or [dict(analysis="-", reason="every analysis ran")]))
         # the summary first: move the two sections just added to the top
-        d.blocks = d.blocks[-4:] + d.blocks[:-4]
+        d.blocks = d.blocks[-5:] + d.blocks[:-5]
         with open(self.path("report.md"), "w") as f:
             f.write(d.markdown())
         with open(self.path("report.html"), "w") as f:
@@ -163,13 +203,17 @@ def _collapse(rep, table, groups, model, observable, opts, phi_j):
     window = (f"N = {n}, phi {pts['phi'].min():g}..{pts['phi'].max():g}, rate {pts['rate'].min():g}.."
               f"{pts['rate'].max():g}, {len(pts)} points, degree {opts.degree}"
               + (", with correction" if opts.correction else ""))
-    rep.fits += fit_rows(name, fit.values, fit.errors, fit.chi2, fit.dof, f"{window}; errors: {method}")
+    rep.fits += fit_rows(name, fit.values, fit.errors, fit.chi2, fit.dof, f"{window}; errors: {method}",
+                         scaled=method == "least squares")
     if observable == "pressure":
         phi_j[model] = fit.values["phi_J"]
     fname = f"collapse_{model}_{observable}.png"
     figures.collapse_figure(fit, rep.path(fname))
     rep.doc.heading(f"Scaling collapse: {model}, {observable}")
-    rep.doc.paragraph(f"Window: {window}. Errors: {method}. chi2/dof = {fit.chi2_per_dof:.2f} ({fit.dof} dof).")
+    p, flag = fit_quality(fit.chi2, fit.dof)
+    rep.doc.paragraph(f"Window: {window}. Errors: {method}. chi2/dof = {fit.chi2_per_dof:.2f} ({fit.dof} dof, "
+                      f"p = {p:.3g})." + (f" FLAGGED: {flag}; the errors inflated by sqrt(chi2/dof) are in the "
+                                         f"table of fitted values; {ADVICE}." if flag else ""))
     if choice is not None:
         rep.doc.paragraph(f"Window chosen from the data (--auto-window): {choice.describe()}. The largest "
                           f"window whose fit has a chi2 p-value >= {choice.level:g} and its phi_J inside it; "

@@ -107,7 +107,11 @@ def test_group_averages_equal_direct_computation():
     g = ja.group_averages(table, ["p"])
     first = g[g["phi"] == 0.8].iloc[0]
     assert first["seeds"] == 3 and np.isclose(first["p"], 7 / 3)
-    assert np.isclose(first["p_error"], np.std([1, 2, 4], ddof=1) / np.sqrt(3))
+    # random effects: time errors plus t^2 tau^2 / k, tau^2 = s^2 - mean(e^2), t of 2 dof
+    s2, within = np.var([1, 2, 4], ddof=1), (0.01 + 0.04 + 0.04) / 3
+    t = 1.3212  # Student t, 2 dof, quantile 0.8413
+    assert np.isclose(first["p_error"], np.sqrt(within / 3 + t ** 2 * (s2 - within) / 3), rtol=1e-4)
+    assert np.isclose(first["p_error_seeds"], np.std([1, 2, 4], ddof=1) / np.sqrt(3))
     assert np.isclose(first["p_error_time"], np.sqrt(0.01 + 0.04 + 0.04) / 3)
     single = g[g["phi"] == 0.84].iloc[0]
     assert single["seeds"] == 1 and np.isclose(single["p_error"], 0.3)
