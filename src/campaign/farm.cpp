@@ -189,7 +189,7 @@ class Dispatcher {
     bool may_become_ready() const { return scheduler_.may_become_ready(); }
 
     /// Wait for the next request without keeping the core busy (MPI_Probe spins), so that
-    /// an idle rank 0 lends its core too: probe, then sleep 50 µs doubling to 10 ms.
+    /// an idle rank 0 lends its core too: probe, then sleep 50 µs doubling to 1 ms.
     void serve_blocking() { serve_one(wait_for_request()); }
 
     /// The rank of the next request, waited for parked.
@@ -201,7 +201,7 @@ class Dispatcher {
             mpi::check(MPI_Iprobe(MPI_ANY_SOURCE, kTagRequest, comm_, &flag, &st), "MPI_Iprobe");
             if (flag) return st.MPI_SOURCE;
             std::this_thread::sleep_for(pause);
-            pause = std::min(pause * 2, std::chrono::microseconds(10000));
+            pause = std::min(pause * 2, std::chrono::microseconds(1000));  // answers within 1 ms
         }
     }
 
