@@ -82,7 +82,8 @@ class Scheduler {
 /// 1 / (f + (1 − f) / T'), with T' = min(T, the force loop's blocks at N) (the pair loop
 /// shares out whole blocks: 4 at N = 16384, 16 at 65536, 32 from 131072) and the serial
 /// fraction f of its kernel by N, fitted to the RD0 kernel on a 16-core Xeon
-/// (tests/bench/scaling.sh; README "Benchmarks"): 2.46× at N = 16384 on 16 threads (4 blocks),
+/// (tests/bench/scaling.sh; tests/README.md "Benchmarks"): 2.46× at N = 16384 on 16 threads
+/// (4 blocks),
 /// 9.50× at 65536 and 9.57× at 262144, which are f = 0.21, 0.046 and 0.045, rounded up to
 /// 0.21, 0.05 and 0.045 and interpolated in log N, held beyond the ends; below 4096 disks
 /// the kernel's loops run on one thread (f = 1). `serial_fraction` >= 0 replaces the table
