@@ -1,4 +1,5 @@
 #include "campaign_commands.hpp"
+#include "exit_status.hpp"
 #include "dry_run.hpp"
 #include "run_checks.hpp"
 #include "threads_option.hpp"
@@ -43,9 +44,6 @@
 namespace jamsim::app {
 
 namespace {
-
-/// Exit status of a refused input (the CLI's usage-error status).
-constexpr int kExitRefused = 2;
 
 int status(const std::string& path) {
     if (const std::string bad = diagnose_archive_file(path); !bad.empty()) {

@@ -1,4 +1,5 @@
 #include "campaign_commands.hpp"
+#include "exit_status.hpp"
 #include "dry_run.hpp"
 #include "run_checks.hpp"
 #include "threads_option.hpp"
@@ -56,10 +57,6 @@ struct RunOptions {
     std::int64_t max_replicas = kDefaultMaxReplicas;
     CapacityLimits limits;
 };
-
-/// Exit status of a run that was interrupted (a signal) with every running replica's state
-/// saved: run the same command again to continue (the Slurm scripts requeue on it).
-constexpr int kExitInterrupted = 75;
 
 /// "90", "90s", "15min", "2h" in seconds; negative when it does not parse.
 double parse_duration(const std::string& text) {

@@ -3,6 +3,7 @@
 // is checked before anything is written; each file is written under a temporary name and
 // renamed, and a failure removes what this call wrote.
 #include "export_command.hpp"
+#include "exit_status.hpp"
 
 #include <unistd.h>
 
@@ -25,8 +26,6 @@
 namespace jamsim::app {
 
 namespace {
-
-constexpr int kExitRefused = 2;
 
 struct ExportOptions {
     std::string archive;

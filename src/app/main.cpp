@@ -6,6 +6,7 @@
 
 #include "jamsim/core/version.hpp"
 #include "campaign_commands.hpp"
+#include "exit_status.hpp"
 #include "export_command.hpp"
 #include "minimize_command.hpp"
 #include "plan_command.hpp"
@@ -21,9 +22,8 @@ namespace jamsim::app {
 /// malformed value, a refused value) 2, the status of a usage error by convention.
 int exit_status(const CLI::App& app, const CLI::ParseError& e) {
     const int status = app.exit(e);
-    constexpr int kUsageError = 2;
     if (e.get_name() == "RuntimeError" || status == 0) return status;
-    return status >= static_cast<int>(CLI::ExitCodes::IncorrectConstruction) ? kUsageError : status;
+    return status >= static_cast<int>(CLI::ExitCodes::IncorrectConstruction) ? app::kExitRefused : status;
 }
 
 } // namespace jamsim::app
