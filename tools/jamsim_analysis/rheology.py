@@ -10,6 +10,7 @@ import pandas as pd
 from scipy import stats as sps
 from scipy.optimize import least_squares
 
+from . import stats
 from .errors import AnalysisError
 
 # A local slope is consistent with a value when within this many standard errors.
@@ -139,7 +140,7 @@ def plateau_values(groups, observable, power, phi_j=None, model=None, p_min=PLAT
         row = {"N": n, "phi": phi, "value": np.nan, "error": np.nan, "rates_used": 0, "left_out": ""}
         rate = part["rate"].to_numpy(float)
         c = part[observable].to_numpy(float) / rate ** power
-        e = part[f"{observable}_error"].to_numpy(float) / rate ** power
+        e = stats.fit_errors(part, observable).to_numpy(float) / rate ** power
         if phi_j is not None and phi >= phi_j:
             row["left_out"] = f"phi >= phi_J = {phi_j:.4f}"
         elif len(part) < 2 or not np.all(e[:2] > 0):

@@ -17,6 +17,7 @@ import pandas as pd
 from scipy import stats as sps
 from scipy.optimize import least_squares
 
+from . import stats
 from .errors import AnalysisError
 
 EXPONENTS = ("phi_J", "q", "znu", "y", "beta")
@@ -192,7 +193,7 @@ def fit_collapse(points, degree=3, correction_degree=-1, start=(0.843, 0.28, 3.5
 def collapse_points(groups, observable, N=None, phi_range=(-np.inf, np.inf), rate_max=np.inf,
                     min_seeds=2, model=None):
     """The (phi, rate) points of one N (default: the largest) from group_averages output:
-    DataFrame phi, rate, value, error, seeds, group (= model). Points with fewer than
+    DataFrame phi, rate, value, error (stats.fit_errors), seeds, group (= model). Points with fewer than
     min_seeds seeds (no error estimate) are left out."""
     g = groups[groups["rate"] > 0]
     if model is not None:
@@ -208,7 +209,7 @@ def collapse_points(groups, observable, N=None, phi_range=(-np.inf, np.inf), rat
     if g.empty:
         raise AnalysisError(f"no (phi, rate) point of N = {int(n)} with at least {min_seeds} seeds in the window")
     return pd.DataFrame({"phi": g["phi"], "rate": g["rate"], "value": g[observable],
-                         "error": g[f"{observable}_error"], "seeds": g["seeds"],
+                         "error": stats.fit_errors(g, observable), "seeds": g["seeds"],
                          "group": g["model"] if "model" in g else ""}).reset_index(drop=True)
 
 
