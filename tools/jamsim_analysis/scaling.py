@@ -26,8 +26,9 @@ EXPONENTS = ("phi_J", "q", "znu", "y", "beta")
 @dataclasses.dataclass
 class ScalingFit:
     """Result of a collapse fit. values/errors: phi_J, q, znu, y, beta (and w with the
-    correction); errors are the fit's standard errors times sqrt(max(1, chi2/dof)) (or the
-    bootstrap standard deviation when method == "bootstrap"). theta: raw parameters
+    correction); errors are the fit's standard errors scaled by the residuals, times
+    t sqrt(chi2/dof) (stats.residual_scale; or the bootstrap standard deviation when
+    method == "bootstrap"). theta: raw parameters
     [phi_J, q, 1/znu, P coefficients per group (low to high), (w, Q coefficients per
     group)]; points: the data fitted (phi, rate, value, error, group)."""
     observable: str
@@ -181,7 +182,7 @@ def fit_collapse(points, degree=3, correction_degree=-1, start=(0.843, 0.28, 3.5
         raise AnalysisError("the collapse fit did not converge from any start value")
     chi2 = float(np.sum(best.fun ** 2))
     dof = len(pts) - layout.size
-    cov = np.linalg.pinv(best.jac.T @ best.jac) * max(1.0, chi2 / dof)
+    cov = np.linalg.pinv(best.jac.T @ best.jac) * stats.residual_scale(chi2, dof)
     values, errors = _derived(best.x, cov)
     if layout.correction:
         values["w"] = float(best.x[layout.w_index])

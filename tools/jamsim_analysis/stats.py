@@ -329,6 +329,20 @@ def pooled_errors(groups, observable, pool_keys=POOL_KEYS):
     return err
 
 
+def residual_scale(chi2, dof):
+    """The factor of a weighted least-squares covariance (J^T W J)^-1 of a fit to seed
+    averages: t^2 chi2/dof, t the (1 + ONE_SIGMA)/2 Student-t quantile with the fit's dof
+    (1.20 for 3 dof, 1.04 for 14). The weights' common scale is taken from the residuals, as
+    in a regression with unknown variance, so a 1-sigma interval covers 68% when the weights
+    are right up to one factor; and a fit with chi2/dof > 1 (a model or weights at odds with
+    the data) gets its errors inflated by sqrt(chi2/dof). (The rule sqrt(max(1, chi2/dof))
+    covers 73% with right weights and 3 dof.) 1 without dof."""
+    if dof <= 0 or not np.isfinite(chi2):
+        return 1.0
+    t = float(sps.t.ppf(0.5 + ONE_SIGMA / 2, dof))
+    return t * t * chi2 / dof
+
+
 def fit_errors(groups, observable):
     """The errors that weight a fit: `<obs>_error_fit` (pooled_errors) where the table has
     it, else `<obs>_error`."""
