@@ -96,7 +96,8 @@ def _fit_rows(kind, seeds, fit, truth):
                  covered_plain=abs(fit.values[k] - v) <= fit.errors[k] / inflate) for k, v in truth.items()]
 
 
-TRUTHS = {"collapse": collapse_truth, "Newtonian": lambda: divergence_truth(1), "Bagnold": lambda: divergence_truth(2)}
+TRUTHS = {"collapse": collapse_truth, "Newtonian": lambda: divergence_truth(1),
+          "Bagnold": lambda: divergence_truth(2)}
 
 
 def one_campaign(rng, seeds, spec, fits=True, kinds=tuple(TRUTHS)):

@@ -28,9 +28,9 @@ class ScalingFit:
     """Result of a collapse fit. values/errors: phi_J, q, znu, y, beta (and w with the
     correction); errors are the fit's standard errors scaled by the residuals, times
     t sqrt(chi2/dof) (stats.residual_scale; or the bootstrap standard deviation when
-    method == "bootstrap"). theta: raw parameters
-    [phi_J, q, 1/znu, P coefficients per group (low to high), (w, Q coefficients per
-    group)]; points: the data fitted (phi, rate, value, error, group)."""
+    method == "bootstrap"). theta: raw parameters [phi_J, q, 1/znu, P coefficients per
+    group (low to high), (w, Q coefficients per group)]; points: the data fitted (phi,
+    rate, value, error, group)."""
     observable: str
     degree: int
     correction_degree: int  # -1: no correction
@@ -194,8 +194,8 @@ def fit_collapse(points, degree=3, correction_degree=-1, start=(0.843, 0.28, 3.5
 def collapse_points(groups, observable, N=None, phi_range=(-np.inf, np.inf), rate_max=np.inf,
                     min_seeds=2, model=None):
     """The (phi, rate) points of one N (default: the largest) from group_averages output:
-    DataFrame phi, rate, value, error (stats.fit_errors), seeds, group (= model). Points with fewer than
-    min_seeds seeds (no error estimate) are left out."""
+    DataFrame phi, rate, value, error (the fit weights, stats.fit_errors), seeds, group
+    (= model). Points with fewer than min_seeds seeds (no error estimate) are left out."""
     g = groups[groups["rate"] > 0]
     if model is not None:
         g = g[g["model"] == model]

@@ -275,8 +275,9 @@ def group_averages(replica_table, observables, keys=KEYS):
     observable (see seed_average): `<obs>` (mean of replica means), `<obs>_error` (its
     1-sigma error: the time errors combined with the spread between seeds, never below the
     time errors), `<obs>_error_time` (the time errors alone: sqrt(sum e_i^2)/n),
-    `<obs>_error_seeds` (the plain standard error over seeds, NaN for one seed) and
-    `seeds`."""
+    `<obs>_error_seeds` (the plain standard error over seeds, NaN for one seed),
+    `<obs>_error_fit` (the fits' weights: the seed-to-seed variance pooled over each model
+    and N, pooled_errors) and `seeds`."""
     kept = replica_table[replica_table["left_out"] == ""] if "left_out" in replica_table else replica_table
     if kept.empty:
         raise AnalysisError("no finished replica left to average")
