@@ -96,23 +96,28 @@ int plan(const PlanOptions& opt, int& argc, char**& argv) {
     std::printf("speed-up on threads: %s\n", describe_speedup(model).c_str());
     std::printf("the farm's scheduler (longest remaining chain first) simulated on nodes of %d cores, each rank "
                 "running one replica at a time on its threads; bound = max(work / cores, critical path); idle: "
-                "cores without a replica; efficiency: one-thread work / (cores x makespan):\n\n",
+                "cores without a replica; efficiency: one-thread work / (cores x makespan); lent: the makespan "
+                "when ranks without work lend their cores to the running replicas of their node (ranks started "
+                "unbound: README \"Cores lent by ranks without work\"):\n\n",
                 opt.cores_per_node);
     std::printf("| nodes | ranks × threads | makespan | bound | critical path | cores idle (mean) | idle | "
-                "efficiency |\n");
-    std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+                "efficiency | lent: makespan, idle |\n");
+    std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     for (const int k : opt.nodes)
         for (const int t : opt.threads) {
             const int ranks = k * opt.cores_per_node / t;
-            const SimulatedRun run =
-                simulate_schedule(simulated_replicas(spec, estimate.seconds, estimate.serial, t, model),
-                                  spec.predecessor, ranks, t);
+            const auto replicas = simulated_replicas(spec, estimate.seconds, estimate.serial, t, model);
+            const SimulatedRun run = simulate_schedule(replicas, spec.predecessor, ranks, t);
+            const SimulatedLending lending{.ranks_per_node = opt.cores_per_node / t, .model = model};
+            const SimulatedRun lent = simulate_schedule(replicas, spec.predecessor, ranks, t, &lending);
             const double cores = static_cast<double>(ranks) * t;
             const double core_time = std::max(1e-300, cores * run.makespan);
-            std::printf("| %d | %d × %d | %s | %s | %s | %.1f of %.0f | %.0f%% | %.0f%% |\n", k, ranks, t,
+            std::printf("| %d | %d × %d | %s | %s | %s | %.1f of %.0f | %.0f%% | %.0f%% | %s, %.0f%% |\n", k, ranks, t,
                         duration(run.makespan).c_str(), duration(run.bound).c_str(),
                         duration(run.critical_path).c_str(), run.idle_core_seconds / std::max(1e-300, run.makespan),
-                        cores, 100 * run.idle_core_seconds / core_time, 100 * run.work / core_time);
+                        cores, 100 * run.idle_core_seconds / core_time, 100 * run.work / core_time,
+                        duration(lent.makespan).c_str(),
+                        100 * lent.idle_core_seconds / std::max(1e-300, cores * lent.makespan));
         }
     return 0;
 }

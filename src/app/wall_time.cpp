@@ -19,7 +19,9 @@ std::vector<SimulatedReplica> simulated_replicas(const CampaignSpec& spec, const
         const double on_threads = (seconds[r] - fixed) / model.speedup(spec.replicas[r].n, threads) + fixed;
         out[r] = {.cost = estimated_cost(spec.replicas[r]),
                   .seconds = seconds[r],
-                  .speedup = on_threads > 0 ? seconds[r] / on_threads : 1.0};
+                  .speedup = on_threads > 0 ? seconds[r] / on_threads : 1.0,
+                  .n = spec.replicas[r].n,
+                  .serial = fixed};
     }
     return out;
 }

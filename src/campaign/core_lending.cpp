@@ -5,37 +5,12 @@
 
 #include <algorithm>
 #include <chrono>
-#include <map>
-#include <numeric>
 #include <thread>
 
-#include "jamsim/neighbor/force_blocks.hpp"
 #include "jamsim/parallel/mpi.hpp"
 #include "jamsim/parallel/threads.hpp"
 
 namespace jamsim {
-
-std::vector<int> lend_cores(const std::vector<RankCores>& cores, const std::vector<RankWork>& work) {
-    std::vector<int> threads(cores.size());
-    std::map<std::int64_t, int> spare;  // by node: the own threads of its idle ranks
-    for (std::size_t r = 0; r < cores.size(); ++r) {
-        threads[r] = cores[r].own;
-        if (!work[r].running) spare[cores[r].node] += cores[r].own;
-    }
-    std::vector<std::size_t> order(cores.size());
-    std::iota(order.begin(), order.end(), std::size_t{0});
-    std::stable_sort(order.begin(), order.end(),
-                     [&](std::size_t a, std::size_t b) { return work[a].priority > work[b].priority; });
-    for (const std::size_t r : order) {
-        if (!work[r].running) continue;
-        int& left = spare[cores[r].node];
-        const int most = std::max(cores[r].own, std::min(cores[r].most, work[r].useful));
-        const int extra = std::min(left, most - cores[r].own);
-        threads[r] += extra;
-        left -= extra;
-    }
-    return threads;
-}
 
 std::vector<RankCores> gather_rank_cores(MPI_Comm comm) {
     MPI_Comm node = MPI_COMM_NULL;
@@ -55,10 +30,6 @@ std::vector<RankCores> gather_rank_cores(MPI_Comm comm) {
     for (std::size_t r = 0; r < out.size(); ++r)
         out[r] = {.node = all[3 * r], .own = static_cast<int>(all[3 * r + 1]), .most = static_cast<int>(all[3 * r + 2])};
     return out;
-}
-
-int useful_threads(std::int64_t n) {
-    return n <= 0 ? 1 : static_cast<int>(ForceBlocks::block_count(static_cast<std::size_t>(n)));
 }
 
 void park_until_complete(MPI_Request& request, const char* what) {

@@ -99,7 +99,9 @@ class Dispatcher {
         for (;;) {
             check_stop();
             if (stopping_) return -1;
-            if (const std::int64_t id = take_ready(); id >= 0) {
+            const std::int64_t first = own_first_;  // chosen for rank 0 in the first round
+            own_first_ = -1;
+            if (const std::int64_t id = first >= 0 ? first : take_ready(); id >= 0) {
                 replica_of_[0] = id;
                 rebalance(-1);
                 set_kernel_threads(threads_[0]);  // (unchanged by rebalance when it is its own)
@@ -187,16 +189,19 @@ class Dispatcher {
     bool may_become_ready() const { return scheduler_.may_become_ready(); }
 
     /// Wait for the next request without keeping the core busy (MPI_Probe spins), so that
-    /// an idle rank 0 lends its core too: probe, then sleep 50 µs doubling to 10 ms.
-    void serve_blocking() {
+    /// an idle rank 0 lends its core too: probe, then sleep 50 µs doubling to 1 ms.
+    void serve_blocking() { serve_one(wait_for_request()); }
+
+    /// The rank of the next request, waited for parked.
+    int wait_for_request() {
         auto pause = std::chrono::microseconds(50);
         for (;;) {
             int flag = 0;
             MPI_Status st;
             mpi::check(MPI_Iprobe(MPI_ANY_SOURCE, kTagRequest, comm_, &flag, &st), "MPI_Iprobe");
-            if (flag) return serve_one(st.MPI_SOURCE);
+            if (flag) return st.MPI_SOURCE;
             std::this_thread::sleep_for(pause);
-            pause = std::min(pause * 2, std::chrono::microseconds(10000));
+            pause = std::min(pause * 2, std::chrono::microseconds(1000));  // answers within 1 ms
         }
     }
 
@@ -219,6 +224,7 @@ class Dispatcher {
     /// replicas), a worker by a kTagThreads message that it takes at its next sample; `assigned`
     /// (a worker being sent its replica) gets its threads in the assignment instead.
     void rebalance(int assigned) {
+        if (in_first_round_) return;  // once, at its end
         std::vector<RankWork> work(cores_.size());
         for (std::size_t r = 0; r < cores_.size(); ++r)
             if (const std::int64_t id = replica_of_[r]; id >= 0)
@@ -258,6 +264,11 @@ class Dispatcher {
         mpi::check(MPI_Recv(&r, sizeof r, MPI_BYTE, source, kTagRequest, comm_, MPI_STATUS_IGNORE),
                    "MPI_Recv (work request)");
         if (r.replica >= 0) finished(r.replica, r.outcome, source);
+        answer(source);
+    }
+
+    /// Give `source` its next replica, or let it wait for one, or let it go.
+    void answer(int source) {
         check_stop();
         const std::int64_t next = stopping_ ? -1 : take_ready();
         if (next < 0 && !stopping_ && may_become_ready()) {
@@ -267,6 +278,31 @@ class Dispatcher {
         reply(source, next);
     }
 
+public:
+    /// The first requests (every worker asks once at start), answered in spread_over_nodes
+    /// order, rank 0 in its place: the longest chains start on different nodes, where idle
+    /// ranks can later lend them cores. The threads are shared out once, at the end.
+    void first_round() {
+        in_first_round_ = true;
+        for (int asked = 1; asked < mpi::size(comm_); ++asked) {  // (first requests carry no replica)
+            const int source = wait_for_request();
+            Report r{};
+            mpi::check(MPI_Recv(&r, sizeof r, MPI_BYTE, source, kTagRequest, comm_, MPI_STATUS_IGNORE),
+                       "MPI_Recv (work request)");
+        }
+        for (const int rank : spread_over_nodes(cores_)) {
+            if (rank != 0) {
+                answer(rank);
+            } else if (check_stop(), !stopping_) {
+                own_first_ = take_ready();
+                if (own_first_ >= 0) replica_of_[0] = own_first_;
+            }
+        }
+        in_first_round_ = false;
+        rebalance(-1);
+    }
+
+  private:
     /// Answer the waiting workers that can be answered now.
     void wake_waiting() {
         for (std::size_t k = 0; k < waiting_.size();) {
@@ -317,6 +353,8 @@ class Dispatcher {
     std::vector<int> threads_;               ///< by rank: its threads now
     std::vector<std::int64_t> updates_sent_; ///< by rank: kTagThreads messages sent
     std::vector<char> lent_seen_;            ///< by rank: it runs on lent cores now
+    bool in_first_round_ = false;
+    std::int64_t own_first_ = -1;            ///< rank 0's replica chosen in the first round
     double cost_total_run_ = 0, cost_done_ = 0;  ///< estimated costs of this run's queue
     ProgressOptions progress_;
     Clock::time_point start_, last_print_;
@@ -474,6 +512,7 @@ FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
             d.check_stop();
             return d.stopping();
         };
+        d.first_round();
         for (std::int64_t id = d.take(); id >= 0; id = d.take()) {
             const Outcome outcome = run_one(spec, id, feeds[static_cast<std::size_t>(id)] != 0, archive, rank, options, serve, stop, summary);
             d.finished(id, outcome, 0);

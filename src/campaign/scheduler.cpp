@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
+#include <numeric>
 #include <queue>
 #include <stdexcept>
 #include <string>
@@ -202,8 +204,109 @@ double SpeedupModel::speedup(std::int64_t n, int threads) const {
     return 1.0 / (f + (1.0 - f) / useful);
 }
 
+std::vector<int> lend_cores(const std::vector<RankCores>& cores, const std::vector<RankWork>& work) {
+    std::vector<int> threads(cores.size());
+    std::map<std::int64_t, int> spare;  // by node: the own threads of its idle ranks
+    for (std::size_t r = 0; r < cores.size(); ++r) {
+        threads[r] = cores[r].own;
+        if (!work[r].running) spare[cores[r].node] += cores[r].own;
+    }
+    std::vector<std::size_t> order(cores.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return work[a].priority > work[b].priority; });
+    for (const std::size_t r : order) {
+        if (!work[r].running) continue;
+        int& left = spare[cores[r].node];
+        const int most = std::max(cores[r].own, std::min(cores[r].most, work[r].useful));
+        const int extra = std::min(left, most - cores[r].own);
+        threads[r] += extra;
+        left -= extra;
+    }
+    return threads;
+}
+
+int useful_threads(std::int64_t n) {
+    return n <= 0 ? 1 : static_cast<int>(ForceBlocks::block_count(static_cast<std::size_t>(n)));
+}
+
+std::vector<int> spread_over_nodes(const std::vector<RankCores>& cores) {
+    std::map<std::int64_t, int> seen;  // by node: its ranks so far
+    std::vector<std::pair<int, int>> key(cores.size());  // (index within its node, rank)
+    for (std::size_t r = 0; r < cores.size(); ++r) key[r] = {seen[cores[r].node]++, static_cast<int>(r)};
+    std::map<std::int64_t, int> first;  // by node: its first rank
+    for (std::size_t r = cores.size(); r-- > 0;) first[cores[r].node] = static_cast<int>(r);
+    std::stable_sort(key.begin(), key.end(), [&](const auto& a, const auto& b) {
+        if (a.first != b.first) return a.first < b.first;
+        return first[cores[static_cast<std::size_t>(a.second)].node] < first[cores[static_cast<std::size_t>(b.second)].node];
+    });
+    std::vector<int> order;
+    for (const auto& k : key) order.push_back(k.second);
+    return order;
+}
+
+namespace {
+
+/// simulate_schedule with cores lent: a replica's speed changes whenever the cores lent
+/// change (at every start and end), so the run goes from event to event by the fraction of
+/// each running replica left. Returns (makespan, busy core-seconds).
+std::pair<double, double> run_with_lending(const std::vector<SimulatedReplica>& replicas, Scheduler& scheduler,
+                                           int workers, int threads, const SimulatedLending& lending) {
+    const auto per_node = static_cast<std::size_t>(std::max(1, lending.ranks_per_node));
+    std::vector<RankCores> cores(static_cast<std::size_t>(workers));
+    for (std::size_t w = 0; w < cores.size(); ++w)
+        cores[w] = {.node = static_cast<std::int64_t>(w / per_node), .own = threads,
+                    .most = static_cast<int>(per_node) * threads};
+    std::vector<std::int64_t> at(cores.size(), -1);  // by worker: its replica
+    std::vector<double> left(cores.size(), 0.0);     // by worker: the fraction of it still to run
+    const std::vector<int> order = spread_over_nodes(cores);
+    double now = 0, busy = 0;
+    for (;;) {
+        for (const int rank : order) {
+            const auto w = static_cast<std::size_t>(rank);
+            if (at[w] >= 0) continue;
+            const std::int64_t id = scheduler.take();
+            if (id < 0) break;
+            at[w] = id;
+            left[w] = 1.0;
+        }
+        std::vector<RankWork> work(cores.size());
+        for (std::size_t w = 0; w < at.size(); ++w)
+            if (at[w] >= 0)
+                work[w] = {.running = true, .priority = scheduler.critical_path(at[w]),
+                           .useful = useful_threads(replicas[static_cast<std::size_t>(at[w])].n)};
+        const std::vector<int> t = lend_cores(cores, work);
+        std::vector<double> rate(cores.size(), 0.0);  // fraction per second
+        double step = -1;
+        for (std::size_t w = 0; w < at.size(); ++w) {
+            if (at[w] < 0) continue;
+            const SimulatedReplica& r = replicas[static_cast<std::size_t>(at[w])];
+            const double fixed = std::clamp(r.serial, 0.0, r.seconds);
+            const double seconds = (r.seconds - fixed) / lending.model.speedup(r.n, t[w]) + fixed;
+            rate[w] = 1.0 / std::max(1e-300, seconds);
+            const double until = left[w] / rate[w];
+            if (step < 0 || until < step) step = until;
+        }
+        if (step < 0) break;  // nothing runs: all done
+        now += step;
+        for (std::size_t w = 0; w < at.size(); ++w) {
+            if (at[w] < 0) continue;
+            busy += step * t[w];
+            left[w] -= rate[w] * step;
+            if (left[w] <= 1e-9) {  // ends now (the one that set the step, and any tied with it)
+                scheduler.finished(at[w], Ended::Done);
+                at[w] = -1;
+            }
+        }
+    }
+    return {now, busy};
+}
+
+} // namespace
+
 SimulatedRun simulate_schedule(const std::vector<SimulatedReplica>& replicas,
-                               const std::vector<std::int64_t>& predecessor, int workers, int threads) {
+                               const std::vector<std::int64_t>& predecessor, int workers, int threads,
+                               const SimulatedLending* lending) {
     if (workers < 1 || threads < 1)
         throw std::invalid_argument("simulate_schedule: " + std::to_string(workers) + " workers of " +
                                     std::to_string(threads) + " threads; both must be >= 1");
@@ -233,6 +336,12 @@ SimulatedRun simulate_schedule(const std::vector<SimulatedReplica>& replicas,
     std::vector<std::int64_t> queue(n);
     for (std::size_t r = 0; r < n; ++r) queue[r] = static_cast<std::int64_t>(r);
     Scheduler scheduler(cost, predecessor, queue, std::vector<Scheduler::Before>(n, Scheduler::Before::Open));
+    if (lending) {
+        const auto [makespan, busy] = run_with_lending(replicas, scheduler, workers, threads, *lending);
+        run.makespan = makespan;
+        run.idle_core_seconds = std::max(0.0, cores * makespan - busy);
+        return run;
+    }
     using Event = std::tuple<double, int, std::int64_t>;
     std::priority_queue<Event, std::vector<Event>, std::greater<>> running;
     std::vector<char> busy(static_cast<std::size_t>(workers), 0);

@@ -52,5 +52,17 @@ TEST(CoreLending, NeverAcrossNodes) {
     EXPECT_EQ(lend_cores(cores, {running(1), running(1), idle, idle}), (std::vector<int>{2, 2, 2, 2}));
 }
 
+TEST(CoreLending, FirstReplicasSpreadOverNodes) {
+    // Two nodes of three ranks (nodes named by their first rank, as gather_rank_cores does).
+    std::vector<RankCores> cores(6);
+    for (std::size_t r = 0; r < cores.size(); ++r) cores[r].node = r < 3 ? 0 : 3;
+    EXPECT_EQ(spread_over_nodes(cores), (std::vector<int>{0, 3, 1, 4, 2, 5}));
+    // Ranks placed round-robin (node of rank r = r % 2) and a node of one rank.
+    std::vector<RankCores> mixed(5);
+    const std::int64_t node[] = {0, 1, 0, 1, 4};
+    for (std::size_t r = 0; r < mixed.size(); ++r) mixed[r].node = node[r];
+    EXPECT_EQ(spread_over_nodes(mixed), (std::vector<int>{0, 1, 4, 2, 3}));
+}
+
 } // namespace
 } // namespace jamsim

@@ -131,6 +131,28 @@ TEST(Scheduler, SimulationOnThreads) {
     EXPECT_THROW(simulate_schedule(replicas({1}), {}, 0, 1), std::invalid_argument);
 }
 
+TEST(Scheduler, SimulationWithCoresLent) {
+    // Two ranks of one thread on one node: A (10 s, N = 65536: 16 blocks) and B (2 s). At 2 s B
+    // ends, its rank lends its core, and A's last 8 one-thread seconds take 4: makespan 6.
+    std::vector<SimulatedReplica> r = replicas({10, 2});
+    for (auto& x : r) x.n = 65536;
+    const SimulatedLending one_node{.ranks_per_node = 2, .model = SpeedupModel{.serial_fraction = 0}};
+    const SimulatedRun lent = simulate_schedule(r, {}, 2, 1, &one_node);
+    EXPECT_DOUBLE_EQ(lent.makespan, 6);
+    EXPECT_NEAR(lent.idle_core_seconds, 0, 1e-12);
+    EXPECT_DOUBLE_EQ(simulate_schedule(r, {}, 2, 1).makespan, 10);  // without lending
+    // With 1 s of A's that threads do not shorten (its samples), A on 2 threads takes
+    // 9 / 2 + 1 = 5.5 s: 2/10 of it runs in the first 2 s, the rest in 8/10 · 5.5 = 4.4 s.
+    r[0].serial = 1;
+    EXPECT_NEAR(simulate_schedule(r, {}, 2, 1, &one_node).makespan, 6.4, 1e-12);
+    r[0].serial = 0;
+    // Ranks on different nodes lend nothing; nor does a replica of one block (N <= 4096).
+    const SimulatedLending own_nodes{.ranks_per_node = 1, .model = SpeedupModel{.serial_fraction = 0}};
+    EXPECT_DOUBLE_EQ(simulate_schedule(r, {}, 2, 1, &own_nodes).makespan, 10);
+    r[0].n = 2048;
+    EXPECT_DOUBLE_EQ(simulate_schedule(r, {}, 2, 1, &one_node).makespan, 10);
+}
+
 TEST(Scheduler, AmdahlSpeedupModel) {
     const SpeedupModel model;
     EXPECT_DOUBLE_EQ(model.fraction(1024), 1.0);  // loops under 4096 run on one thread

@@ -2,7 +2,7 @@
 single-replica files. This is the only module that touches HDF5; every layout detail (the
 layout_version of /final, how /timeseries and /correlation are stored) lives here.
 
-Layouts (README, "Campaign archive" and "Single-replica file"):
+Layouts (campaigns/README.md, "Campaign archive" and "Single-replica file"):
   campaign: /replicas/<column> [R]; /timeseries/<observable> [R, S] (valid up to n_samples
             for done replicas, rows_written otherwise); /correlation/{x,g_y} [R, B] (NaN past a
             replica's bins); /final/box_side, box_strain [R]; /final/{x,y,diameter}:

@@ -82,7 +82,8 @@ class Scheduler {
 /// 1 / (f + (1 − f) / T'), with T' = min(T, the force loop's blocks at N) (the pair loop
 /// shares out whole blocks: 4 at N = 16384, 16 at 65536, 32 from 131072) and the serial
 /// fraction f of its kernel by N, fitted to the RD0 kernel on a 16-core Xeon
-/// (tests/bench/scaling.sh; README "Benchmarks"): 2.46× at N = 16384 on 16 threads (4 blocks),
+/// (tests/bench/scaling.sh; tests/README.md "Benchmarks"): 2.46× at N = 16384 on 16 threads
+/// (4 blocks),
 /// 9.50× at 65536 and 9.57× at 262144, which are f = 0.21, 0.046 and 0.045, rounded up to
 /// 0.21, 0.05 and 0.045 and interpolated in log N, held beyond the ends; below 4096 disks
 /// the kernel's loops run on one thread (f = 1). `serial_fraction` >= 0 replaces the table
@@ -93,11 +94,57 @@ struct SpeedupModel {
     double speedup(std::int64_t n, int threads) const;
 };
 
+/// A rank's cores.
+struct RankCores {
+    std::int64_t node = 0;  ///< which node (ranks that share memory share a node)
+    int own = 1;            ///< its threads (--threads or OMP_NUM_THREADS)
+    /// The most threads it may run without sharing a core: the CPUs of its affinity mask,
+    /// or `own` when OpenMP binds its threads (OMP_PROC_BIND), since lent threads would then
+    /// be bound onto its own cores.
+    int most = 1;
+};
+
+/// What a rank does now.
+struct RankWork {
+    bool running = false;  ///< runs a replica
+    double priority = 0;   ///< its replica's remaining critical path (campaign/scheduler.hpp)
+    int useful = 1;        ///< threads past which its replica gains nothing (the pair loop's blocks)
+};
+
+/// Threads for every rank: an idle rank keeps its own (it runs nothing); a running rank gets
+/// its own plus the own threads of its node's idle ranks, handed to the node's running ranks
+/// in order of priority (then lowest rank), each up to min(most, useful) and never below its own.
+/// Deterministic.
+std::vector<int> lend_cores(const std::vector<RankCores>& cores, const std::vector<RankWork>& work);
+
+/// The pair loop's blocks for N disks: more threads than this gain nothing.
+int useful_threads(std::int64_t n);
+
+/// The ranks in the order the farm hands out its first replicas: the first rank of every
+/// node, then the second of every node, and so on (nodes in order of their first rank), so
+/// that the longest chains start on different nodes and each has idle ranks beside it to
+/// lend it cores when the short work ends.
+std::vector<int> spread_over_nodes(const std::vector<RankCores>& cores);
+
 /// One replica for simulate_schedule.
 struct SimulatedReplica {
     double cost = 0;     ///< what the farm orders by (its estimated cost)
     double seconds = 0;  ///< its run time on one thread
     double speedup = 1;  ///< how many times faster it runs on the run's threads
+    // For a run with cores lent (SimulatedLending): its disks and the seconds that threads
+    // do not shorten (its samples); on T threads it takes
+    // (seconds − serial) / SpeedupModel::speedup(n, T) + serial.
+    std::int64_t n = 0;
+    double serial = 0;
+};
+
+/// Cores lent by ranks without work (campaign/core_lending.hpp), for simulate_schedule:
+/// ranks [k·ranks_per_node, (k+1)·ranks_per_node) share node k, every rank may use the whole
+/// node's cores, free ranks take work in spread_over_nodes order, and a replica's threads
+/// follow lend_cores at every start and end.
+struct SimulatedLending {
+    int ranks_per_node = 1;
+    SpeedupModel model;
 };
 
 /// A simulated run of a campaign on `workers` ranks of `threads` threads each.
@@ -114,8 +161,9 @@ struct SimulatedRun {
 /// A discrete-event run of the Scheduler: every free worker (lowest index first) takes the
 /// scheduler's next replica and holds it for seconds / speedup; completions at one instant
 /// are all reported before the free workers take new work. Every replica is queued, none
-/// done before.
+/// done before. With `lending`, a replica's speed changes whenever the cores lent change.
 SimulatedRun simulate_schedule(const std::vector<SimulatedReplica>& replicas,
-                               const std::vector<std::int64_t>& predecessor, int workers, int threads);
+                               const std::vector<std::int64_t>& predecessor, int workers, int threads,
+                               const SimulatedLending* lending = nullptr);
 
 } // namespace jamsim

@@ -57,7 +57,7 @@ class Cd0 final : public Model {
     std::string backend_, petsc_options_;
     linalg::SolveInfo last_;
     std::unique_ptr<linalg::ContactSolver> solver_;
-    /// The skin of the contact matrix's candidate pairs: skin/3 (the README's CD0 section
+    /// The skin of the contact matrix's candidate pairs: skin/3 (campaigns/README.md's CD0 section
     /// gives the measurements behind the choice).
     static double candidate_skin(const ReplicaParams& params);
     SubList candidates_;
@@ -72,7 +72,8 @@ class Cd0 final : public Model {
 /// that the first contact solves see several times the contacts of a sheared state and
 /// change most of them every step, and the updated factor's fill, with it the replica's
 /// memory, grows far beyond the steady state's (peak RSS 632 MB against 166 MB at N = 65536,
-/// about 10.5 GB against 0.37 GB at 262144; README, CD0). So the random start is first relaxed
+/// about 10.5 GB against 0.37 GB at 262144; tests/README.md, CD0). So the random start is first
+/// relaxed
 /// by kCd0StartRelaxTime of RD0 dynamics without shear (reservoir drag k_d, Euler, Δt =
 /// min(dt, half RD0's stable Δt), a fixed number of steps): the energy falls about 50-fold
 /// (N = 1024, φ = 0.84) and the contact solves start near a packing. Deterministic, and the

@@ -37,7 +37,7 @@ ArchiveLayout archive_layout(const CampaignSpec& spec);
 /// shape (early allocation; the bulk unfilled, so creation writes no data) and flushes; after that the run writes only raw data,
 /// independently, into space that already exists, so no metadata changes until the
 /// collective close. A replica's rows are written first and its status (done/failed) last,
-/// so after a SIGKILL the status column says which rows are valid. Layout: README.md,
+/// so after a SIGKILL the status column says which rows are valid. Layout: campaigns/README.md,
 /// "Campaign archive".
 class Archive {
   public:

@@ -1,6 +1,7 @@
 #pragma once
 // H5MD 1.1 (the particle-data standard on HDF5) for one configuration, laid out so that
-// MDAnalysis's H5MDReader reads it (README, "Exporting configurations"): one particle group
+// MDAnalysis's H5MDReader reads it (campaigns/README.md, "Exporting and importing
+// configurations"): one particle group
 // `all`, one frame, a 3-D box (MDAnalysis reads only three dimensions): rows of
 // /particles/all/box/edges/value are the cell vectors (L, 0, 0), (γL, L, 0), (0, 0, 1), the
 // third a non-periodic layer of one small diameter with z = 0; lab positions x = x_s + γ y.

@@ -2,7 +2,8 @@
 // LAMMPS data files: a final configuration out (`jamsim export`), an initial configuration in
 // ([run] initial = "FILE.data", `jamsim replica --initial FILE.data`).
 //
-// The file jamsim writes (README, "Exporting configurations"): `atom_style sphere`
+// The file jamsim writes (campaigns/README.md, "Exporting and importing configurations"):
+// `atom_style sphere`
 // (Atoms line `id type diameter density x y z`), 2 atom types (1 = small, d = 1; 2 = large,
 // d = size_ratio), density 1, the sheared cell as LAMMPS's tilted box with xlo = ylo = 0,
 // xhi = yhi = L, xy = γL (γ in [−1/2, 1/2), as jamsim keeps it), zlo zhi = −0.5 0.5, and lab

@@ -5,7 +5,7 @@
 
 namespace jamsim {
 
-/// Write one replica to an HDF5 file (layout in README.md, "Single-replica file"):
+/// Write one replica to an HDF5 file (layout in campaigns/README.md, "Single-replica file"):
 ///   /            attributes: every ReplicaParams field, code version, build flags,
 ///                mean pressure / shear stress after the transient, run statistics
 ///   /timeseries  one 1-D dataset per Sample column (units + description attributes)
