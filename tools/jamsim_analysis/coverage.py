@@ -4,8 +4,9 @@ are, and how often the 1-sigma intervals cover the truth (68.27% when they are r
 Each replica's series is value * (1 + rel * (b + x_t)): x an AR(1) series of unit variance
 and coefficient `a` (tau_int = (1 + a) / (2 (1 - a)) samples), b a seed-to-seed offset with
 standard deviation `offset` times the time error of one replica's mean. Its mean and time
-error come from stats.mean_with_error, the seed averages from stats.group_averages, and the
-fits take those as they take a real campaign's:
+error come from stats.mean_with_error, the seed averages from stats.group_averages (rows
+"group average": `<obs>_error`; "fit weight": `<obs>_error_fit`, the seed-to-seed variance
+pooled over the campaign's points), and the fits take those as they take a real campaign's:
   collapse   scaling.fit_collapse of O = rate^q exp(P(x)) (phi_J, q, znu; degree 2)
   Newtonian  rheology.newtonian_divergence of O = A rate (phi_J - phi)^-beta (phi_J given)
   Bagnold    rheology.bagnold_analysis of O = A rate^2 d^-beta (1 + c d) (phi_J given)
@@ -87,25 +88,31 @@ def divergence_truth(power):
 
 
 def _fit_rows(kind, seeds, fit, truth):
-    """One row per parameter: covered with the fit's errors (inflated by sqrt(max(1,
-    chi2/dof))) and with the plain ones (the weights as given)."""
-    inflate = np.sqrt(max(1.0, fit.chi2_per_dof)) if fit.dof > 0 else 1.0
+    """One row per parameter: covered with the fit's errors (scaled by the residuals, times
+    t sqrt(chi2/dof): stats.residual_scale) and with the plain ones (the weights as given)."""
+    inflate = np.sqrt(stats.residual_scale(fit.chi2, fit.dof))
     return [dict(quantity=f"{kind} {k}", seeds=seeds,
                  covered=abs(fit.values[k] - v) <= fit.errors[k],
                  covered_plain=abs(fit.values[k] - v) <= fit.errors[k] / inflate) for k, v in truth.items()]
 
 
-def one_campaign(rng, seeds, spec, fits=True):
-    """Coverage rows of one synthetic campaign: every group average (new and old error) and,
-    with fits, every fitted parameter."""
+TRUTHS = {"collapse": collapse_truth, "Newtonian": lambda: divergence_truth(1),
+          "Bagnold": lambda: divergence_truth(2)}
+
+
+def one_campaign(rng, seeds, spec, fits=True, kinds=tuple(TRUTHS)):
+    """Coverage rows of one synthetic campaign: every group average (new and old error, and
+    the pooled fit weight) and, with fits, every fitted parameter."""
     rows = []
-    tables = {"collapse": collapse_truth(), "Newtonian": divergence_truth(1), "Bagnold": divergence_truth(2)}
-    for kind, truth_points in tables.items():
+    for kind in kinds:
+        truth_points = TRUTHS[kind]()
         groups = stats.group_averages(replicas(rng, truth_points, seeds, spec), ["pressure"])
         merged = groups.merge(truth_points, on=["phi", "rate"])
         dev = (merged["pressure"] - merged["value"]).abs()
-        for d, e, e_old in zip(dev, merged["pressure_error"], merged["pressure_error_seeds"]):
+        for d, e, e_old, e_fit in zip(dev, merged["pressure_error"], merged["pressure_error_seeds"],
+                                      merged["pressure_error_fit"]):
             rows.append(dict(quantity="group average", seeds=seeds, covered=d <= e, covered_plain=d <= e_old))
+            rows.append(dict(quantity="fit weight", seeds=seeds, covered=d <= e_fit, covered_plain=d <= e_old))
         if not fits:
             continue
         try:
@@ -122,16 +129,17 @@ def one_campaign(rng, seeds, spec, fits=True):
     return rows
 
 
-def coverage_table(campaigns, seed_counts=(2, 4, 16), spec=None, fits=True, seed=12345):
+def coverage_table(campaigns, seed_counts=(2, 4, 16), spec=None, fits=True, seed=12345, kinds=tuple(TRUTHS)):
     """DataFrame quantity, seeds, offset, trials, coverage, binomial error (of 68.27%), and
-    coverage_plain: of the group averages with the plain standard error over seeds (the old
-    estimator), of the fits without the sqrt(chi2/dof) inflation."""
+    coverage_plain: of the group averages and fit weights with the plain standard error over
+    seeds (the old estimator), of the fits with the weights as given (without the residual
+    scaling). kinds: the synthetic campaigns (and their fits) among TRUTHS."""
     spec = spec or Spec()
     rng = np.random.default_rng(seed)
     rows = []
     for k in seed_counts:
         for _ in range(campaigns):
-            rows += one_campaign(rng, k, spec, fits)
+            rows += one_campaign(rng, k, spec, fits, kinds)
     frame = pd.DataFrame(rows)
     out = frame.groupby(["quantity", "seeds"], sort=False).agg(
         trials=("covered", "size"), coverage=("covered", "mean"), coverage_plain=("covered_plain", "mean")).reset_index()

@@ -72,13 +72,19 @@ def fit_quality(chi2, dof):
 
 
 def fit_rows(name, values, errors, chi2=None, dof=None, extra="", scaled=True):
-    """Table rows (one per parameter) of a fit. scaled: the errors already include the
-    factor sqrt(max(1, chi2/dof)) (least-squares fits here) rather than, e.g., a bootstrap.
-    A fit flagged by fit_quality with chi2/dof > 1 also gets error_inflated = the plain error
-    times sqrt(chi2/dof)."""
+    """Table rows (one per parameter) of a fit. scaled: True when the errors already include
+    the factor sqrt(max(1, chi2/dof)) (least-squares fits here), "residuals" when they are
+    scaled by the residuals, t sqrt(chi2/dof) (stats.residual_scale: the fits to seed
+    averages), False for errors without either (e.g. a bootstrap). A fit flagged by
+    fit_quality with chi2/dof > 1 also gets error_inflated = the plain error times
+    sqrt(chi2/dof) (for "residuals", the error itself: it carries that factor already)."""
     p, flag = fit_quality(chi2, dof)
     factor = np.sqrt(chi2 / dof) if flag and chi2 > dof else np.nan
-    done = np.sqrt(max(1.0, chi2 / dof)) if scaled and np.isfinite(factor) else 1.0
+    if scaled == "residuals":
+        factor = 1.0 if np.isfinite(factor) else np.nan
+        done = 1.0
+    else:
+        done = np.sqrt(max(1.0, chi2 / dof)) if scaled and np.isfinite(factor) else 1.0
     rows = [dict(analysis=name, parameter=k, value=v, error=errors.get(k, np.nan),
                  chi2_per_dof=(chi2 / dof if dof else np.nan) if chi2 is not None else np.nan,
                  dof=dof if dof is not None else "", note=extra, p_value=p,
@@ -204,7 +210,7 @@ def _collapse(rep, table, groups, model, observable, opts, phi_j):
               f"{pts['rate'].max():g}, {len(pts)} points, degree {opts.degree}"
               + (", with correction" if opts.correction else ""))
     rep.fits += fit_rows(name, fit.values, fit.errors, fit.chi2, fit.dof, f"{window}; errors: {method}",
-                         scaled=method == "least squares")
+                         scaled="residuals" if method == "least squares" else False)
     if observable == "pressure":
         phi_j[model] = fit.values["phi_J"]
     fname = f"collapse_{model}_{observable}.png"
@@ -234,7 +240,8 @@ def _divergence(rep, groups, model, power, phi_j, opts):
                         correction=(power == 2))
     rep.doc.table(plateau)
     note = f"phi_J {'from the collapse' if phi_j is not None else 'fitted'}; points: {len(fit.points)}"
-    rep.fits += fit_rows(f"{kind} divergence {model} p/rate^{power}", fit.values, fit.errors, fit.chi2, fit.dof, note)
+    rep.fits += fit_rows(f"{kind} divergence {model} p/rate^{power}", fit.values, fit.errors, fit.chi2, fit.dof, note,
+                         scaled="residuals")
     fname = f"{kind.lower()}_{model}.png"
     figures.divergence_figure(plateau, fit, f"$p/\\dot\\gamma^{power}$ (rate -> 0)", rep.path(fname))
     rep.doc.figure(fname, f"{kind} coefficient of p against phi_J - phi ({model})")
@@ -249,7 +256,8 @@ def _compare(rep, groups, opts):
     rep.doc.heading("RD0 against CD0")
     rep.doc.paragraph(cmp.statement())
     rep.fits += fit_rows("joint collapse RD0+CD0 pressure", cmp.joint.values, cmp.joint.errors,
-                         cmp.joint.chi2, cmp.joint.dof, f"F = {cmp.f_statistic:.2f}, p = {cmp.p_value:.3g}")
+                         cmp.joint.chi2, cmp.joint.dof, f"F = {cmp.f_statistic:.2f}, p = {cmp.p_value:.3g}",
+                         scaled="residuals")
     figures.collapse_figure(cmp.joint, rep.path("collapse_joint.png"))
     rep.doc.figure("collapse_joint.png", "joint collapse of RD0 and CD0")
 

@@ -10,6 +10,7 @@ import pandas as pd
 from scipy import stats as sps
 from scipy.optimize import least_squares
 
+from . import stats
 from .errors import AnalysisError
 
 # A local slope is consistent with a value when within this many standard errors.
@@ -73,7 +74,8 @@ class Divergence:
 
 def fit_divergence(phi, value, error, phi_j=None, correction=False, start_beta=2.5):
     """Weighted least squares of ln C against (phi_J - phi) for the points with phi < phi_J;
-    phi_j=None fits phi_J too. Errors scaled by sqrt(max(1, chi2/dof))."""
+    phi_j=None fits phi_J too. Errors scaled by the residuals: times t sqrt(chi2/dof)
+    (stats.residual_scale)."""
     phi, value, error = (np.asarray(a, float) for a in (phi, value, error))
     keep = (value > 0) & (error > 0) & np.isfinite(value)
     if phi_j is not None:
@@ -111,7 +113,7 @@ def fit_divergence(phi, value, error, phi_j=None, correction=False, start_beta=2
         raise AnalysisError("the divergence fit did not converge")
     chi2 = float(np.sum(best.fun ** 2))
     dof = len(phi) - len(names)
-    cov = np.linalg.pinv(best.jac.T @ best.jac) * max(1.0, chi2 / dof)
+    cov = np.linalg.pinv(best.jac.T @ best.jac) * stats.residual_scale(chi2, dof)
     sd = np.sqrt(np.clip(np.diag(cov), 0, None))
     ln_a, beta, pj, c = unpack(best.x)
     values = {"beta": beta, "phi_J": pj, "A": float(np.exp(ln_a))}
@@ -139,7 +141,7 @@ def plateau_values(groups, observable, power, phi_j=None, model=None, p_min=PLAT
         row = {"N": n, "phi": phi, "value": np.nan, "error": np.nan, "rates_used": 0, "left_out": ""}
         rate = part["rate"].to_numpy(float)
         c = part[observable].to_numpy(float) / rate ** power
-        e = part[f"{observable}_error"].to_numpy(float) / rate ** power
+        e = stats.fit_errors(part, observable).to_numpy(float) / rate ** power
         if phi_j is not None and phi >= phi_j:
             row["left_out"] = f"phi >= phi_J = {phi_j:.4f}"
         elif len(part) < 2 or not np.all(e[:2] > 0):

@@ -17,6 +17,7 @@ import pandas as pd
 from scipy import stats as sps
 from scipy.optimize import least_squares
 
+from . import stats
 from .errors import AnalysisError
 
 EXPONENTS = ("phi_J", "q", "znu", "y", "beta")
@@ -25,10 +26,11 @@ EXPONENTS = ("phi_J", "q", "znu", "y", "beta")
 @dataclasses.dataclass
 class ScalingFit:
     """Result of a collapse fit. values/errors: phi_J, q, znu, y, beta (and w with the
-    correction); errors are the fit's standard errors times sqrt(max(1, chi2/dof)) (or the
-    bootstrap standard deviation when method == "bootstrap"). theta: raw parameters
-    [phi_J, q, 1/znu, P coefficients per group (low to high), (w, Q coefficients per
-    group)]; points: the data fitted (phi, rate, value, error, group)."""
+    correction); errors are the fit's standard errors scaled by the residuals, times
+    t sqrt(chi2/dof) (stats.residual_scale; or the bootstrap standard deviation when
+    method == "bootstrap"). theta: raw parameters [phi_J, q, 1/znu, P coefficients per
+    group (low to high), (w, Q coefficients per group)]; points: the data fitted (phi,
+    rate, value, error, group)."""
     observable: str
     degree: int
     correction_degree: int  # -1: no correction
@@ -180,7 +182,7 @@ def fit_collapse(points, degree=3, correction_degree=-1, start=(0.843, 0.28, 3.5
         raise AnalysisError("the collapse fit did not converge from any start value")
     chi2 = float(np.sum(best.fun ** 2))
     dof = len(pts) - layout.size
-    cov = np.linalg.pinv(best.jac.T @ best.jac) * max(1.0, chi2 / dof)
+    cov = np.linalg.pinv(best.jac.T @ best.jac) * stats.residual_scale(chi2, dof)
     values, errors = _derived(best.x, cov)
     if layout.correction:
         values["w"] = float(best.x[layout.w_index])
@@ -192,8 +194,8 @@ def fit_collapse(points, degree=3, correction_degree=-1, start=(0.843, 0.28, 3.5
 def collapse_points(groups, observable, N=None, phi_range=(-np.inf, np.inf), rate_max=np.inf,
                     min_seeds=2, model=None):
     """The (phi, rate) points of one N (default: the largest) from group_averages output:
-    DataFrame phi, rate, value, error, seeds, group (= model). Points with fewer than
-    min_seeds seeds (no error estimate) are left out."""
+    DataFrame phi, rate, value, error (the fit weights, stats.fit_errors), seeds, group
+    (= model). Points with fewer than min_seeds seeds (no error estimate) are left out."""
     g = groups[groups["rate"] > 0]
     if model is not None:
         g = g[g["model"] == model]
@@ -208,7 +210,7 @@ def collapse_points(groups, observable, N=None, phi_range=(-np.inf, np.inf), rat
     if g.empty:
         raise AnalysisError(f"no (phi, rate) point of N = {int(n)} with at least {min_seeds} seeds in the window")
     return pd.DataFrame({"phi": g["phi"], "rate": g["rate"], "value": g[observable],
-                         "error": g[f"{observable}_error"], "seeds": g["seeds"],
+                         "error": stats.fit_errors(g, observable), "seeds": g["seeds"],
                          "group": g["model"] if "model" in g else ""}).reset_index(drop=True)
 
 

@@ -275,8 +275,9 @@ def group_averages(replica_table, observables, keys=KEYS):
     observable (see seed_average): `<obs>` (mean of replica means), `<obs>_error` (its
     1-sigma error: the time errors combined with the spread between seeds, never below the
     time errors), `<obs>_error_time` (the time errors alone: sqrt(sum e_i^2)/n),
-    `<obs>_error_seeds` (the plain standard error over seeds, NaN for one seed) and
-    `seeds`."""
+    `<obs>_error_seeds` (the plain standard error over seeds, NaN for one seed),
+    `<obs>_error_fit` (the fits' weights: the seed-to-seed variance pooled over each model
+    and N, pooled_errors) and `seeds`."""
     kept = replica_table[replica_table["left_out"] == ""] if "left_out" in replica_table else replica_table
     if kept.empty:
         raise AnalysisError("no finished replica left to average")
@@ -290,4 +291,61 @@ def group_averages(replica_table, observables, keys=KEYS):
             e = part[f"{o}_error"].to_numpy(float) if f"{o}_error" in part else np.full(len(v), np.nan)
             row[o], row[f"{o}_error"], row[f"{o}_error_time"], row[f"{o}_error_seeds"] = seed_average(v, e)
         rows.append(row)
-    return pd.DataFrame(rows)
+    out = pd.DataFrame(rows)
+    for o in observables:
+        out[f"{o}_error_fit"] = pooled_errors(out, o, [k for k in POOL_KEYS if k in keys])
+    return out
+
+
+# The groups that share one seed-to-seed variance ratio (pooled_errors).
+POOL_KEYS = ("model", "N")
+
+
+def pooled_errors(groups, observable, pool_keys=POOL_KEYS):
+    """Fit weights of the seed averages: the seed-to-seed variance pooled over the groups
+    that share `pool_keys` (each model and N of an archive), as one ratio to the time error.
+
+    With k_j seeds in group j, s_j^2 the variance of its replica means and w_j = k_j
+    error_time_j^2 their mean squared time error, the replicas' variance is taken as
+    w_j (1 + r): r = tau_j^2 / w_j, one ratio for every group of the pool. Its REML (and
+    moments) estimate is 1 + r = sum_j (k_j - 1) s_j^2 / w_j / nu, nu = sum_j (k_j - 1);
+    then error_fit_j^2 = error_time_j^2 (1 + t^2 max(0, r)), t the (1 + ONE_SIGMA)/2
+    Student-t quantile with nu dof. The ratio rests on nu degrees of freedom (20 for 20
+    points of 2 seeds) instead of k_j - 1 per point, so a fit does not favour points whose
+    spread came out small by chance. Never below error_time. Groups with one seed or
+    without a time error keep `<obs>_error`; so does a pool with no spread to estimate."""
+    err = groups[f"{observable}_error"].to_numpy(float).copy()
+    e_time = groups[f"{observable}_error_time"].to_numpy(float)
+    e_seeds = groups[f"{observable}_error_seeds"].to_numpy(float)
+    k = groups["seeds"].to_numpy(float)
+    usable = (k >= 2) & np.isfinite(e_time) & (e_time > 0) & np.isfinite(e_seeds)
+    labels = (groups[list(pool_keys)].astype(str).agg("|".join, axis=1).to_numpy()
+              if pool_keys else np.zeros(len(groups), dtype=str))
+    for label in np.unique(labels[usable]):
+        sel = usable & (labels == label)
+        nu = float(np.sum(k[sel] - 1))
+        ratio = float(np.sum((k[sel] - 1) * (e_seeds[sel] / e_time[sel]) ** 2) / nu)  # s^2/w = (1 + r)
+        t = float(sps.t.ppf(0.5 + ONE_SIGMA / 2, nu))
+        err[sel] = e_time[sel] * np.sqrt(1 + t * t * max(0.0, ratio - 1))
+    return err
+
+
+def residual_scale(chi2, dof):
+    """The factor of a weighted least-squares covariance (J^T W J)^-1 of a fit to seed
+    averages: t^2 chi2/dof, t the (1 + ONE_SIGMA)/2 Student-t quantile with the fit's dof
+    (1.20 for 3 dof, 1.04 for 14). The weights' common scale is taken from the residuals, as
+    in a regression with unknown variance, so a 1-sigma interval covers 68% when the weights
+    are right up to one factor; and a fit with chi2/dof > 1 (a model or weights at odds with
+    the data) gets its errors inflated by sqrt(chi2/dof). (The rule sqrt(max(1, chi2/dof))
+    covers 73% with right weights and 3 dof.) 1 without dof."""
+    if dof <= 0 or not np.isfinite(chi2):
+        return 1.0
+    t = float(sps.t.ppf(0.5 + ONE_SIGMA / 2, dof))
+    return t * t * chi2 / dof
+
+
+def fit_errors(groups, observable):
+    """The errors that weight a fit: `<obs>_error_fit` (pooled_errors) where the table has
+    it, else `<obs>_error`."""
+    col = f"{observable}_error_fit"
+    return groups[col] if col in groups else groups[f"{observable}_error"]

@@ -1,9 +1,11 @@
 """A fit whose chi2/dof is far from 1 (p-value below 0.01) is flagged in the report's table
 and text, with its errors also inflated by sqrt(chi2/dof); a fit with honest error bars is
-not flagged. Real collapse fits of synthetic flow curves (3% noise per replica, 8 seeds): the
-honest one takes the seed averages' errors, the bad one the same points with errors ten
-times too small (chi2/dof about 100)."""
+not flagged (the collapse's errors are scaled by the residuals, so the inflated column is
+the error itself). Real collapse fits of synthetic flow curves (3% noise per replica, 8
+seeds): the honest one takes the seed averages' errors, the bad one the same points with
+errors ten times too small (chi2/dof about 100)."""
 import numpy as np
+from scipy import stats
 
 import jamsim_analysis as ja
 from jamsim_analysis import report
@@ -22,17 +24,22 @@ def test_flagged_fit_in_table_and_text(tmp_path):
     p, flag = report.fit_quality(bad.chi2, bad.dof)
     assert p < report.FLAG_P and "too large" in flag
     rep = report.Report("flag", str(tmp_path))
-    rep.fits += report.fit_rows("collapse good", good.values, good.errors, good.chi2, good.dof, "honest")
-    rep.fits += report.fit_rows("collapse bad", bad.values, bad.errors, bad.chi2, bad.dof, "errors / 10")
+    rep.fits += report.fit_rows("collapse good", good.values, good.errors, good.chi2, good.dof, "honest",
+                                scaled="residuals")
+    rep.fits += report.fit_rows("collapse bad", bad.values, bad.errors, bad.chi2, bad.dof, "errors / 10",
+                                scaled="residuals")
     rows = {(r["analysis"], r["parameter"]): r for r in rep.fits}
     for name in ("phi_J", "q", "znu"):
         assert rows[("collapse good", name)]["flag"] == "" and np.isnan(rows[("collapse good", name)]["error_inflated"])
         r = rows[("collapse bad", name)]
-        # least-squares errors already carry sqrt(chi2/dof): the inflated column is the plain
-        # error (covariance of the weights as given) times sqrt(chi2/dof)
-        plain = np.sqrt(bad.covariance[:3, :3].diagonal() / bad.chi2_per_dof)
+        # the collapse's errors are scaled by the residuals, t sqrt(chi2/dof) with t the
+        # Student-t factor of its dof: the inflated column is the error itself, and the plain
+        # error (covariance of the weights as given) times t sqrt(chi2/dof)
+        t = stats.t.ppf(0.5 + ja.stats.ONE_SIGMA / 2, bad.dof)
+        plain = np.sqrt(bad.covariance[:3, :3].diagonal() / bad.chi2_per_dof) / t
+        assert np.isclose(r["error_inflated"], bad.errors[name])
         if name == "phi_J":
-            assert np.isclose(r["error_inflated"], plain[0] * np.sqrt(bad.chi2_per_dof))
+            assert np.isclose(r["error_inflated"], plain[0] * t * np.sqrt(bad.chi2_per_dof))
         assert r["flag"].startswith("chi2/dof = ") and r["error_inflated"] > 0
     # the same errors without the built-in scaling (e.g. a bootstrap) are inflated here
     boot = report.fit_rows("bootstrap", {"q": 0.3}, {"q": 0.01}, chi2=400.0, dof=4, scaled=False)[0]

@@ -115,3 +115,25 @@ def test_group_averages_equal_direct_computation():
     assert np.isclose(first["p_error_time"], np.sqrt(0.01 + 0.04 + 0.04) / 3)
     single = g[g["phi"] == 0.84].iloc[0]
     assert single["seeds"] == 1 and np.isclose(single["p_error"], 0.3)
+
+
+def test_fit_errors_pool_the_seed_spread_over_model_and_n():
+    import pandas as pd
+    # two points of RD0 N=64 (2 seeds each, time errors 0.1), one of N=128; the pooled ratio
+    # 1 + r = mean over the pool of s^2 / mean(e^2) (1 dof per point)
+    table = pd.DataFrame({"model": ["RD0"] * 6, "N": [64, 64, 64, 64, 128, 128],
+                          "phi": [0.80, 0.80, 0.82, 0.82, 0.80, 0.80], "rate": [1e-3] * 6,
+                          "p": [1.0, 1.3, 2.0, 2.1, 1.0, 1.0], "p_error": [0.1] * 6, "left_out": [""] * 6})
+    g = ja.group_averages(table, ["p"])
+    pool = g[g["N"] == 64]
+    ratio = np.mean([np.var([1.0, 1.3], ddof=1), np.var([2.0, 2.1], ddof=1)]) / 0.01  # 1 + r = 2.5
+    t = stats.sps.t.ppf(0.5 + stats.ONE_SIGMA / 2, 2)
+    expected = np.sqrt(0.01 / 2) * np.sqrt(1 + t * t * (ratio - 1))
+    assert np.allclose(pool["p_error_fit"], expected)
+    assert np.allclose(stats.fit_errors(pool, "p"), expected)
+    # per point, the first point's spread is the larger: its own error is larger than the pooled one
+    assert pool["p_error"].iloc[0] > expected > pool["p_error"].iloc[1]
+    # no spread at N=128: the pooled ratio is clipped at 0 and the error is the time error
+    assert np.isclose(g[g["N"] == 128]["p_error_fit"].iloc[0], np.sqrt(0.02) / 2)
+    # a table without the column weights fits by <obs>_error
+    assert stats.fit_errors(g.drop(columns="p_error_fit"), "p").equals(g["p_error"])
