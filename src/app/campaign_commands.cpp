@@ -158,7 +158,7 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
             // A dry run writes nothing, but an existing archive it names must fit the campaign.
             OutputMode mode = OutputMode::Fresh;
             if (!opt.dry_run || std::filesystem::exists(output)) error = check_output(output, spec, mode, grow_source);
-            else error = check_output_folder(output, spec, false);  // what the run would refuse
+            else error = check_output_folder(output, spec);  // what the run would refuse
             extend = mode == OutputMode::Extend;
             grow = mode == OutputMode::Grow;
             for (const std::int64_t from : grow_source) grow_kept += from >= 0;
