@@ -78,3 +78,7 @@ jamsim_install_configured(${CMAKE_CURRENT_LIST_DIR}/jamsim.tcl.in
 
 install(FILES ${PROJECT_SOURCE_DIR}/README.md ${PROJECT_SOURCE_DIR}/LICENSE
         DESTINATION ${CMAKE_INSTALL_DOCDIR})
+# The topic pages beside the front door, in the same folders, so that its links resolve there.
+foreach(topic IN ITEMS campaigns slurm tools src tests)
+  install(FILES ${PROJECT_SOURCE_DIR}/${topic}/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR}/${topic})
+endforeach()
