@@ -158,7 +158,7 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
             // A dry run writes nothing, but an existing archive it names must fit the campaign.
             OutputMode mode = OutputMode::Fresh;
             if (!opt.dry_run || std::filesystem::exists(output)) error = check_output(output, spec, mode, grow_source);
-            else error = check_output_folder(output, spec);  // what the run would refuse
+            else error = check_output_folder(output, spec, false);  // what the run would refuse
             extend = mode == OutputMode::Extend;
             grow = mode == OutputMode::Grow;
             for (const std::int64_t from : grow_source) grow_kept += from >= 0;
@@ -418,6 +418,9 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
                                            " is not allowed: a duration > 0 such as 3600, 90min or 24h");
         },
         "--dry-run: a task's time limit, to count the requeues it needs");
+    cmd->add_flag("--summary", opt->plan.summary,
+                  "--dry-run: one line per (model, N) with its work, longest replica and archive share, "
+                  "instead of one per replica (`jamsim plan --costs` needs the full listing)");
     cmd->add_flag("!--no-calibrate", opt->plan.calibrate,
                   "--dry-run: nominal throughput instead of a short probe per model and N");
     cmd->add_option("--shard", opt->shard,

@@ -209,6 +209,47 @@ std::string describe_source(const DryRunPlan& plan, const Calibration& rates) {
                                  std::to_string(rates.probed) + " by a short probe, the rest from those";
 }
 
+/// --summary: one line per (model, N), the heaviest work first: its replicas, their
+/// one-thread core-hours and share of the campaign's, its longest replica, and its share of
+/// the archive (time series, g_y, final configurations, frames: ArchiveLayout's rows, which
+/// every replica fills to the campaign's longest) with the part in configurations.
+void print_groups(const CampaignSpec& spec, const std::vector<double>& seconds) {
+    struct Group {
+        std::int64_t replicas = 0;
+        double seconds = 0, longest = 0, bytes = 0, configuration_bytes = 0;
+    };
+    const ArchiveLayout layout = archive_layout(spec);
+    const double row = 8.0 * (static_cast<double>(layout.samples) * static_cast<double>(std::size(kSampleColumns)) +
+                              2.0 * static_cast<double>(layout.bins)) + 8.0 * 40 + 256;
+    std::map<std::pair<std::string, std::int64_t>, Group> groups;
+    double total_seconds = 0, total_bytes = 0;
+    for (std::size_t r = 0; r < spec.replicas.size(); ++r) {
+        const ReplicaParams& p = spec.replicas[r];
+        Group& g = groups[{p.model, p.n}];
+        const auto n = static_cast<double>(p.n);
+        const double configurations = 8.0 * (3.0 * n + static_cast<double>(layout.frames) * (2.0 * n + 2.0));
+        ++g.replicas;
+        g.seconds += seconds[r];
+        g.longest = std::max(g.longest, seconds[r]);
+        g.bytes += row + configurations;
+        g.configuration_bytes += configurations;
+        total_seconds += seconds[r];
+        total_bytes += row + configurations;
+    }
+    std::vector<std::pair<std::pair<std::string, std::int64_t>, Group>> order(groups.begin(), groups.end());
+    std::stable_sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.second.seconds > b.second.seconds; });
+    std::printf("%-6s %8s %9s %11s %6s %12s %10s %6s %15s\n", "model", "N", "replicas", "core-hours", "work",
+                "longest", "archive", "share", "configurations");
+    for (const auto& [key, g] : order)
+        std::printf("%-6s %8lld %9lld %11.4g %5.1f%% %12s %10s %5.1f%% %14.0f%%\n", key.first.c_str(),
+                    static_cast<long long>(key.second), static_cast<long long>(g.replicas), g.seconds / 3600.0,
+                    100.0 * g.seconds / std::max(1e-300, total_seconds), duration(g.longest).c_str(),
+                    show_bytes(g.bytes).c_str(), 100.0 * g.bytes / std::max(1e-300, total_bytes),
+                    100.0 * g.configuration_bytes / std::max(1e-300, g.bytes));
+    std::printf("%zu groups (model, N); configurations: the share of a group's archive bytes in final "
+                "configurations and frames\n", order.size());
+}
+
 } // namespace
 
 ReplicaSeconds replica_seconds(const CampaignSpec& spec, const std::string& archive, const DryRunPlan& plan) {
@@ -225,18 +266,23 @@ void print_dry_run(const CampaignSpec& spec, const std::string& output, const Dr
     std::printf("campaign %s: %zu replicas -> %s (dry run: nothing written)\n", spec.name.c_str(),
                 spec.replicas.size(), output.c_str());
     const ReplicaSeconds estimate = replica_seconds(spec, output, plan);
-    std::printf("%6s %7s %8s %10s %6s %9s %14s %10s %9s\n", "id", "N", "phi", "rate", "seed",
-                "samples", "cost(p-evals)", "est. s", "sampling");
     double total = 0, largest = 0;
-    for (std::size_t id = 0; id < spec.replicas.size(); ++id) {
-        const ReplicaParams& p = spec.replicas[id];
-        const double seconds = estimate.seconds[id];
+    for (const double seconds : estimate.seconds) {
         total += seconds;
         largest = std::max(largest, seconds);
-        std::printf("%6zu %7lld %8.4g %10.3g %6llu %9lld %14.4g %10.1f %9.1f\n", id,
-                    static_cast<long long>(p.n), p.phi, p.rate,
-                    static_cast<unsigned long long>(p.seed),
-                    static_cast<long long>(sample_count(p)), estimated_cost(p), seconds, estimate.serial[id]);
+    }
+    if (plan.summary) {
+        print_groups(spec, estimate.seconds);
+    } else {
+        std::printf("%6s %7s %8s %10s %6s %9s %14s %10s %9s\n", "id", "N", "phi", "rate", "seed", "samples",
+                    "cost(p-evals)", "est. s", "sampling");
+        for (std::size_t id = 0; id < spec.replicas.size(); ++id) {
+            const ReplicaParams& p = spec.replicas[id];
+            std::printf("%6zu %7lld %8.4g %10.3g %6llu %9lld %14.4g %10.1f %9.1f\n", id, static_cast<long long>(p.n),
+                        p.phi, p.rate, static_cast<unsigned long long>(p.seed),
+                        static_cast<long long>(sample_count(p)), estimated_cost(p), estimate.seconds[id],
+                        estimate.serial[id]);
+        }
     }
     std::printf("total: %.3g core-hours, %.3g core-seconds on one thread (%s; the longest replica: %s)\n",
                 total / 3600.0, total, estimate.source.c_str(), duration(largest).c_str());

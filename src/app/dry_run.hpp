@@ -16,6 +16,7 @@ struct DryRunPlan {
     int shards = 1;          ///< Slurm array tasks
     double time_limit = 0;   ///< seconds per task (0: none)
     double serial_fraction = -1;  ///< the speed-up model's (campaign/scheduler.hpp; < 0: its table)
+    bool summary = false;    ///< one line per (model, N) instead of one per replica (--summary)
 };
 
 /// Every replica's estimated seconds on one thread of this machine, and where the

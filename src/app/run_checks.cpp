@@ -60,19 +60,33 @@ std::string check_output(const std::string& path, const CampaignSpec& spec, Outp
         return spec.path + ": refusing to start '" + path + "': the checkpoint folder '" + folder +
                "' of an earlier run is there without its archive (restore the archive to "
                "continue that run, or remove the folder to start afresh)";
-    return check_output_folder(path, spec);
+    return check_output_folder(path, spec, true);
 }
 
-std::string check_output_folder(const std::string& path, const CampaignSpec& spec) {
+std::string check_output_folder(const std::string& path, const CampaignSpec& spec, bool create) {
     namespace fs = std::filesystem;
     std::error_code ec;
     const fs::path p(path);
     const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
-    if (fs::is_directory(dir, ec) && ::access(dir.c_str(), W_OK) == 0) return "";
-    std::string out = spec.path;
-    out.append(": [campaign] output = \"").append(path);
-    out.append("\" is not allowed: a file in an existing writable directory ('").append(dir.string());
-    return out.append("' is not)");
+    const auto quoted = [](const fs::path& f) { return std::string(1, '\'') + f.string() + std::string(1, '\''); };
+    const auto refuse = [&](const std::string& why) {
+        std::string out = spec.path;
+        out.append(": [campaign] output = \"").append(path);
+        out.append("\" is not allowed: a file in a writable directory, or one that can be made (").append(why);
+        return out.append(")");
+    };
+    if (fs::is_directory(dir, ec))
+        return ::access(dir.c_str(), W_OK) == 0 ? "" : refuse(quoted(dir) + " is not writable");
+    fs::path existing = dir;  // the nearest folder above that exists: the new ones go there
+    while (existing.has_parent_path() && existing != existing.parent_path() && !fs::exists(existing, ec))
+        existing = existing.parent_path();
+    if (!fs::exists(existing, ec)) existing = ".";
+    if (!fs::is_directory(existing, ec)) return refuse(quoted(existing) + " is not a directory");
+    if (::access(existing.c_str(), W_OK) != 0)
+        return refuse(quoted(dir) + " does not exist and " + quoted(existing) + " is not writable");
+    if (create && !fs::create_directories(dir, ec) && ec)
+        return refuse("making " + quoted(dir) + " failed: " + ec.message());
+    return "";
 }
 
 /// Every checkpoint beside the archive must belong to one of this campaign's replicas, so a

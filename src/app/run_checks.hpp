@@ -18,9 +18,10 @@ enum class OutputMode : int { Fresh = 0, Extend = 1, Grow = 2 };
 /// archive's, Archive::check_growth).
 std::string check_output(const std::string& path, const CampaignSpec& spec, OutputMode& mode,
                          std::vector<std::int64_t>& source);
-/// "" when the folder of `path` exists and is writable; else why not (the dry run refuses
-/// what the run would).
-std::string check_output_folder(const std::string& path, const CampaignSpec& spec);
+/// "" when the folder of `path` exists and is writable, or can be made below the nearest
+/// folder that exists (then, with `create`, it is made, as `mkdir -p` would: the campaigns
+/// shipped write to out/...); else why not, the same words in the dry run and the run.
+std::string check_output_folder(const std::string& path, const CampaignSpec& spec, bool create);
 /// Every checkpoint beside the archive must belong to one of this campaign's replicas ("" or
 /// why not); a damaged (unreadable) one is left to its replica.
 std::string check_checkpoints(const std::string& output, const CampaignSpec& spec);
