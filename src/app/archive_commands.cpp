@@ -60,9 +60,18 @@ int status(const std::string& path) {
     // archive has no run of its own that finished).
     const bool complete = s.pending == 0 && s.running == 0;
     const bool run_finished = !s.finished.empty() && !(s.finished < s.started);
+    // Running now or interrupted: a live run holds the archive's lock (io/archive_lock.hpp).
+    bool live = false;
+    try {
+        ArchiveLock::check_free(path);
+    } catch (const ArchiveBusy&) {
+        live = true;
+    }
+    const std::string unfinished = live ? "running now: a live run holds the archive's lock"
+                                        : "interrupted: no run holds the archive; run the same command again to continue";
     std::string state = complete        ? "complete: every replica is finished"
                         : run_finished ? ""
-                                       : "running or interrupted";
+                                       : unfinished;
     if (complete && !s.merged.empty()) state += "; merged " + s.merged;
     std::printf("last run started %s, finished %s%s\n", s.started.empty() ? "-" : s.started.c_str(),
                 run_finished ? s.finished.c_str() : "-",
@@ -75,7 +84,7 @@ int status(const std::string& path) {
                     per_cost * s.cost_left);
     }
     for (const auto& r : s.in_progress)
-        std::printf("running or interrupted replica %lld: %.1f%% of its steps at its last checkpoint\n",
+        std::printf("%s replica %lld: %.1f%% of its steps at its last checkpoint\n", live ? "running" : "interrupted",
                     static_cast<long long>(r.replica), 100.0 * r.fraction);
     for (const auto& f : s.failures) std::printf("failed %s\n", f.c_str());
     return 0;

@@ -3,6 +3,7 @@
 # Ranks without work park and lend their cores (campaign/core_lending.hpp):
 #  1. one replica on 2 ranks: the rank without work waits without spinning (its CPU time is
 #     well under its wall time; a rank spinning in an MPI wait would use all of it);
+#     while it runs, `jamsim status` says the run is live (the archive's lock);
 #  2. a rate ladder of N = 8192 on 2 unbound ranks x 1 thread: while one rank runs the ladder
 #     the other lends its core (the log says so), and the archive holds the same bits as on
 #     1 rank x 1 thread.
@@ -27,6 +28,21 @@ cat cpu0.txt cpu1.txt | awk '
     if (min == "" || ratio < min) min = ratio }
   END { if (min >= 0.5) { print "FAIL: no rank waited without spinning (least CPU / wall " min ")"; exit 1 }
         print "ok: the rank without work parked (CPU / wall " min ")" }' || exit 1
+
+# 1b. While a run holds the archive, `jamsim status` says it is running now (the park
+# campaign runs for about a second and a half; status is asked until it ends).
+rm -rf park.h5 park.h5.checkpoints
+"$mpirun" -n 2 "$jamsim" run "$data/park.toml" -o park.h5 --threads 1 > park_live.log 2>&1 &
+pid=$!
+seen=0
+while kill -0 "$pid" 2> /dev/null; do
+  "$jamsim" status park.h5 2> /dev/null | grep -q "running now: a live run holds the archive's lock" && seen=1
+  sleep 0.05
+done
+wait "$pid" || { cat park_live.log; exit 1; }
+[[ $seen -eq 1 ]] || { echo "FAIL: status never said 'running now' during the run"; exit 1; }
+"$jamsim" status park.h5 | grep -q "complete: every replica is finished" || { echo "FAIL: status after the run"; exit 1; }
+echo "ok: status told the live run"
 
 # 2. Lent cores, the same bits.
 timeout 300 "$mpirun" -n 1 "$jamsim" run "$data/lend_ladder.toml" -o ref.h5 --threads 1 > ref.log 2>&1 || { cat ref.log; exit 1; }
