@@ -89,6 +89,7 @@ class Dispatcher {
         replica_of_.assign(cores_.size(), -1);
         updates_sent_.assign(cores_.size(), 0);
         lent_seen_.assign(cores_.size(), 0);
+        started_.assign(cores_.size(), Clock::now());
         for (const RankCores& c : cores_) threads_.push_back(c.own);
         record_failures();  // replicas whose predecessor had failed before this run
     }
@@ -103,6 +104,7 @@ class Dispatcher {
             own_first_ = -1;
             if (const std::int64_t id = first >= 0 ? first : take_ready(); id >= 0) {
                 replica_of_[0] = id;
+                started_[0] = Clock::now();
                 rebalance(-1);
                 set_kernel_threads(threads_[0]);  // (unchanged by rebalance when it is its own)
                 return id;
@@ -116,6 +118,7 @@ class Dispatcher {
     void finished(std::int64_t replica, Outcome outcome, int rank) {
         --running_;
         replica_of_[static_cast<std::size_t>(rank)] = -1;
+        if (outcome != Outcome::Interrupted) wall_done_ += seconds_since(started_[static_cast<std::size_t>(rank)]);
         if (outcome == Outcome::Interrupted) {
             ++interrupted_;
             scheduler_.finished(replica, Ended::Interrupted);
@@ -213,6 +216,7 @@ class Dispatcher {
             if (stopping_) next = kStop;
         } else {
             replica_of_[w] = next;
+            started_[w] = Clock::now();
         }
         rebalance(worker);  // the worker's own threads go in the assignment
         const Assignment a{.replica = next, .threads = threads_[w], .updates = updates_sent_[w]};
@@ -319,13 +323,8 @@ public:
         if (!final_line && std::chrono::duration<double>(Clock::now() - last_print_).count() < every)
             return;
         last_print_ = Clock::now();
-        // From the throughput so far; before the first replica ends, from the estimated cost
-        // at the nominal rate (marked "nominal").
         const bool measured = cost_done_ > 0;
-        const double remaining =
-            measured ? elapsed * (cost_total_run_ - cost_done_) / cost_done_
-                     : (cost_total_run_ - cost_done_) /
-                           (kNominalEvaluationsPerSecond * static_cast<double>(mpi::size(comm_)));
+        const double remaining = remaining_seconds();
         const auto total = static_cast<long long>(total_);
         const long long pending = total - done_ - failed_ - running_;
         std::fprintf(stdout, "%s[%s] %lld/%lld done, %lld running, %lld failed, %lld pending | "
@@ -336,6 +335,25 @@ public:
                      hms(remaining).c_str(), measured || final_line ? "" : " (nominal)",
                      progress_.terminal && !final_line ? "   " : "\n");
         std::fflush(stdout);
+    }
+
+    /// Seconds left, without jumps as replicas end: a rank's throughput (estimated cost per
+    /// second of a replica's own wall time, over the replicas finished so far; before the
+    /// first, the nominal rate) gives each running replica's part done by now, the work left
+    /// over all ranks, and the longest remaining chain on one rank; the larger of the two.
+    double remaining_seconds() const {
+        const double per_rank = wall_done_ > 0 && cost_done_ > 0 ? cost_done_ / wall_done_ : kNominalEvaluationsPerSecond;
+        double done_running = 0, chain = 0;
+        for (std::size_t r = 0; r < replica_of_.size(); ++r) {
+            const std::int64_t id = replica_of_[r];
+            if (id < 0) continue;
+            const double cost = estimated_cost(spec_.replicas[static_cast<std::size_t>(id)]);
+            const double part = std::min(cost, per_rank * seconds_since(started_[r]));
+            done_running += part;
+            chain = std::max(chain, scheduler_.critical_path(id) - part);
+        }
+        const double left = std::max(0.0, cost_total_run_ - cost_done_ - done_running);
+        return std::max(left / (per_rank * static_cast<double>(mpi::size(comm_))), chain / per_rank);
     }
 
     MPI_Comm comm_;
@@ -353,6 +371,8 @@ public:
     std::vector<int> threads_;               ///< by rank: its threads now
     std::vector<std::int64_t> updates_sent_; ///< by rank: kTagThreads messages sent
     std::vector<char> lent_seen_;            ///< by rank: it runs on lent cores now
+    std::vector<Clock::time_point> started_; ///< by rank: when its replica started
+    double wall_done_ = 0;                   ///< wall seconds of the replicas finished
     bool in_first_round_ = false;
     std::int64_t own_first_ = -1;            ///< rank 0's replica chosen in the first round
     double cost_total_run_ = 0, cost_done_ = 0;  ///< estimated costs of this run's queue
