@@ -1,5 +1,5 @@
-// Reference output printed from the registries themselves, so that the README's parameter
-// table and `--help` cannot drift from the code (a test compares the README with it).
+// Reference output printed from the registries themselves, so that the parameter table of
+// campaigns/README.md and `--help` cannot drift from the code (a test compares the two).
 #include "reference_commands.hpp"
 
 #include <cstdio>
@@ -124,7 +124,7 @@ CLI::App* add_parameters_command(CLI::App& app) {
     auto campaign_template = std::make_shared<bool>(false);
     auto* cmd = app.add_subcommand("parameters", "List every replica parameter (key, campaign "
                                                  "file location, option, units, default, allowed)");
-    cmd->add_flag("--markdown", *markdown, "As the README's Markdown table");
+    cmd->add_flag("--markdown", *markdown, "As the Markdown table of campaigns/README.md");
     cmd->add_flag("--template", *campaign_template,
                   "As a commented campaign file (campaigns/TEMPLATE.toml)");
     cmd->callback([markdown, campaign_template] {

@@ -4,7 +4,7 @@
 // or the campaign's work is all handed out), it parks: it waits without spinning, and its
 // cores go to a rank of the same node that still runs a replica, the longest remaining
 // critical path first, which raises its replica's threads at its next sample. The bits of a
-// replica do not depend on its threads (README "Threads inside a replica"), so lending
+// replica do not depend on its threads (slurm/README.md, "Threads inside a replica"), so lending
 // changes only when a replica ends, never what it computes. Who gets which cores is decided
 // by lend_cores (campaign/scheduler.hpp), which the wall-time simulation uses too.
 #include <mpi.h>

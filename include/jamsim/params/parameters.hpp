@@ -1,8 +1,8 @@
 #pragma once
 // Every input of a replica, described once. The campaign reader, validation, the campaign
 // fingerprint, the archive's parameter columns, the replica file's attributes, the command
-// line of `jamsim replica` and the README's parameter table are all produced from
-// kParameters below; adding a parameter is a field of ReplicaParams plus one row there.
+// line of `jamsim replica` and the parameter table of campaigns/README.md are all produced
+// from kParameters below; adding a parameter is a field of ReplicaParams plus one row there.
 #include <cstdint>
 #include <span>
 #include <string>
@@ -14,7 +14,7 @@ namespace jamsim {
 
 /// Everything that defines one replica; its output depends on nothing else. Units: k_e =
 /// k_d = d_s = 1 unless a parameter changes them, τ = k_d d_s²/k_e. Defaults are those of
-/// kParameters (the single source; the README's table is printed from it).
+/// kParameters (the single source; campaigns/README.md's table is printed from it).
 struct ReplicaParams {
     std::string model = "RD0";          ///< a registered model or protocol (run/model_registry.hpp)
     std::int64_t n = 1024;              ///< number of disks N
