@@ -202,11 +202,18 @@ Calibration calibrate_on_one_thread(const CampaignSpec& spec, const std::string&
     }
 }
 
-std::string describe_source(const DryRunPlan& plan, const Calibration& rates) {
-    return !plan.calibrate ? "nominal 7e7 particle force evaluations/s"
-                           : "throughput measured on this machine per model, N and phi: " +
-                                 std::to_string(rates.recorded) + " groups from the archive's finished replicas, " +
-                                 std::to_string(rates.probed) + " by a short probe, the rest from those";
+std::string describe_source(const DryRunPlan& plan, const Calibration& rates, const CampaignSpec& spec) {
+    if (!plan.calibrate) return "nominal 7e7 particle force evaluations/s";
+    std::set<CostGroup> groups;
+    for (const ReplicaParams& p : spec.replicas) groups.insert(cost_group(p));
+    std::size_t measured = 0;
+    for (const CostGroup& g : groups) measured += rates.measured.count(g);
+    return "throughput measured on this machine per model, N and phi: " + std::to_string(rates.recorded) +
+           " groups from the archive's finished replicas, " + std::to_string(rates.probed) +
+           " by a short probe; " + std::to_string(groups.size() - measured) + " of the " +
+           std::to_string(groups.size()) +
+           " groups not measured (past the probes' 30 s budget) take the mean of the measured groups "
+           "of their model and N, else of their model";
 }
 
 /// --summary: one line per (model, N), the heaviest work first: its replicas, their
@@ -254,7 +261,7 @@ void print_groups(const CampaignSpec& spec, const std::vector<double>& seconds) 
 
 ReplicaSeconds replica_seconds(const CampaignSpec& spec, const std::string& archive, const DryRunPlan& plan) {
     const Calibration rates = plan.calibrate ? calibrate_on_one_thread(spec, archive) : Calibration{};
-    ReplicaSeconds out{.seconds = {}, .serial = {}, .source = describe_source(plan, rates)};
+    ReplicaSeconds out{.seconds = {}, .serial = {}, .source = describe_source(plan, rates, spec)};
     for (const ReplicaParams& p : spec.replicas) {
         out.serial.push_back(rates.sample_seconds(p));
         out.seconds.push_back(estimated_cost(p) * rates.seconds_per_cost(p) + out.serial.back());
