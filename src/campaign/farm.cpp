@@ -7,14 +7,12 @@
 #include <optional>
 #include <thread>
 
-#include <filesystem>
-
 #include "jamsim/campaign/core_lending.hpp"
 #include "jamsim/campaign/scheduler.hpp"
 #include "jamsim/campaign/stop_request.hpp"
-#include "jamsim/io/checkpoint_file.hpp"
 #include "jamsim/parallel/mpi.hpp"
 #include "jamsim/parallel/threads.hpp"
+#include "run_one.hpp"
 
 namespace jamsim {
 
@@ -26,8 +24,6 @@ constexpr int kTagStop = 13;     // rank 0 → worker, once: stop at the next ch
 constexpr int kTagThreads = 14;  // rank 0 → worker: threads for its running replica (cores lent)
 constexpr int kTagFarmOver = 15; // rank 0 → every worker, at the end: leave the farm
 constexpr std::int64_t kNoMoreWork = -1, kStop = -2;
-
-enum class Outcome : std::int64_t { Done = 0, Failed = 1, Interrupted = 2 };
 
 /// What a worker tells rank 0 when it asks for work.
 struct Report {
@@ -379,120 +375,6 @@ public:
     ProgressOptions progress_;
     Clock::time_point start_, last_print_;
 };
-
-/// The checkpoint of replica `id` when it can be used; a damaged one (unreadable, arrays that
-/// do not fit the replica, non-finite values, a checksum that disagrees) is removed with a
-/// warning naming the file and why, and the replica starts again from its start.
-std::optional<ReplicaState> usable_checkpoint(const std::string& path, const ReplicaParams& params,
-                                              std::int64_t id) {
-    try {
-        return read_checkpoint(path, params);
-    } catch (const CheckpointError& e) {
-        std::fprintf(stderr, "jamsim run: warning: %s; replica %lld starts again from its start\n", e.what(),
-                     static_cast<long long>(id));
-        std::error_code ignored;
-        std::filesystem::remove(path, ignored);
-        return std::nullopt;
-    }
-}
-
-/// Run one replica (from its checkpoint, if it has one) and record it.
-/// `has_successor`: a rate ladder continues from this replica's end state.
-Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, Archive& archive, int rank,
-                const FarmOptions& options, const std::function<void()>& between,
-                const std::function<bool()>& stop, FarmSummary& summary) {
-    namespace fs = std::filesystem;
-    const ReplicaParams& params = spec.replicas[static_cast<std::size_t>(id)];
-    const auto t0 = Clock::now();
-    double io = 0;
-    auto timed = [&](auto&& f) {
-        const auto a = Clock::now();
-        f();
-        io += seconds_since(a);
-    };
-    const std::string checkpoint = checkpoint_path(options.archive_path, id);
-    std::optional<ReplicaState> resume;
-    std::optional<System> initial;
-    const std::int64_t before = spec.predecessor.empty() ? -1 : spec.predecessor[static_cast<std::size_t>(id)];
-    const auto counted = [&](Outcome outcome) {  // this rank's tally of what it ran
-        summary.resumed += resume ? 1 : 0;
-        summary.io_seconds += io;
-        ++summary.ran;
-        summary.failed += outcome == Outcome::Failed;
-        summary.interrupted += outcome == Outcome::Interrupted;
-        return outcome;
-    };
-    Outcome outcome = Outcome::Done;
-    try {  // preparing: a failure here fails this replica, never the campaign
-        if (fs::exists(checkpoint)) timed([&] { resume = usable_checkpoint(checkpoint, params, id); });
-        if (options.initial_states && !resume) timed([&] { initial = options.initial_states->load(params, id); });
-        if (before >= 0 && !resume)  // a rate ladder: start where the predecessor ended
-            timed([&] { initial = read_state_system(end_state_path(options.archive_path, before), params); });
-    } catch (const h5::Error&) {
-        throw;
-    } catch (const std::exception& e) {
-        timed([&] { archive.write_failed(id, e.what(), seconds_since(t0), rank); });
-        return counted(Outcome::Failed);
-    }
-    if (initial && options.initial_states && before < 0)  // what it starts from, for later runs to check
-        timed([&] { archive.record_initial(id, options.initial_states->fingerprint(), InitialStates::digest(*initial)); });
-    timed([&] { archive.mark_running(id, rank, resume.has_value()); });
-    auto last_save = Clock::now();
-    std::size_t rows_saved = resume ? resume->series.size() : 0;  // already in the archive
-    const CheckpointPolicy policy{
-        .due = [&] { return seconds_since(last_save) >= options.checkpoint_seconds; },
-        .save =
-            [&](const ReplicaState& state) {
-                timed([&] {
-                    write_checkpoint(checkpoint, params, state);
-                    archive.write_progress(id, state.series, rows_saved,
-                                           static_cast<double>(state.step) / static_cast<double>(std::max<std::int64_t>(state.steps, 1)));
-                });
-                rows_saved = state.series.size();
-                last_save = Clock::now();
-            },
-        .stop = stop};
-    std::shared_ptr<const ReplicaState> last_checkpoint;
-    try {
-        const ReplicaResult result = run_replica(
-            params, RunContext{.after_sample = between,
-                               // Each frame straight into its place in the archive: frames
-                               // before a checkpoint are there before the checkpoint is saved.
-                               .on_frame = [&](std::int64_t k, double strain, const FinalConfiguration& frame) {
-                                   timed([&] { archive.write_frame(id, k, strain, frame); });
-                               },
-                               .checkpoints = &policy,
-                               .resume = resume ? &*resume : nullptr,
-                               .initial = initial ? &*initial : nullptr});
-        if (has_successor)  // durable before the status that lets the successor start
-            timed([&] {
-                write_checkpoint(end_state_path(options.archive_path, id), params,
-                                 ReplicaState{.step = schedule_of(params).steps, .steps = schedule_of(params).steps,
-                                              .system = result.final_state});
-            });
-        timed([&] { archive.write_done(id, result, rank); });
-        last_checkpoint = result.last_checkpoint;
-        if (before >= 0) {  // the predecessor's end state has served
-            std::error_code ignored;
-            fs::remove(end_state_path(options.archive_path, before), ignored);
-        }
-    } catch (const h5::Error&) {
-        throw;  // the archive itself is broken: stop
-    } catch (const ReplicaInterrupted&) {
-        outcome = Outcome::Interrupted;  // its state is saved; status stays "running"
-    } catch (const std::exception& e) {
-        outcome = Outcome::Failed;
-        timed([&] { archive.write_failed(id, e.what(), seconds_since(t0), rank); });
-    }
-    if (outcome != Outcome::Interrupted) {  // finished: its checkpoint (and a .tmp left by a
-        std::error_code ignored;             // kill during a write) is stale now
-        fs::remove(checkpoint, ignored);
-        fs::remove(checkpoint + ".tmp", ignored);
-    }
-    if (outcome == Outcome::Done && last_checkpoint && model_of(params).extendable)  // kept: a longer run continues from it
-        timed([&] { write_checkpoint(checkpoint, params, *last_checkpoint, true); });
-    return counted(outcome);
-}
 
 } // namespace
 
