@@ -226,22 +226,19 @@ void print_groups(const CampaignSpec& spec, const std::vector<double>& seconds) 
         double seconds = 0, longest = 0, bytes = 0, configuration_bytes = 0;
     };
     const ArchiveLayout layout = archive_layout(spec);
-    const double row = 8.0 * (static_cast<double>(layout.samples) * static_cast<double>(std::size(kSampleColumns)) +
-                              2.0 * static_cast<double>(layout.bins)) + 8.0 * 40 + 256;
     std::map<std::pair<std::string, std::int64_t>, Group> groups;
     double total_seconds = 0, total_bytes = 0;
     for (std::size_t r = 0; r < spec.replicas.size(); ++r) {
         const ReplicaParams& p = spec.replicas[r];
         Group& g = groups[{p.model, p.n}];
-        const auto n = static_cast<double>(p.n);
-        const double configurations = 8.0 * (3.0 * n + static_cast<double>(layout.frames) * (2.0 * n + 2.0));
+        const double bytes = layout.replica_bytes(p.n);
         ++g.replicas;
         g.seconds += seconds[r];
         g.longest = std::max(g.longest, seconds[r]);
-        g.bytes += row + configurations;
-        g.configuration_bytes += configurations;
+        g.bytes += bytes;
+        g.configuration_bytes += layout.configuration_bytes(p.n);
         total_seconds += seconds[r];
-        total_bytes += row + configurations;
+        total_bytes += bytes;
     }
     std::vector<std::pair<std::pair<std::string, std::int64_t>, Group>> order(groups.begin(), groups.end());
     std::stable_sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.second.seconds > b.second.seconds; });

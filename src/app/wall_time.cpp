@@ -15,13 +15,12 @@ std::vector<SimulatedReplica> simulated_replicas(const CampaignSpec& spec, const
                                                  const SpeedupModel& model) {
     std::vector<SimulatedReplica> out(spec.replicas.size());
     for (std::size_t r = 0; r < out.size(); ++r) {
-        const double fixed = std::clamp(serial[r], 0.0, seconds[r]);
-        const double on_threads = (seconds[r] - fixed) / model.speedup(spec.replicas[r].n, threads) + fixed;
         out[r] = {.cost = estimated_cost(spec.replicas[r]),
                   .seconds = seconds[r],
-                  .speedup = on_threads > 0 ? seconds[r] / on_threads : 1.0,
                   .n = spec.replicas[r].n,
-                  .serial = fixed};
+                  .serial = std::clamp(serial[r], 0.0, seconds[r])};
+        const double on_threads = seconds_on_threads(out[r], model, threads);
+        out[r].speedup = on_threads > 0 ? seconds[r] / on_threads : 1.0;
     }
     return out;
 }

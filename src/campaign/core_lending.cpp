@@ -32,15 +32,19 @@ std::vector<RankCores> gather_rank_cores(MPI_Comm comm) {
     return out;
 }
 
-void park_until_complete(MPI_Request& request, const char* what) {
-    auto pause = std::chrono::microseconds(50);
-    for (;;) {
-        int done = 0;
-        mpi::check(MPI_Test(&request, &done, MPI_STATUS_IGNORE), what);
-        if (done) return;
+void park_until(const std::function<bool()>& ready, std::chrono::microseconds longest) {
+    for (auto pause = std::chrono::microseconds(50); !ready(); pause = std::min(pause * 2, longest))
         std::this_thread::sleep_for(pause);
-        pause = std::min(pause * 2, std::chrono::microseconds(10000));
-    }
+}
+
+void park_until_complete(MPI_Request& request, const char* what) {
+    park_until(
+        [&] {
+            int done = 0;
+            mpi::check(MPI_Test(&request, &done, MPI_STATUS_IGNORE), what);
+            return done != 0;
+        },
+        std::chrono::microseconds(10000));
 }
 
 } // namespace jamsim

@@ -84,7 +84,6 @@ class Dispatcher {
         cores_ = std::move(cores);
         replica_of_.assign(cores_.size(), -1);
         updates_sent_.assign(cores_.size(), 0);
-        lent_seen_.assign(cores_.size(), 0);
         started_.assign(cores_.size(), Clock::now());
         for (const RankCores& c : cores_) threads_.push_back(c.own);
         record_failures();  // replicas whose predecessor had failed before this run
@@ -193,15 +192,15 @@ class Dispatcher {
 
     /// The rank of the next request, waited for parked.
     int wait_for_request() {
-        auto pause = std::chrono::microseconds(50);
-        for (;;) {
-            int flag = 0;
-            MPI_Status st;
-            mpi::check(MPI_Iprobe(MPI_ANY_SOURCE, kTagRequest, comm_, &flag, &st), "MPI_Iprobe");
-            if (flag) return st.MPI_SOURCE;
-            std::this_thread::sleep_for(pause);
-            pause = std::min(pause * 2, std::chrono::microseconds(1000));  // answers within 1 ms
-        }
+        MPI_Status st;
+        park_until(  // answers within 1 ms
+            [&] {
+                int flag = 0;
+                mpi::check(MPI_Iprobe(MPI_ANY_SOURCE, kTagRequest, comm_, &flag, &st), "MPI_Iprobe");
+                return flag != 0;
+            },
+            std::chrono::microseconds(1000));
+        return st.MPI_SOURCE;
     }
 
     void reply(int worker, std::int64_t next) {
@@ -235,8 +234,7 @@ class Dispatcher {
             if (threads[r] == threads_[r]) continue;
             threads_[r] = threads[r];
             if (!work[r].running) continue;  // idle: its next replica comes with its threads
-            if (threads[r] != cores_[r].own || lent_seen_[r])
-                note_lending(static_cast<int>(r), replica_of_[r], threads[r]);
+            note_lending(static_cast<int>(r), replica_of_[r], threads[r]);
             if (r == 0) {
                 set_kernel_threads(threads[r]);
             } else if (static_cast<int>(r) != assigned) {
@@ -251,7 +249,6 @@ class Dispatcher {
     /// One line when a running replica's threads change through lending.
     void note_lending(int rank, std::int64_t replica, int threads) {
         const int own = cores_[static_cast<std::size_t>(rank)].own;
-        lent_seen_[static_cast<std::size_t>(rank)] = threads != own;
         std::fprintf(stdout, "[%s] replica %lld (rank %d) now on %d thread%s%s\n", spec_.name.c_str(),
                      static_cast<long long>(replica), rank, threads, threads == 1 ? "" : "s",
                      threads > own ? (", " + std::to_string(threads - own) + " lent by idle ranks of its node").c_str()
@@ -366,7 +363,6 @@ public:
     std::vector<std::int64_t> replica_of_;   ///< by rank: the replica it runs, −1 when idle
     std::vector<int> threads_;               ///< by rank: its threads now
     std::vector<std::int64_t> updates_sent_; ///< by rank: kTagThreads messages sent
-    std::vector<char> lent_seen_;            ///< by rank: it runs on lent cores now
     std::vector<Clock::time_point> started_; ///< by rank: when its replica started
     double wall_done_ = 0;                   ///< wall seconds of the replicas finished
     bool in_first_round_ = false;
@@ -427,22 +423,23 @@ FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
     } else {
         bool stop_seen = false;  // kTagStop received from rank 0
         std::int64_t updates_seen = 0;  // kTagThreads messages received
-        const auto take_threads = [&](bool wait) {  // apply rank 0's latest thread count
-            for (int flag = 1; flag;) {
-                if (!wait)
-                    mpi::check(MPI_Iprobe(0, kTagThreads, comm, &flag, MPI_STATUS_IGNORE), "MPI_Iprobe (threads)");
-                if (!flag) break;
-                std::int64_t threads = 1;
-                mpi::check(MPI_Recv(&threads, 1, MPI_INT64_T, 0, kTagThreads, comm, MPI_STATUS_IGNORE),
-                           "MPI_Recv (threads)");
-                ++updates_seen;
-                set_kernel_threads(static_cast<int>(threads));
-                if (wait) return;
+        const auto receive_threads = [&] {  // rank 0's next thread count, applied
+            std::int64_t threads = 1;
+            mpi::check(MPI_Recv(&threads, 1, MPI_INT64_T, 0, kTagThreads, comm, MPI_STATUS_IGNORE),
+                       "MPI_Recv (threads)");
+            ++updates_seen;
+            set_kernel_threads(static_cast<int>(threads));
+        };
+        const auto take_threads = [&] {  // every thread count that has arrived
+            for (int flag = 1;;) {
+                mpi::check(MPI_Iprobe(0, kTagThreads, comm, &flag, MPI_STATUS_IGNORE), "MPI_Iprobe (threads)");
+                if (!flag) return;
+                receive_threads();
             }
         };
         const std::function<void()> poll = [&] {
             int flag = 0;
-            take_threads(false);
+            take_threads();
             if (stop_seen) return;
             mpi::check(MPI_Iprobe(0, kTagStop, comm, &flag, MPI_STATUS_IGNORE), "MPI_Iprobe (stop)");
             if (!flag) return;
@@ -463,7 +460,7 @@ FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
             MPI_Request request = MPI_REQUEST_NULL;
             mpi::check(MPI_Irecv(&a, sizeof a, MPI_BYTE, 0, kTagAssign, comm, &request), "MPI_Irecv (assignment)");
             park_until_complete(request, "MPI_Test (assignment)");
-            while (updates_seen < a.updates) take_threads(true);  // sent for its last replica
+            while (updates_seen < a.updates) receive_threads();  // sent for its last replica
             const std::int64_t id = a.replica;
             if (id >= 0) set_kernel_threads(static_cast<int>(a.threads));
             if (id == kStop && !stop_seen) {  // rank 0 sent kTagStop first: take it

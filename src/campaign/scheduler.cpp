@@ -198,8 +198,7 @@ double SpeedupModel::fraction(std::int64_t n) const {
 
 double SpeedupModel::speedup(std::int64_t n, int threads) const {
     if (threads <= 1 || n < 1) return 1.0;
-    const std::size_t blocks = ForceBlocks::block_count(static_cast<std::size_t>(n));
-    const double useful = static_cast<double>(std::min<std::size_t>(static_cast<std::size_t>(threads), blocks));
+    const double useful = std::min(threads, useful_threads(n));
     const double f = fraction(n);
     return 1.0 / (f + (1.0 - f) / useful);
 }
@@ -228,6 +227,11 @@ std::vector<int> lend_cores(const std::vector<RankCores>& cores, const std::vect
 
 int useful_threads(std::int64_t n) {
     return n <= 0 ? 1 : static_cast<int>(ForceBlocks::block_count(static_cast<std::size_t>(n)));
+}
+
+double seconds_on_threads(const SimulatedReplica& r, const SpeedupModel& model, int threads) {
+    const double fixed = std::clamp(r.serial, 0.0, r.seconds);
+    return (r.seconds - fixed) / model.speedup(r.n, threads) + fixed;
 }
 
 std::vector<int> spread_over_nodes(const std::vector<RankCores>& cores) {
@@ -280,9 +284,7 @@ std::pair<double, double> run_with_lending(const std::vector<SimulatedReplica>& 
         double step = -1;
         for (std::size_t w = 0; w < at.size(); ++w) {
             if (at[w] < 0) continue;
-            const SimulatedReplica& r = replicas[static_cast<std::size_t>(at[w])];
-            const double fixed = std::clamp(r.serial, 0.0, r.seconds);
-            const double seconds = (r.seconds - fixed) / lending.model.speedup(r.n, t[w]) + fixed;
+            const double seconds = seconds_on_threads(replicas[static_cast<std::size_t>(at[w])], lending.model, t[w]);
             rate[w] = 1.0 / std::max(1e-300, seconds);
             const double until = left[w] / rate[w];
             if (step < 0 || until < step) step = until;

@@ -63,7 +63,6 @@ std::vector<Column> parameter_columns(const CampaignSpec& spec) {
 ArchiveLayout archive_layout(const CampaignSpec& spec) {
     ArchiveLayout out;
     std::int64_t particles = 0;
-    double per_replica_bytes = 0.0;
     for (const auto& p : spec.replicas) {
         out.particle_offset.push_back(particles);
         particles += p.n;
@@ -72,16 +71,22 @@ ArchiveLayout archive_layout(const CampaignSpec& spec) {
         out.frames = std::max<hsize_t>(out.frames, static_cast<hsize_t>(frame_count(p)));
     }
     out.particles = std::max<hsize_t>(1, static_cast<hsize_t>(particles));
-    // Per replica: the parameter and bookkeeping columns (~40 numbers and a 256-byte reason).
-    per_replica_bytes = 8.0 * 40 + 256;
-    const double replicas = static_cast<double>(spec.replicas.size());
-    out.bytes = 8.0 * (replicas * static_cast<double>(out.samples) * static_cast<double>(std::size(kSampleColumns)) +
-                       replicas * 2.0 * static_cast<double>(out.bins) + 3.0 * static_cast<double>(out.particles)) +
-                replicas * per_replica_bytes;
-    // Frames: x and y of every disk per frame, and two numbers per frame and replica.
-    out.frame_bytes = 8.0 * static_cast<double>(out.frames) * (2.0 * static_cast<double>(out.particles) + 2.0 * replicas);
-    out.bytes += out.frame_bytes;
+    for (const auto& p : spec.replicas) {
+        out.bytes += out.replica_bytes(p.n);
+        out.frame_bytes += 8.0 * static_cast<double>(out.frames) * (2.0 * static_cast<double>(p.n) + 2.0);
+    }
     return out;
+}
+
+double ArchiveLayout::configuration_bytes(std::int64_t n) const {
+    const auto disks = static_cast<double>(n);
+    return 8.0 * (3.0 * disks + static_cast<double>(frames) * (2.0 * disks + 2.0));
+}
+
+double ArchiveLayout::replica_bytes(std::int64_t n) const {
+    const double rows = 8.0 * (static_cast<double>(samples) * static_cast<double>(std::size(kSampleColumns)) +
+                               2.0 * static_cast<double>(bins));
+    return rows + 8.0 * 40 + 256 + configuration_bytes(n);
 }
 
 const char* to_string(ReplicaStatus s) {

@@ -9,6 +9,8 @@
 // by lend_cores (campaign/scheduler.hpp), which the wall-time simulation uses too.
 #include <mpi.h>
 
+#include <chrono>
+#include <functional>
 #include <vector>
 
 #include "jamsim/campaign/scheduler.hpp"
@@ -19,8 +21,11 @@ namespace jamsim {
 /// every rank.
 std::vector<RankCores> gather_rank_cores(MPI_Comm comm);
 
-/// Wait for `request` without keeping a core busy (MPI's own waits spin): test, then sleep,
-/// 50 µs at first and doubling to 10 ms. `what` names the call in an error.
+/// Wait until `ready()` without keeping a core busy (MPI's own waits spin): ask, then sleep,
+/// 50 µs at first and doubling up to `longest`.
+void park_until(const std::function<bool()>& ready, std::chrono::microseconds longest);
+
+/// park_until `request` completes, sleeping up to 10 ms. `what` names the call in an error.
 void park_until_complete(MPI_Request& request, const char* what);
 
 } // namespace jamsim

@@ -138,6 +138,9 @@ struct SimulatedReplica {
     double serial = 0;
 };
 
+/// A replica's seconds on `threads`: its `serial` part as it is, the rest sped up by `model`.
+double seconds_on_threads(const SimulatedReplica& r, const SpeedupModel& model, int threads);
+
 /// Cores lent by ranks without work (campaign/core_lending.hpp), for simulate_schedule:
 /// ranks [k·ranks_per_node, (k+1)·ranks_per_node) share node k, every rank may use the whole
 /// node's cores, free ranks take work in spread_over_nodes order, and a replica's threads
