@@ -13,7 +13,7 @@ if [[ ${1:-} == -h || ${1:-} == --help ]]; then  # the header above, on stdout
 fi
 
 packages=(
-  g++ cmake make pkg-config git
+  g++ cmake make pkg-config git clang-format python3-setuptools
   libopenmpi-dev openmpi-bin
   libhdf5-openmpi-dev hdf5-tools
   libeigen3-dev petsc-dev libsuitesparse-dev

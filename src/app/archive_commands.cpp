@@ -52,10 +52,9 @@ int status(const std::string& path) {
     }
     const ArchiveSummary s = summarize_archive(path);
     const long long total = s.pending + s.running + s.done + s.failed;
-    std::printf("campaign %s (%s): %lld/%lld done, %lld running, %lld failed, %lld pending\n",
-                s.campaign.c_str(), path.c_str(), static_cast<long long>(s.done), total,
-                static_cast<long long>(s.running), static_cast<long long>(s.failed),
-                static_cast<long long>(s.pending));
+    std::printf("campaign %s (%s): %lld/%lld done, %lld running, %lld failed, %lld pending\n", s.campaign.c_str(),
+                path.c_str(), static_cast<long long>(s.done), total, static_cast<long long>(s.running),
+                static_cast<long long>(s.failed), static_cast<long long>(s.pending));
     // Complete: every replica done or failed, whether by runs or by merging shards (a merged
     // archive has no run of its own that finished).
     const bool complete = s.pending == 0 && s.running == 0;
@@ -64,24 +63,19 @@ int status(const std::string& path) {
     bool live = false;
     try {
         ArchiveLock::check_free(path);
-    } catch (const ArchiveBusy&) {
-        live = true;
-    }
-    const std::string unfinished = live ? "running now: a live run holds the archive's lock"
-                                        : "interrupted: no run holds the archive; run the same command again to continue";
-    std::string state = complete        ? "complete: every replica is finished"
-                        : run_finished ? ""
-                                       : unfinished;
+    } catch (const ArchiveBusy&) { live = true; }
+    const std::string unfinished =
+        live ? "running now: a live run holds the archive's lock"
+             : "interrupted: no run holds the archive; run the same command again to continue";
+    std::string state = complete ? "complete: every replica is finished" : run_finished ? "" : unfinished;
     if (complete && !s.merged.empty()) state += "; merged " + s.merged;
     std::printf("last run started %s, finished %s%s\n", s.started.empty() ? "-" : s.started.c_str(),
-                run_finished ? s.finished.c_str() : "-",
-                state.empty() ? "" : (" (" + state + ")").c_str());
+                run_finished ? s.finished.c_str() : "-", state.empty() ? "" : (" (" + state + ")").c_str());
     if (s.cost_done > 0 && s.cost_left > 0) {
         const double per_cost = s.wall_seconds_done / s.cost_done;
         const double ranks = s.ranks > 0 ? static_cast<double>(s.ranks) : 1.0;
-        std::printf("remaining: about %.0f s on %lld ranks (%.0f core-seconds)\n",
-                    per_cost * s.cost_left / ranks, static_cast<long long>(ranks),
-                    per_cost * s.cost_left);
+        std::printf("remaining: about %.0f s on %lld ranks (%.0f core-seconds)\n", per_cost * s.cost_left / ranks,
+                    static_cast<long long>(ranks), per_cost * s.cost_left);
     }
     for (const auto& r : s.in_progress)
         std::printf("%s replica %lld: %.1f%% of its steps at its last checkpoint\n", live ? "running" : "interrupted",
@@ -99,8 +93,7 @@ std::string replica_label(const ReplicaParams& p) {
 /// Shards of one campaign, or archives of campaigns that differ only in their sweeps: the
 /// output's campaign is then the union of their replicas (matched by identity: parameters and
 /// seed), as a campaign file of points with their own seeds (campaign_text).
-int merge(const std::string& output, const std::vector<std::string>& inputs, int& argc,
-          char**& argv) {
+int merge(const std::string& output, const std::vector<std::string>& inputs, int& argc, char**& argv) {
     mpi::Session session(argc, argv);
     if (mpi::size(MPI_COMM_WORLD) != 1) {
         std::fprintf(stderr, "jamsim merge: run it as one process (no mpirun -n > 1)\n");
@@ -133,7 +126,8 @@ int merge(const std::string& output, const std::vector<std::string>& inputs, int
         if (const std::string differs = settings_difference(stored.front().spec, stored.back().spec,
                                                             "'" + inputs.front() + "'", "'" + path + "'");
             !differs.empty()) {
-            std::fprintf(stderr, "jamsim merge: '%s' belongs to a different campaign than '%s': %s "
+            std::fprintf(stderr,
+                         "jamsim merge: '%s' belongs to a different campaign than '%s': %s "
                          "(archives merge when they differ only in their sweeps)\n",
                          path.c_str(), inputs.front().c_str(), differs.c_str());
             return 2;
@@ -202,11 +196,10 @@ int merge(const std::string& output, const std::vector<std::string>& inputs, int
                 try {
                     differs = Archive::replica_difference(inputs[j], static_cast<std::int64_t>(q), inputs[k],
                                                           static_cast<std::int64_t>(r));
-                } catch (const std::exception& e) {
-                    differs = std::string("cannot be compared: ") + e.what();
-                }
+                } catch (const std::exception& e) { differs = std::string("cannot be compared: ") + e.what(); }
                 if (!differs.empty()) {
-                    std::fprintf(stderr, "jamsim merge: the replica %s is in '%s' (replica %zu) and '%s' "
+                    std::fprintf(stderr,
+                                 "jamsim merge: the replica %s is in '%s' (replica %zu) and '%s' "
                                  "(replica %zu) with different data (%s): refusing to merge them\n",
                                  replica_label(stored[k].spec.replicas[r]).c_str(), inputs[j].c_str(), q,
                                  inputs[k].c_str(), r, differs.c_str());
@@ -240,8 +233,7 @@ int merge(const std::string& output, const std::vector<std::string>& inputs, int
             return 2;
         }
     }
-    Archive out = exists ? Archive::open(MPI_COMM_SELF, output)
-                         : Archive::create(MPI_COMM_SELF, output, spec);
+    Archive out = exists ? Archive::open(MPI_COMM_SELF, output) : Archive::create(MPI_COMM_SELF, output, spec);
     std::vector<ReplicaStatus> have = out.read_status();
     long long copied = 0;
     for (std::size_t k = 0; k < inputs.size(); ++k)
@@ -265,7 +257,7 @@ int merge(const std::string& output, const std::vector<std::string>& inputs, int
     return status(output);
 }
 
-} // namespace
+}  // namespace
 
 CLI::App* add_merge_command(CLI::App& app, int& argc, char**& argv) {
     auto output = std::make_shared<std::string>();
@@ -292,9 +284,7 @@ CLI::App* add_merge_command(CLI::App& app, int& argc, char**& argv) {
             } else {
                 rc = merge(out, inputs, argc, argv);
             }
-        } catch (const std::exception& e) {
-            std::fprintf(stderr, "jamsim merge: %s\n", e.what());
-        }
+        } catch (const std::exception& e) { std::fprintf(stderr, "jamsim merge: %s\n", e.what()); }
         if (rc != 0) throw CLI::RuntimeError(rc);
     });
     return cmd;
@@ -308,12 +298,10 @@ CLI::App* add_status_command(CLI::App& app) {
         int rc = 1;
         try {
             rc = status(*path);
-        } catch (const std::exception& e) {
-            std::fprintf(stderr, "jamsim status: %s\n", e.what());
-        }
+        } catch (const std::exception& e) { std::fprintf(stderr, "jamsim status: %s\n", e.what()); }
         if (rc != 0) throw CLI::RuntimeError(rc);
     });
     return cmd;
 }
 
-} // namespace jamsim::app
+}  // namespace jamsim::app

@@ -43,15 +43,14 @@ namespace jamsim::app {
 
 namespace {
 
-
 struct RunOptions {
     std::string spec_path;
     std::string output;  // overrides [campaign] output
     bool dry_run = false;
     double progress_interval = 10.0;
-    std::string progress = "auto";  // auto | lines | redraw
-    std::string shard;              // "K/N" or empty
-    bool retry_failed = false;      // run failed replicas again
+    std::string progress = "auto";    // auto | lines | redraw
+    std::string shard;                // "K/N" or empty
+    bool retry_failed = false;        // run failed replicas again
     double checkpoint_seconds = 300;  // save a running replica's state at most this often
     DryRunPlan plan;                  // what --dry-run estimates for
     std::int64_t max_replicas = kDefaultMaxReplicas;
@@ -74,8 +73,8 @@ Shard parse_shard(const std::string& text) {
     char slash = 0;
     std::istringstream in(text);
     if (text.empty()) return s;
-    if (!(in >> s.index >> slash >> s.count) || slash != '/' || !in.eof() || s.count < 1 ||
-        s.index < 0 || s.index >= s.count)
+    if (!(in >> s.index >> slash >> s.count) || slash != '/' || !in.eof() || s.count < 1 || s.index < 0 ||
+        s.index >= s.count)
         throw CLI::ValidationError("jamsim run: --shard = " + text +
                                    " is not allowed: K/N with 0 <= K < N (e.g. 3/16)");
     return s;
@@ -86,10 +85,9 @@ Shard parse_shard(const std::string& text) {
 /// `--progress redraw` asks for it explicitly.
 bool redraw_progress(const std::string& mode) {
     if (mode != "auto") return mode == "redraw";
-    return isatty(STDOUT_FILENO) != 0 && !std::getenv("OMPI_COMM_WORLD_SIZE") &&
-           !std::getenv("PMI_RANK") && !std::getenv("SLURM_JOB_ID") && !std::getenv("CI");
+    return isatty(STDOUT_FILENO) != 0 && !std::getenv("OMPI_COMM_WORLD_SIZE") && !std::getenv("PMI_RANK") &&
+           !std::getenv("SLURM_JOB_ID") && !std::getenv("CI");
 }
-
 
 /// The filesystem of `path` has (almost) no space left: a failed write is a full disk.
 bool disk_full(const std::string& path) {
@@ -116,8 +114,8 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
     const int rank = mpi::rank(comm);
     // Rank 0 reads and checks everything before any rank starts work.
     std::string text, error, output = opt.output;
-    int extend = 0;  // the archive holds this campaign with shorter runs: extend it
-    int grow = 0;    // the archive holds this campaign with fewer replicas: grow it
+    int extend = 0;                         // the archive holds this campaign with shorter runs: extend it
+    int grow = 0;                           // the archive holds this campaign with fewer replicas: grow it
     std::vector<std::int64_t> grow_source;  // rank 0: the archive's id of each replica (−1: new)
     std::int64_t grow_kept = 0;
     const int node_ranks = opt.dry_run ? opt.plan.ranks : mpi::ranks_on_node(comm);
@@ -152,20 +150,19 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
                     if (const std::string done = Archive::finish_growth(output); !done.empty())
                         std::printf("jamsim run: %s\n", done.c_str());
                 } catch (const ArchiveBusy&) {
-                } catch (const h5::Error& e) {
-                    throw SpecError(spec.path + ": " + e.what());
-                }
+                } catch (const h5::Error& e) { throw SpecError(spec.path + ": " + e.what()); }
             // A dry run writes nothing, but an existing archive it names must fit the campaign.
             OutputMode mode = OutputMode::Fresh;
-            if (!opt.dry_run || std::filesystem::exists(output)) error = check_output(output, spec, mode, grow_source);
-            else error = check_output_folder(output, spec, false);  // what the run would refuse
+            if (!opt.dry_run || std::filesystem::exists(output))
+                error = check_output(output, spec, mode, grow_source);
+            else
+                error = check_output_folder(output, spec, false);  // what the run would refuse
             extend = mode == OutputMode::Extend;
             grow = mode == OutputMode::Grow;
             for (const std::int64_t from : grow_source) grow_kept += from >= 0;
             // The checkpoints beside the archive are keyed by its replica ids (before a growth,
             // those of the archive's campaign).
-            if (error.empty())
-                error = check_checkpoints(output, grow ? read_stored_campaign(output).spec : spec);
+            if (error.empty()) error = check_checkpoints(output, grow ? read_stored_campaign(output).spec : spec);
             if (error.empty()) error = check_petsc_options(spec);
             if (error.empty()) print_advisories(spec);
             if (error.empty() && !spec.replicas.front().initial.empty()) {
@@ -173,23 +170,20 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
                     const InitialStates source(spec.replicas.front().initial);
                     for (std::size_t id = 0; id < spec.replicas.size(); ++id)
                         source.match(spec.replicas[id], static_cast<std::int64_t>(id));
-                    if (std::filesystem::exists(output)) error = initial_source_changed(source, spec, output, grow_source);
-                } catch (const InitialStateError& e) {
-                    error = spec.path + ": " + e.what();
-                }
+                    if (std::filesystem::exists(output))
+                        error = initial_source_changed(source, spec, output, grow_source);
+                } catch (const InitialStateError& e) { error = spec.path + ": " + e.what(); }
             }
         } catch (const SpecError& e) {
             error = e.what();
-        } catch (const std::exception& e) {  // any other failure of rank 0's checks (an unreadable
+        } catch (const std::exception& e) {           // any other failure of rank 0's checks (an unreadable
             error = opt.spec_path + ": " + e.what();  // file): said on every rank, never left unbroadcast
         }
         // An archive that another live run writes is refused for that reason, whatever it
         // looks like now (it may be half created): the holder's name says what to do.
         if (!opt.dry_run && !output.empty()) try {
                 ArchiveLock::check_free(output);
-            } catch (const ArchiveBusy& e) {
-                error = e.what();
-            }
+            } catch (const ArchiveBusy& e) { error = e.what(); }
     }
     mpi::broadcast(error, 0, comm);
     if (!error.empty()) {
@@ -205,11 +199,12 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
         if (rank == 0) {
             if (extend)
                 std::printf("(%s holds this campaign with shorter runs: the run would extend it, each "
-                            "replica continuing from its final checkpoint)\n", output.c_str());
+                            "replica continuing from its final checkpoint)\n",
+                            output.c_str());
             if (grow)
                 std::printf("(%s holds this campaign with fewer replicas: the run would grow it, keeping "
-                            "%lld replicas and running %lld new ones)\n", output.c_str(),
-                            static_cast<long long>(grow_kept),
+                            "%lld replicas and running %lld new ones)\n",
+                            output.c_str(), static_cast<long long>(grow_kept),
                             static_cast<long long>(spec.replicas.size()) - static_cast<long long>(grow_kept));
             print_dry_run(spec, output, opt.plan);
         }
@@ -228,7 +223,8 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
         if (extend) {
             if (rank == 0)
                 std::printf("extending %s to the longer runs of %s: finished replicas continue from "
-                            "their final checkpoints%s\n", output.c_str(), opt.spec_path.c_str(),
+                            "their final checkpoints%s\n",
+                            output.c_str(), opt.spec_path.c_str(),
                             spec.predecessor.empty() ? ""
                                                      : "; a rate ladder's later replicas run again from their "
                                                        "predecessors' new end states");
@@ -252,9 +248,7 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
             std::string why;
             try {
                 created.emplace(Archive::create(comm, output, spec));
-            } catch (const h5::Error& e) {
-                why = e.what();
-            }
+            } catch (const h5::Error& e) { why = e.what(); }
             int failed = !why.empty(), any = 0;
             mpi::check(MPI_Allreduce(&failed, &any, 1, MPI_INT, MPI_MAX, comm), "MPI_Allreduce");
             if (any) {
@@ -284,8 +278,7 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
         if (rank == 0)
             std::printf("campaign %s: %zu replicas on %d rank%s x %d thread%s -> %s%s\n", spec.name.c_str(),
                         spec.replicas.size(), mpi::size(comm), mpi::size(comm) == 1 ? "" : "s", kernel_threads(),
-                        kernel_threads() == 1 ? "" : "s",
-                        output.c_str(),
+                        kernel_threads() == 1 ? "" : "s", output.c_str(),
                         !exists            ? ""
                         : opt.retry_failed ? " (resuming: done replicas are skipped, failed ones run again)"
                                            : " (resuming: finished replicas are skipped)");
@@ -295,8 +288,7 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
         int stopped = 0, local_stopped = StopRequest::requested() || s.interrupted > 0;
         mpi::check(MPI_Allreduce(&local_stopped, &stopped, 1, MPI_INT, MPI_MAX, comm), "MPI_Allreduce");
         long long interrupted = 0, local_interrupted = s.interrupted;
-        mpi::check(MPI_Reduce(&local_interrupted, &interrupted, 1, MPI_LONG_LONG, MPI_SUM, 0, comm),
-                   "MPI_Reduce");
+        mpi::check(MPI_Reduce(&local_interrupted, &interrupted, 1, MPI_LONG_LONG, MPI_SUM, 0, comm), "MPI_Reduce");
         if (stopped) {
             archive.close();
             lock->release();
@@ -320,8 +312,7 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
         long long failed = 0, local_failed = s.failed;
         mpi::check(MPI_Reduce(&local_io, &io, 1, MPI_DOUBLE, MPI_SUM, 0, comm), "MPI_Reduce");
         mpi::check(MPI_Reduce(&local_wall, &wall, 1, MPI_DOUBLE, MPI_SUM, 0, comm), "MPI_Reduce");
-        mpi::check(MPI_Reduce(&local_failed, &failed, 1, MPI_LONG_LONG, MPI_SUM, 0, comm),
-                   "MPI_Reduce");
+        mpi::check(MPI_Reduce(&local_failed, &failed, 1, MPI_LONG_LONG, MPI_SUM, 0, comm), "MPI_Reduce");
         if (rank == 0) {
             std::printf("campaign %s finished in %.3f s: archive %s (%lld failed replicas; %lld "
                         "continued from checkpoints; archive writes took %.2f%% of rank time)\n",
@@ -334,9 +325,10 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
     } catch (const std::exception& e) {
         // One rank cannot leave the others waiting in a collective call: abort the job.
         if (dynamic_cast<const h5::Error*>(&e) && disk_full(output))
-            std::fprintf(stderr, "jamsim run (rank %d): no space left on device: writing the archive '%s' "
-                                 "failed (%s); the replicas finished before are safe in it (jamsim status "
-                                 "%s): free space and run the same command again to continue\n",
+            std::fprintf(stderr,
+                         "jamsim run (rank %d): no space left on device: writing the archive '%s' "
+                         "failed (%s); the replicas finished before are safe in it (jamsim status "
+                         "%s): free space and run the same command again to continue\n",
                          rank, output.c_str(), e.what(), output.c_str());
         else
             std::fprintf(stderr, "jamsim run (rank %d): error: %s\n", rank, e.what());
@@ -345,7 +337,7 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
     return 0;
 }
 
-} // namespace
+}  // namespace
 
 CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
     auto opt = std::make_shared<RunOptions>();
@@ -371,15 +363,15 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
                   "Run the failed replicas of an existing archive again (after a fix to the code "
                   "or the machine; the campaign itself cannot change)");
     cmd->add_option_function<std::string>(
-        "--checkpoint-every",
-        [opt](const std::string& v) {
-            opt->checkpoint_seconds = parse_duration(v);
-            if (opt->checkpoint_seconds < 0)
-                throw CLI::ValidationError("jamsim run: --checkpoint-every = " + v +
-                                           " is not allowed: a duration >= 0 such as 300, 90s, 15min or 2h");
-        },
-        "Save each running replica's state at its first checkpoint step after this long "
-        "(0: at every checkpoint step; [run] checkpoint_steps sets the steps)")
+           "--checkpoint-every",
+           [opt](const std::string& v) {
+               opt->checkpoint_seconds = parse_duration(v);
+               if (opt->checkpoint_seconds < 0)
+                   throw CLI::ValidationError("jamsim run: --checkpoint-every = " + v +
+                                              " is not allowed: a duration >= 0 such as 300, 90s, 15min or 2h");
+           },
+           "Save each running replica's state at its first checkpoint step after this long "
+           "(0: at every checkpoint step; [run] checkpoint_steps sets the steps)")
         ->default_str("300s");
     cmd->add_option("--max-replicas", opt->max_replicas,
                     "Refuse a campaign of more replicas (a typo in seeds or a sweep list)")
@@ -394,20 +386,22 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
             "COUNT >= 1"))
         ->capture_default_str();
     cmd->add_option_function<std::string>(
-        "--max-archive-size",
-        [opt](const std::string& v) {
-            opt->limits.max_archive_bytes = parse_bytes(v);
-            if (!(opt->limits.max_archive_bytes > 0))
-                throw CLI::ValidationError("jamsim run: --max-archive-size = " + v +
-                                           " is not allowed: a size > 0 such as 500G, 2T or 1e13");
-        },
-        "Refuse a campaign whose archive would be larger (the free space of its filesystem is "
-        "checked as well)")
+           "--max-archive-size",
+           [opt](const std::string& v) {
+               opt->limits.max_archive_bytes = parse_bytes(v);
+               if (!(opt->limits.max_archive_bytes > 0))
+                   throw CLI::ValidationError("jamsim run: --max-archive-size = " + v +
+                                              " is not allowed: a size > 0 such as 500G, 2T or 1e13");
+           },
+           "Refuse a campaign whose archive would be larger (the free space of its filesystem is "
+           "checked as well)")
         ->default_str("1T");
     cmd->add_option("--ranks", opt->plan.ranks, "--dry-run: ranks of the planned run")
-        ->check(CLI::PositiveNumber)->default_str("1");
+        ->check(CLI::PositiveNumber)
+        ->default_str("1");
     cmd->add_option("--shards", opt->plan.shards, "--dry-run: Slurm array tasks of the planned run")
-        ->check(CLI::PositiveNumber)->default_str("1");
+        ->check(CLI::PositiveNumber)
+        ->default_str("1");
     add_serial_fraction_option(*cmd, opt->plan.serial_fraction);
     cmd->add_option_function<std::string>(
         "--time-limit",
@@ -426,8 +420,7 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
     cmd->add_option("--shard", opt->shard,
                     "K/N: run only replicas with id % N == K, rate ladders whole (ladder k % N == K; merge shards "
                     "with jamsim merge)");
-    cmd->add_option("--progress", opt->progress,
-                    "auto (redraw on a terminal), lines (log files) or redraw")
+    cmd->add_option("--progress", opt->progress, "auto (redraw on a terminal), lines (log files) or redraw")
         ->check(CLI::IsMember({"auto", "lines", "redraw"}))
         ->capture_default_str();
     cmd->callback([opt, &argc, &argv] {
@@ -438,4 +431,4 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
     return cmd;
 }
 
-} // namespace jamsim::app
+}  // namespace jamsim::app

@@ -10,4 +10,4 @@ CLI::App* add_merge_command(CLI::App& app, int& argc, char**& argv);
 /// `jamsim status ARCHIVE`: summary of a (possibly running) archive.
 CLI::App* add_status_command(CLI::App& app);
 
-} // namespace jamsim::app
+}  // namespace jamsim::app

@@ -35,7 +35,7 @@ struct Calibration {
     /// Probed groups: seconds of one sample per disk (the sampled observables, g_y: serial
     /// work that threads do not shorten, and that the kernel's probe leaves out).
     std::map<CostGroup, double> per_sample;
-    int recorded = 0, probed = 0;          ///< groups from an earlier run's archive, from probes
+    int recorded = 0, probed = 0;  ///< groups from an earlier run's archive, from probes
 
     /// Seconds of p's samples: its group's probe, else the mean per disk of its model's
     /// probed groups, else 0 (nominal; and groups recorded from an archive, whose wall times
@@ -160,12 +160,13 @@ Calibration calibrate(const CampaignSpec& spec, const std::string& archive) {
                 const ReplicaResult r = run_replica(run);
                 const double seconds = process_cpu_seconds() - t0;
                 spent += r.wall_seconds;
-                const double cost = dynamics ? static_cast<double>(r.force_evaluations) * static_cast<double>(p.n)
-                                             : estimated_cost(p);
+                const double cost =
+                    dynamics ? static_cast<double>(r.force_evaluations) * static_cast<double>(p.n) : estimated_cost(p);
                 measured.emplace_back(seconds, cost);
             }
             double seconds = measured.back().first, cost = measured.back().second;
-            if (measured.size() == 3 && measured[1].first > measured[0].first && measured[1].second > measured[0].second) {
+            if (measured.size() == 3 && measured[1].first > measured[0].first &&
+                measured[1].second > measured[0].second) {
                 seconds = measured[1].first - measured[0].first;
                 cost = measured[1].second - measured[0].second;
                 const double extra = static_cast<double>(sample_count(runs[2]) - sample_count(runs[0]));
@@ -209,9 +210,8 @@ std::string describe_source(const DryRunPlan& plan, const Calibration& rates, co
     std::size_t measured = 0;
     for (const CostGroup& g : groups) measured += rates.measured.count(g);
     return "throughput measured on this machine per model, N and phi: " + std::to_string(rates.recorded) +
-           " groups from the archive's finished replicas, " + std::to_string(rates.probed) +
-           " by a short probe; " + std::to_string(groups.size() - measured) + " of the " +
-           std::to_string(groups.size()) +
+           " groups from the archive's finished replicas, " + std::to_string(rates.probed) + " by a short probe; " +
+           std::to_string(groups.size() - measured) + " of the " + std::to_string(groups.size()) +
            " groups not measured (past the probes' 30 s budget) take the mean of the measured groups "
            "of their model and N, else of their model";
 }
@@ -241,9 +241,10 @@ void print_groups(const CampaignSpec& spec, const std::vector<double>& seconds) 
         total_bytes += bytes;
     }
     std::vector<std::pair<std::pair<std::string, std::int64_t>, Group>> order(groups.begin(), groups.end());
-    std::stable_sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.second.seconds > b.second.seconds; });
-    std::printf("%-6s %8s %9s %11s %6s %12s %10s %6s %15s\n", "model", "N", "replicas", "core-hours", "work",
-                "longest", "archive", "share", "configurations");
+    std::stable_sort(order.begin(), order.end(),
+                     [](const auto& a, const auto& b) { return a.second.seconds > b.second.seconds; });
+    std::printf("%-6s %8s %9s %11s %6s %12s %10s %6s %15s\n", "model", "N", "replicas", "core-hours", "work", "longest",
+                "archive", "share", "configurations");
     for (const auto& [key, g] : order)
         std::printf("%-6s %8lld %9lld %11.4g %5.1f%% %12s %10s %5.1f%% %14.0f%%\n", key.first.c_str(),
                     static_cast<long long>(key.second), static_cast<long long>(g.replicas), g.seconds / 3600.0,
@@ -251,10 +252,11 @@ void print_groups(const CampaignSpec& spec, const std::vector<double>& seconds) 
                     show_bytes(g.bytes).c_str(), 100.0 * g.bytes / std::max(1e-300, total_bytes),
                     100.0 * g.configuration_bytes / std::max(1e-300, g.bytes));
     std::printf("%zu groups (model, N); configurations: the share of a group's archive bytes in final "
-                "configurations and frames\n", order.size());
+                "configurations and frames\n",
+                order.size());
 }
 
-} // namespace
+}  // namespace
 
 ReplicaSeconds replica_seconds(const CampaignSpec& spec, const std::string& archive, const DryRunPlan& plan) {
     const Calibration rates = plan.calibrate ? calibrate_on_one_thread(spec, archive) : Calibration{};
@@ -267,8 +269,8 @@ ReplicaSeconds replica_seconds(const CampaignSpec& spec, const std::string& arch
 }
 
 void print_dry_run(const CampaignSpec& spec, const std::string& output, const DryRunPlan& plan) {
-    std::printf("campaign %s: %zu replicas -> %s (dry run: nothing written)\n", spec.name.c_str(),
-                spec.replicas.size(), output.c_str());
+    std::printf("campaign %s: %zu replicas -> %s (dry run: nothing written)\n", spec.name.c_str(), spec.replicas.size(),
+                output.c_str());
     const ReplicaSeconds estimate = replica_seconds(spec, output, plan);
     double total = 0, largest = 0;
     for (const double seconds : estimate.seconds) {
@@ -283,9 +285,8 @@ void print_dry_run(const CampaignSpec& spec, const std::string& output, const Dr
         for (std::size_t id = 0; id < spec.replicas.size(); ++id) {
             const ReplicaParams& p = spec.replicas[id];
             std::printf("%6zu %7lld %8.4g %10.3g %6llu %9lld %14.4g %10.1f %9.1f\n", id, static_cast<long long>(p.n),
-                        p.phi, p.rate, static_cast<unsigned long long>(p.seed),
-                        static_cast<long long>(sample_count(p)), estimated_cost(p), estimate.seconds[id],
-                        estimate.serial[id]);
+                        p.phi, p.rate, static_cast<unsigned long long>(p.seed), static_cast<long long>(sample_count(p)),
+                        estimated_cost(p), estimate.seconds[id], estimate.serial[id]);
         }
     }
     std::printf("total: %.3g core-hours, %.3g core-seconds on one thread (%s; the longest replica: %s)\n",
@@ -314,4 +315,4 @@ void print_dry_run(const CampaignSpec& spec, const std::string& output, const Dr
                                  .speedup = SpeedupModel{.serial_fraction = plan.serial_fraction}});
 }
 
-} // namespace jamsim::app
+}  // namespace jamsim::app

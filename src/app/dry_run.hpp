@@ -12,11 +12,11 @@ namespace jamsim::app {
 /// What --dry-run estimates for.
 struct DryRunPlan {
     bool calibrate = true;
-    int ranks = 1;           ///< ranks of the planned run
-    int shards = 1;          ///< Slurm array tasks
-    double time_limit = 0;   ///< seconds per task (0: none)
+    int ranks = 1;                ///< ranks of the planned run
+    int shards = 1;               ///< Slurm array tasks
+    double time_limit = 0;        ///< seconds per task (0: none)
     double serial_fraction = -1;  ///< the speed-up model's (campaign/scheduler.hpp; < 0: its table)
-    bool summary = false;    ///< one line per (model, N) instead of one per replica (--summary)
+    bool summary = false;         ///< one line per (model, N) instead of one per replica (--summary)
 };
 
 /// Every replica's estimated seconds on one thread of this machine, and where the
@@ -36,4 +36,4 @@ ReplicaSeconds replica_seconds(const CampaignSpec& spec, const std::string& arch
 /// The dry run's table and totals on stdout.
 void print_dry_run(const CampaignSpec& spec, const std::string& output, const DryRunPlan& plan);
 
-} // namespace jamsim::app
+}  // namespace jamsim::app

@@ -9,4 +9,4 @@ inline constexpr int kExitRefused = 2;
 /// run the same command again to continue (EX_TEMPFAIL, which Slurm requeue scripts test).
 inline constexpr int kExitInterrupted = 75;
 
-} // namespace jamsim::app
+}  // namespace jamsim::app

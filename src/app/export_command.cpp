@@ -69,14 +69,15 @@ std::vector<std::int64_t> selected_ids(const ExportOptions& opt, const StoredRep
                                 : parse_id(std::string_view(item).substr(0, dash), lo) &&
                                       parse_id(std::string_view(item).substr(dash + 1), hi) && lo <= hi;
             if (!ok)
-                refuse("--replica = '" + list + "' is not allowed: replica ids (3), lists (0,2,5), ranges (4-7) "
+                refuse("--replica = '" + list +
+                       "' is not allowed: replica ids (3), lists (0,2,5), ranges (4-7) "
                        "or done (every finished replica)");
-            if (hi >= r)
-                refuse("--replica = " + item + " is not allowed: '" + opt.archive + "' has replicas " + range);
+            if (hi >= r) refuse("--replica = " + item + " is not allowed: '" + opt.archive + "' has replicas " + range);
             for (std::int64_t k = lo; k <= hi; ++k) ids.insert(k);
         }
     }
-    if (ids.empty()) refuse("'" + opt.archive + "' has no finished replica to export (jamsim status " + opt.archive + ")");
+    if (ids.empty())
+        refuse("'" + opt.archive + "' has no finished replica to export (jamsim status " + opt.archive + ")");
     for (std::int64_t k : ids)
         if (stored.status(k) != 2)
             refuse("replica " + std::to_string(k) + " of '" + opt.archive + "' is " + status_word(stored.status(k)) +
@@ -112,7 +113,8 @@ void check_output(const std::string& path) {
         refuse("-o = '" + path + "' is not allowed: a file in a writable directory ('" + dir.string() +
                "' is not writable)");
     if (fs::exists(fs::symlink_status(p, ec)))
-        refuse("-o = '" + path + "' is not allowed: it exists (jamsim export does not overwrite; remove it or "
+        refuse("-o = '" + path +
+               "' is not allowed: it exists (jamsim export does not overwrite; remove it or "
                "choose another name)");
 }
 
@@ -158,7 +160,8 @@ int run_export(const ExportOptions& opt) {
                 if (format == "h5md")
                     write_h5md(tmp, replicas[i], opt.archive, stored.campaign());
                 else
-                    write_lammps_data(tmp, replicas[i].final, lammps_title(replicas[i], opt.archive, stored.campaign()));
+                    write_lammps_data(tmp, replicas[i].final,
+                                      lammps_title(replicas[i], opt.archive, stored.campaign()));
                 std::filesystem::rename(tmp, outputs[i]);
             } catch (...) {
                 std::error_code ignored;
@@ -176,16 +179,17 @@ int run_export(const ExportOptions& opt) {
     }
     for (std::size_t i = 0; i < replicas.size(); ++i)
         std::printf("replica %lld (%s, strain gamma = %s): %s (%s)\n", static_cast<long long>(replicas[i].id),
-                    describe(replicas[i]).c_str(), show_value(replicas[i].final.box_strain).c_str(),
-                    outputs[i].c_str(), format == "h5md" ? "H5MD" : "LAMMPS data, atom_style sphere");
+                    describe(replicas[i]).c_str(), show_value(replicas[i].final.box_strain).c_str(), outputs[i].c_str(),
+                    format == "h5md" ? "H5MD" : "LAMMPS data, atom_style sphere");
     return 0;
 }
 
-} // namespace
+}  // namespace
 
 CLI::App* add_export_command(CLI::App& app) {
     auto opt = std::make_shared<ExportOptions>();
-    auto* cmd = app.add_subcommand("export", "Write finished replicas' final configurations as LAMMPS data or H5MD files");
+    auto* cmd =
+        app.add_subcommand("export", "Write finished replicas' final configurations as LAMMPS data or H5MD files");
     cmd->add_option("archive", opt->archive, "Campaign archive (HDF5)")->required();
     cmd->add_option("-r,--replica", opt->replicas,
                     "Replica ids: 3, 0,2,5, 4-7 or done (every finished replica); repeatable")
@@ -203,12 +207,10 @@ CLI::App* add_export_command(CLI::App& app) {
         } catch (const Refused& r) {
             std::fprintf(stderr, "jamsim export: %s\n", r.message.c_str());
             rc = kExitRefused;
-        } catch (const std::exception& e) {
-            std::fprintf(stderr, "jamsim export: %s (nothing written)\n", e.what());
-        }
+        } catch (const std::exception& e) { std::fprintf(stderr, "jamsim export: %s (nothing written)\n", e.what()); }
         if (rc != 0) throw CLI::RuntimeError(rc);
     });
     return cmd;
 }
 
-} // namespace jamsim::app
+}  // namespace jamsim::app

@@ -8,4 +8,4 @@ namespace jamsim::app {
 /// (campaigns/README.md, "Exporting and importing configurations").
 CLI::App* add_export_command(CLI::App& app);
 
-} // namespace jamsim::app
+}  // namespace jamsim::app

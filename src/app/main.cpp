@@ -26,7 +26,7 @@ int exit_status(const CLI::App& app, const CLI::ParseError& e) {
     return status >= static_cast<int>(CLI::ExitCodes::IncorrectConstruction) ? app::kExitRefused : status;
 }
 
-} // namespace jamsim::app
+}  // namespace jamsim::app
 
 int main(int argc, char** argv) {
     CLI::App app{"jamsim: sheared bidisperse soft disks through the jamming transition"};
@@ -47,9 +47,7 @@ int main(int argc, char** argv) {
     }
     try {
         app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-        return jamsim::app::exit_status(app, e);
-    } catch (const std::exception& e) {
+    } catch (const CLI::ParseError& e) { return jamsim::app::exit_status(app, e); } catch (const std::exception& e) {
         std::cerr << "jamsim: error: " << e.what() << '\n';
         return 1;
     }

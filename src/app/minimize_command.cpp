@@ -42,14 +42,14 @@ void write_lammps_data(const System& sys, const std::string& path) {
     for (std::size_t i = 0; i < p.size(); ++i) {
         double x = p.x[i], y = p.y[i];
         sys.box.wrap_into_cell(x, y);
-        std::snprintf(line, sizeof line, "%lld %d %.17g %.17g 0\n",
-                      static_cast<long long>(p.tag[i]) + 1, p.diameter[i] > 1.0 ? 2 : 1, x, y);
+        std::snprintf(line, sizeof line, "%lld %d %.17g %.17g 0\n", static_cast<long long>(p.tag[i]) + 1,
+                      p.diameter[i] > 1.0 ? 2 : 1, x, y);
         out << line;
     }
     if (!out) throw std::runtime_error("writing LAMMPS data file '" + path + "' failed");
 }
 
-} // namespace
+}  // namespace
 
 CLI::App* add_minimize_command(CLI::App& app) {
     auto opt = std::make_shared<Options>();
@@ -93,4 +93,4 @@ CLI::App* add_minimize_command(CLI::App& app) {
     return cmd;
 }
 
-} // namespace jamsim::app
+}  // namespace jamsim::app

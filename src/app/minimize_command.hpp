@@ -7,4 +7,4 @@ namespace jamsim::app {
 /// RESULT line (and optionally the start configuration written as a LAMMPS data file).
 CLI::App* add_minimize_command(CLI::App& app);
 
-} // namespace jamsim::app
+}  // namespace jamsim::app

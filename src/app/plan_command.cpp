@@ -42,7 +42,8 @@ struct PlanError : std::runtime_error {
 ReplicaSeconds seconds_from_listing(const std::string& path, const CampaignSpec& spec) {
     std::ifstream in(path);
     if (!in) throw PlanError("jamsim plan: --costs " + path + ": cannot be read");
-    static const std::regex row(R"(^\s*(\d+)\s+(\d+)\s+\S+\s+\S+\s+\d+\s+\d+\s+\S+\s+([0-9.eE+-]+)\s+([0-9.eE+-]+)\s*$)");
+    static const std::regex row(
+        R"(^\s*(\d+)\s+(\d+)\s+\S+\s+\S+\s+\d+\s+\d+\s+\S+\s+([0-9.eE+-]+)\s+([0-9.eE+-]+)\s*$)");
     std::vector<double> seconds(spec.replicas.size(), -1.0), serial(spec.replicas.size(), 0.0);
     std::size_t found = 0;
     std::string line;
@@ -51,7 +52,8 @@ ReplicaSeconds seconds_from_listing(const std::string& path, const CampaignSpec&
         if (!std::regex_match(line, m, row)) continue;
         const std::size_t id = std::stoull(m[1]);
         const long long n = std::stoll(m[2]);
-        const std::string where = "jamsim plan: --costs " + path + ":" + std::to_string(number) + ": replica " + m[1].str();
+        const std::string where =
+            "jamsim plan: --costs " + path + ":" + std::to_string(number) + ": replica " + m[1].str();
         if (id >= spec.replicas.size() || spec.replicas[id].n != n)
             throw PlanError(where + " (N = " + m[2].str() + ") is not replica " + m[1].str() + " of " + spec.path +
                             ": give the listing of `jamsim run --dry-run " + spec.path + "`");
@@ -86,8 +88,8 @@ int plan(const PlanOptions& opt, int& argc, char**& argv) {
     const SpeedupModel model{.serial_fraction = opt.estimate.serial_fraction};
     double work = 0;
     for (const double s : estimate.seconds) work += s;
-    const SimulatedRun serial = simulate_schedule(
-        simulated_replicas(spec, estimate.seconds, estimate.serial, 1, model), spec.predecessor, 1, 1);
+    const SimulatedRun serial = simulate_schedule(simulated_replicas(spec, estimate.seconds, estimate.serial, 1, model),
+                                                  spec.predecessor, 1, 1);
     std::printf("campaign %s: %zu replicas in %zu chains, %.4g core-hours on one thread (%s)\n", spec.name.c_str(),
                 spec.replicas.size(), chains.members.size(), work / 3600, estimate.source.c_str());
     if (serial.longest_chain >= 0)
@@ -139,7 +141,7 @@ std::vector<int> positive_list(const std::string& option, const std::string& tex
     return out;
 }
 
-} // namespace
+}  // namespace
 
 CLI::App* add_plan_command(CLI::App& app, int& argc, char**& argv) {
     auto opt = std::make_shared<PlanOptions>();
@@ -169,9 +171,7 @@ CLI::App* add_plan_command(CLI::App& app, int& argc, char**& argv) {
         int rc = 2;
         try {
             rc = plan(*opt, argc, argv);
-        } catch (const PlanError& e) {
-            std::fprintf(stderr, "%s\n", e.what());
-        } catch (const SpecError& e) {
+        } catch (const PlanError& e) { std::fprintf(stderr, "%s\n", e.what()); } catch (const SpecError& e) {
             std::fprintf(stderr, "jamsim plan: %s\n", e.what());
         }
         if (rc != 0) throw CLI::RuntimeError(rc);
@@ -179,4 +179,4 @@ CLI::App* add_plan_command(CLI::App& app, int& argc, char**& argv) {
     return cmd;
 }
 
-} // namespace jamsim::app
+}  // namespace jamsim::app

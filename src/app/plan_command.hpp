@@ -9,4 +9,4 @@ namespace jamsim::app {
 
 CLI::App* add_plan_command(CLI::App& app, int& argc, char**& argv);
 
-} // namespace jamsim::app
+}  // namespace jamsim::app

@@ -41,21 +41,20 @@ void print_parameters(bool markdown) {
         std::printf("|---|---|---|---|---|---|---|---|\n");
     }
     for (const auto& info : parameters()) {
-        const std::string where = info.table.empty() ? std::string("(derived)")
-                                                     : "[" + std::string(info.table) + "] " + std::string(info.toml_key);
+        const std::string where = info.table.empty()
+                                      ? std::string("(derived)")
+                                      : "[" + std::string(info.table) + "] " + std::string(info.toml_key);
         const std::string def = default_text(info);
         const std::string used = users_of(info.key);
         if (markdown)
             std::printf("| `%s` | %s | %s | %s | %s | %s | %s | %s |\n", std::string(info.key).c_str(),
                         info.table.empty() ? where.c_str() : ("`" + where + "`").c_str(),
                         info.flag.empty() ? "" : ("`" + std::string(info.flag) + "`").c_str(),
-                        info.units.empty() ? "" : std::string(info.units).c_str(),
-                        def.empty() ? "\"\"" : def.c_str(), std::string(info.allowed).c_str(),
-                        used.c_str(), std::string(info.description).c_str());
+                        info.units.empty() ? "" : std::string(info.units).c_str(), def.empty() ? "\"\"" : def.c_str(),
+                        std::string(info.allowed).c_str(), used.c_str(), std::string(info.description).c_str());
         else
             std::printf("%-16s %-24s default %-8s units %-14s used by %s\n    %s; allowed: %s\n",
-                        std::string(info.key).c_str(), where.c_str(),
-                        def.empty() ? "\"\"" : def.c_str(),
+                        std::string(info.key).c_str(), where.c_str(), def.empty() ? "\"\"" : def.c_str(),
                         info.units.empty() ? "-" : std::string(info.units).c_str(), used.c_str(),
                         std::string(info.description).c_str(), std::string(info.allowed).c_str());
     }
@@ -85,9 +84,10 @@ void print_template() {
         for (const auto& info : parameters()) {
             if (info.table != table) continue;
             const std::string key(info.toml_key);
-            const std::string units = info.units.empty() || info.units == "1" ? "" : " [" + std::string(info.units) + "]";
-            const std::string comment = std::string(info.description) + units + "; allowed: " +
-                                        std::string(info.allowed) + "; read by: " + users_of(info.key);
+            const std::string units =
+                info.units.empty() || info.units == "1" ? "" : " [" + std::string(info.units) + "]";
+            const std::string comment = std::string(info.description) + units +
+                                        "; allowed: " + std::string(info.allowed) + "; read by: " + users_of(info.key);
             if (info.key == "model") {
                 std::printf("name = \"RD0\"  # %s (jamsim models lists them)\n", comment.c_str());
             } else if (info.key == "N" || info.key == "phi" || info.key == "rate") {
@@ -100,7 +100,8 @@ void print_template() {
             }
         }
     }
-    std::printf("# points = [{N = 4096, phi = 0.843, rate = 1e-5}]  # extra non-grid points, each with every seed (or its own: seeds = [4, 9])\n");
+    std::printf("# points = [{N = 4096, phi = 0.843, rate = 1e-5}]  # extra non-grid points, each with every seed (or "
+                "its own: seeds = [4, 9])\n");
 }
 
 void print_models() {
@@ -108,16 +109,14 @@ void print_models() {
         std::string reads;
         for (auto key : m.parameters) reads += (reads.empty() ? "" : ", ") + std::string(key);
         std::printf("%-14s %s: %s\n%14s reads %s (and N, phi, seed, alpha, size_ratio, skin%s)\n",
-                    std::string(m.name).c_str(),
-                    m.kind == ModelKind::Dynamics ? "dynamics" : "minimisation",
+                    std::string(m.name).c_str(), m.kind == ModelKind::Dynamics ? "dynamics" : "minimisation",
                     std::string(m.summary).c_str(), "", reads.empty() ? "nothing else" : reads.c_str(),
-                    m.kind == ModelKind::Dynamics
-                        ? "; rate, transient, sample_interval, strain or at rate 0 time"
-                        : "");
+                    m.kind == ModelKind::Dynamics ? "; rate, transient, sample_interval, strain or at rate 0 time"
+                                                  : "");
     }
 }
 
-} // namespace
+}  // namespace
 
 CLI::App* add_parameters_command(CLI::App& app) {
     auto markdown = std::make_shared<bool>(false);
@@ -125,11 +124,12 @@ CLI::App* add_parameters_command(CLI::App& app) {
     auto* cmd = app.add_subcommand("parameters", "List every replica parameter (key, campaign "
                                                  "file location, option, units, default, allowed)");
     cmd->add_flag("--markdown", *markdown, "As the Markdown table of campaigns/README.md");
-    cmd->add_flag("--template", *campaign_template,
-                  "As a commented campaign file (campaigns/TEMPLATE.toml)");
+    cmd->add_flag("--template", *campaign_template, "As a commented campaign file (campaigns/TEMPLATE.toml)");
     cmd->callback([markdown, campaign_template] {
-        if (*campaign_template) print_template();
-        else print_parameters(*markdown);
+        if (*campaign_template)
+            print_template();
+        else
+            print_parameters(*markdown);
     });
     return cmd;
 }
@@ -140,4 +140,4 @@ CLI::App* add_models_command(CLI::App& app) {
     return cmd;
 }
 
-} // namespace jamsim::app
+}  // namespace jamsim::app

@@ -9,4 +9,4 @@ CLI::App* add_parameters_command(CLI::App& app);
 /// `jamsim models`: every registered model and protocol with what it reads.
 CLI::App* add_models_command(CLI::App& app);
 
-} // namespace jamsim::app
+}  // namespace jamsim::app

@@ -29,10 +29,8 @@ struct ReplicaOptions {
 };
 
 /// One message naming the option, the value and what is allowed; exit code 2.
-[[noreturn]] void usage_error(const std::string& key, const std::string& value,
-                              const std::string& allowed) {
-    throw CLI::ValidationError("jamsim replica: --" + key + " = " + value +
-                               " is not allowed: " + allowed);
+[[noreturn]] void usage_error(const std::string& key, const std::string& value, const std::string& allowed) {
+    throw CLI::ValidationError("jamsim replica: --" + key + " = " + value + " is not allowed: " + allowed);
 }
 
 void check_output_path(const std::string& path) {
@@ -41,11 +39,9 @@ void check_output_path(const std::string& path) {
     const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
     std::error_code ec;
     if (!fs::is_directory(dir, ec))
-        usage_error("output", path, "a file in an existing directory ('" + dir.string() +
-                                        "' does not exist)");
+        usage_error("output", path, "a file in an existing directory ('" + dir.string() + "' does not exist)");
     if (::access(dir.c_str(), W_OK) != 0)
-        usage_error("output", path, "a file in a writable directory ('" + dir.string() +
-                                        "' is not writable)");
+        usage_error("output", path, "a file in a writable directory ('" + dir.string() + "' is not writable)");
     if (fs::is_directory(p, ec)) usage_error("output", path, "a file name, not a directory");
 }
 
@@ -57,8 +53,7 @@ ReplicaParams params_of(const ReplicaOptions& opt) {
         const ParamInfo& info = *find_parameter(key);
         ParamValue value;
         if (!parse_value(info, text, value) || !set_value(params, info, value))
-            usage_error(std::string(info.flag.substr(2)), text,
-                        is_numeric(info) ? "a number" : "a string");
+            usage_error(std::string(info.flag.substr(2)), text, is_numeric(info) ? "a number" : "a string");
     }
     for (const auto& e : validate(params)) {
         const ParamInfo* info = find_parameter(e.key);
@@ -67,8 +62,7 @@ ReplicaParams params_of(const ReplicaOptions& opt) {
     // A parameter the model does not use would be silently ignored: refuse it.
     for (const auto& [key, text] : opt.given)
         if (!uses_parameter(params, key))
-            usage_error(std::string(find_parameter(key)->flag.substr(2)), text,
-                        "not used by model " + params.model);
+            usage_error(std::string(find_parameter(key)->flag.substr(2)), text, "not used by model " + params.model);
     return params;
 }
 
@@ -88,28 +82,24 @@ void run(const ReplicaOptions& opt) {
     if (!params.initial.empty()) {
         try {
             initial = InitialStates(params.initial).load(params, 0);
-        } catch (const InitialStateError& e) {
-            usage_error("initial", params.initial, e.what());
-        }
+        } catch (const InitialStateError& e) { usage_error("initial", params.initial, e.what()); }
     }
     const ReplicaResult result = run_replica(params, {.initial = initial ? &*initial : nullptr});
     write_replica_file(opt.output, params, result);
     const double p = mean_after(result.series, &Sample::pressure, params.transient);
     const double s = mean_after(result.series, &Sample::shear_stress, params.transient);
-    const double steps_per_s = static_cast<double>(result.force_evaluations) *
-                               static_cast<double>(params.n) / result.wall_seconds;
+    const double steps_per_s =
+        static_cast<double>(result.force_evaluations) * static_cast<double>(params.n) / result.wall_seconds;
     std::printf("replica %s N=%lld phi=%.6g rate=%.6g: %zu samples, %.2f s on %d thread%s, %.3g particle-force-"
                 "evaluations/s\n",
-                params.model.c_str(), static_cast<long long>(params.n), params.phi, params.rate,
-                result.series.size(), result.wall_seconds, kernel_threads(), kernel_threads() == 1 ? "" : "s",
-                steps_per_s);
+                params.model.c_str(), static_cast<long long>(params.n), params.phi, params.rate, result.series.size(),
+                result.wall_seconds, kernel_threads(), kernel_threads() == 1 ? "" : "s", steps_per_s);
     std::printf("mean pressure     <p>     = %.10g\n", p);
     std::printf("mean shear stress <sigma> = %.10g\n", s);
-    std::printf("(averages over strain >= %g; written to %s)\n", params.transient,
-                opt.output.c_str());
+    std::printf("(averages over strain >= %g; written to %s)\n", params.transient, opt.output.c_str());
 }
 
-} // namespace
+}  // namespace
 
 CLI::App* add_replica_command(CLI::App& app) {
     auto opt = std::make_shared<ReplicaOptions>();
@@ -123,8 +113,7 @@ CLI::App* add_replica_command(CLI::App& app) {
         if (info.key == "model") help += " (" + model_list() + ")";
         const std::string key(info.key);
         cmd->add_option_function<std::string>(
-               std::string(info.flag), [opt, key](const std::string& v) { opt->given[key] = v; },
-               help)
+               std::string(info.flag), [opt, key](const std::string& v) { opt->given[key] = v; }, help)
             ->default_str(default_text(info));
     }
     cmd->add_option("-o,--output", opt->output, "Output HDF5 file")->required();
@@ -133,4 +122,4 @@ CLI::App* add_replica_command(CLI::App& app) {
     return cmd;
 }
 
-} // namespace jamsim::app
+}  // namespace jamsim::app

@@ -7,4 +7,4 @@ namespace jamsim::app {
 /// one replica, writes its HDF5 file and prints ⟨p⟩ and ⟨σ⟩ after the transient.
 CLI::App* add_replica_command(CLI::App& app);
 
-} // namespace jamsim::app
+}  // namespace jamsim::app

@@ -25,16 +25,14 @@ std::string check_output(const std::string& path, const CampaignSpec& spec, Outp
     std::error_code ec;
     if (fs::exists(path, ec)) {
         if (fs::is_directory(path, ec))
-            return spec.path + ": [campaign] output = \"" + path +
-                   "\" is not allowed: a file path, not a directory";
+            return spec.path + ": [campaign] output = \"" + path + "\" is not allowed: a file path, not a directory";
         if (const std::string bad = diagnose_archive_file(path); !bad.empty())
             return spec.path + ": refusing to use the archive: " + bad +
                    " (choose another [campaign] output or -o, or remove the file)";
         const std::string why = Archive::check_existing(path, spec);
         if (why.empty()) return "";
         if (why.find("belongs to a different campaign") == std::string::npos)  // another version, unreadable
-            return spec.path + ": refusing to use the archive: " + why +
-                   " (choose another [campaign] output or -o)";
+            return spec.path + ": refusing to use the archive: " + why + " (choose another [campaign] output or -o)";
         const std::string not_longer = Archive::check_extension(path, spec);
         if (not_longer.empty()) {  // the same campaign, run longer
             mode = OutputMode::Extend;
@@ -50,13 +48,11 @@ std::string check_output(const std::string& path, const CampaignSpec& spec, Outp
             return "";
         }
         return spec.path + ": refusing to use the archive: '" + path +
-               "' belongs to a different campaign: " + not_grown +
-               " (choose another [campaign] output or -o)";
+               "' belongs to a different campaign: " + not_grown + " (choose another [campaign] output or -o)";
     }
     // Checkpoints without their archive belong to a run whose archive was removed or moved:
     // a new campaign must not continue from them.
-    if (const std::string folder = checkpoint_folder(path);
-        fs::is_directory(folder, ec) && !fs::is_empty(folder, ec))
+    if (const std::string folder = checkpoint_folder(path); fs::is_directory(folder, ec) && !fs::is_empty(folder, ec))
         return spec.path + ": refusing to start '" + path + "': the checkpoint folder '" + folder +
                "' of an earlier run is there without its archive (restore the archive to "
                "continue that run, or remove the folder to start afresh)";
@@ -104,16 +100,14 @@ std::string check_checkpoints(const std::string& output, const CampaignSpec& spe
         if (std::sscanf(name.c_str(), "replica_%lld.h%7s", &id, tail) != 2 || std::string(tail) != "5")
             continue;  // not a checkpoint (e.g. a .tmp left by a kill)
         if (id < 0 || id >= static_cast<long long>(spec.replicas.size()))
-            return spec.path + ": checkpoint '" + entry.path().string() + "' names replica " +
-                   std::to_string(id) + ", this campaign has " +
-                   std::to_string(spec.replicas.size()) + ": remove it or choose another output";
+            return spec.path + ": checkpoint '" + entry.path().string() + "' names replica " + std::to_string(id) +
+                   ", this campaign has " + std::to_string(spec.replicas.size()) +
+                   ": remove it or choose another output";
         try {
             check_checkpoint_header(entry.path().string(), spec.replicas[static_cast<std::size_t>(id)]);
         } catch (const CheckpointUnreadable&) {
             continue;  // damaged: its replica removes it with a warning and starts again
-        } catch (const CheckpointError& e) {
-            return spec.path + ": " + e.what();
-        }
+        } catch (const CheckpointError& e) { return spec.path + ": " + e.what(); }
     }
     return "";
 }
@@ -160,8 +154,7 @@ std::string check_petsc_options(const CampaignSpec& spec) {
         if (p.petsc_options.empty() || !uses_parameter(p, "petsc_options")) continue;
         try {
             if (const std::string why = linalg::petsc_options_problem(p.petsc_options); !why.empty())
-                return spec.path + ": [model] petsc_options = \"" + p.petsc_options +
-                       "\" is not allowed: " + why;
+                return spec.path + ": [model] petsc_options = \"" + p.petsc_options + "\" is not allowed: " + why;
         } catch (const std::exception& e) {
             return spec.path + ": [model] petsc_options = \"" + p.petsc_options +
                    "\" could not be checked: " + e.what();
@@ -181,18 +174,22 @@ void print_advisories(const CampaignSpec& spec) {
     if (spec.run_table || spec.replicas.empty()) return;
     std::string defaults;
     for (const auto& info : parameters()) {
-        if (info.table != "run" || (info.key != "strain" && info.key != "time" && info.key != "transient" &&
-                                    info.key != "sample_interval"))
+        if (info.table != "run" ||
+            (info.key != "strain" && info.key != "time" && info.key != "transient" && info.key != "sample_interval"))
             continue;
         const auto used = std::find_if(spec.replicas.begin(), spec.replicas.end(),
                                        [&](const ReplicaParams& p) { return uses_parameter(p, info.key); });
         if (used == spec.replicas.end()) continue;
-        defaults.append(defaults.empty() ? "" : ", ").append(info.key).append(" = ").append(
-            show_value(get_value(*used, info)));
+        defaults.append(defaults.empty() ? "" : ", ")
+            .append(info.key)
+            .append(" = ")
+            .append(show_value(get_value(*used, info)));
     }
     if (!defaults.empty())
-        std::fprintf(stderr, "jamsim run: warning: %s: no [run] table: the run takes the defaults %s "
-                     "(campaigns/TEMPLATE.toml lists every key)\n", spec.path.c_str(), defaults.c_str());
+        std::fprintf(stderr,
+                     "jamsim run: warning: %s: no [run] table: the run takes the defaults %s "
+                     "(campaigns/TEMPLATE.toml lists every key)\n",
+                     spec.path.c_str(), defaults.c_str());
 }
 
-} // namespace jamsim::app
+}  // namespace jamsim::app

@@ -36,4 +36,4 @@ std::string check_petsc_options(const CampaignSpec& spec);
 /// Advisory warnings on stderr, each kind once.
 void print_advisories(const CampaignSpec& spec);
 
-} // namespace jamsim::app
+}  // namespace jamsim::app

@@ -56,11 +56,11 @@ void at_process_start(int, char**, char** envp) {
         if (*value == '\0' || environment_count(value) == 0) (*e)[0] = '_';  // _MP_NUM_THREADS: unseen
     }
 }
-} // namespace
+}  // namespace
 
 // Runs before the initialisers of every shared library (libgomp's included).
 [[gnu::section(".preinit_array"), gnu::used]] static void (*at_process_start_early)(int, char**,
-                                                                                      char**) = &at_process_start;
+                                                                                    char**) = &at_process_start;
 
 const ThreadsChoice& threads_choice() { return g_choice; }
 
@@ -74,7 +74,7 @@ bool start_mask(cpu_set_t& set) {
     CPU_ZERO(&set);
     return sched_getaffinity(0, sizeof set, &set) == 0;
 }
-} // namespace
+}  // namespace
 
 int usable_cores() {
     cpu_set_t set;
@@ -143,10 +143,8 @@ namespace {
 std::string notes(const std::string& who, double cores_per_rank, int node_ranks) {
     std::string out;
     const ThreadsChoice& c = g_choice;
-    if (c.source == "--threads" && !c.environment.empty() &&
-        environment_count(c.environment.c_str()) != c.threads)
-        out += who + ": --threads " + std::to_string(c.threads) + " wins over OMP_NUM_THREADS=" + c.environment +
-               "\n";
+    if (c.source == "--threads" && !c.environment.empty() && environment_count(c.environment.c_str()) != c.threads)
+        out += who + ": --threads " + std::to_string(c.threads) + " wins over OMP_NUM_THREADS=" + c.environment + "\n";
     if (c.threads > 1 && c.threads > cores_per_rank + 1e-6) {  // (more ranks than cores is mpirun's business)
         char cores[32];
         std::snprintf(cores, sizeof cores, "%.3g", cores_per_rank);
@@ -160,7 +158,7 @@ std::string notes(const std::string& who, double cores_per_rank, int node_ranks)
     }
     return out;
 }
-} // namespace
+}  // namespace
 
 std::string threads_notes(const std::string& who, MPI_Comm comm) {
     double cores = cores_of_rank(comm), fewest = cores;
@@ -172,4 +170,4 @@ std::string threads_notes(const std::string& who, MPI_Comm comm) {
 
 std::string threads_notes(const std::string& who) { return notes(who, usable_cores(), 0); }
 
-} // namespace jamsim::app
+}  // namespace jamsim::app

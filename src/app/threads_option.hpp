@@ -42,4 +42,4 @@ double cores_of_rank(MPI_Comm comm);
 std::string threads_notes(const std::string& who, MPI_Comm comm);
 std::string threads_notes(const std::string& who);
 
-} // namespace jamsim::app
+}  // namespace jamsim::app

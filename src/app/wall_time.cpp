@@ -42,8 +42,7 @@ SimulatedRun simulate_part(const CampaignSpec& spec, const std::vector<Simulated
 std::string describe_chain(const CampaignSpec& spec, const Chains& chains, std::int64_t chain) {
     const auto& members = chains.members[static_cast<std::size_t>(chain)];
     const ReplicaParams& first = spec.replicas[static_cast<std::size_t>(members.front())];
-    if (members.size() == 1)
-        return "replica " + std::to_string(members.front()) + " (" + describe(first) + ")";
+    if (members.size() == 1) return "replica " + std::to_string(members.front()) + " (" + describe(first) + ")";
     std::string ids;
     for (std::size_t k = 0; k < members.size(); ++k) {
         if (k == 3 && members.size() > 4) {
@@ -61,9 +60,12 @@ std::string describe_chain(const CampaignSpec& spec, const Chains& chains, std::
 
 std::string duration(double seconds) {
     char buf[32];
-    if (seconds < 120) std::snprintf(buf, sizeof buf, "%.1f s", seconds);
-    else if (seconds < 7200) std::snprintf(buf, sizeof buf, "%.1f min", seconds / 60);
-    else std::snprintf(buf, sizeof buf, "%.2f h", seconds / 3600);
+    if (seconds < 120)
+        std::snprintf(buf, sizeof buf, "%.1f s", seconds);
+    else if (seconds < 7200)
+        std::snprintf(buf, sizeof buf, "%.1f min", seconds / 60);
+    else
+        std::snprintf(buf, sizeof buf, "%.2f h", seconds / 3600);
     return buf;
 }
 
@@ -72,7 +74,8 @@ std::string describe_speedup(const SpeedupModel& model) {
                                "the samples not at all";
     if (model.serial_fraction < 0)
         return "the kernel by Amdahl's law with the RD0 kernel's serial fraction by N (0.21 at N <= 16384, 0.05 at "
-               "65536, 0.045 from 262144, 1 below 4096; --serial-fraction sets one)" + blocks;
+               "65536, 0.045 from 262144, 1 below 4096; --serial-fraction sets one)" +
+               blocks;
     char fraction[32];
     std::snprintf(fraction, sizeof fraction, "%g", model.serial_fraction);
     return "the kernel by Amdahl's law with serial fraction " + std::string(fraction) + " (--serial-fraction)" + blocks;
@@ -122,7 +125,7 @@ void print_shards(const CampaignSpec& spec, const Chains& chains, const std::vec
                     requeues(worst));
 }
 
-} // namespace
+}  // namespace
 
 void print_wall_time(const CampaignSpec& spec, const std::vector<double>& seconds, const std::vector<double>& serial,
                      const WallTimePlan& plan) {
@@ -130,7 +133,7 @@ void print_wall_time(const CampaignSpec& spec, const std::vector<double>& second
     const auto replicas = simulated_replicas(spec, seconds, serial, plan.threads, plan.speedup);
     const SimulatedRun run = simulate_schedule(replicas, spec.predecessor, plan.ranks, plan.threads);
     if (run.longest_chain < 0) return;  // no replicas
-    double chain_seconds = 0;  // the longest chain on one thread
+    double chain_seconds = 0;           // the longest chain on one thread
     for (const std::int64_t r : chains.members[static_cast<std::size_t>(run.longest_chain)])
         chain_seconds += seconds[static_cast<std::size_t>(r)];
     const int cores = plan.ranks * plan.threads;
@@ -171,4 +174,4 @@ void add_serial_fraction_option(CLI::App& command, double& fraction) {
         ->type_name("F");
 }
 
-} // namespace jamsim::app
+}  // namespace jamsim::app

@@ -51,4 +51,4 @@ void print_wall_time(const CampaignSpec& spec, const std::vector<double>& second
 /// serial fraction for every N instead of its table.
 void add_serial_fraction_option(CLI::App& command, double& fraction);
 
-} // namespace jamsim::app
+}  // namespace jamsim::app

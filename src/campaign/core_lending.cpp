@@ -28,7 +28,8 @@ std::vector<RankCores> gather_rank_cores(MPI_Comm comm) {
     mpi::check(MPI_Allgather(mine, 3, MPI_LONG_LONG, all.data(), 3, MPI_LONG_LONG, comm), "MPI_Allgather (cores)");
     std::vector<RankCores> out(static_cast<std::size_t>(mpi::size(comm)));
     for (std::size_t r = 0; r < out.size(); ++r)
-        out[r] = {.node = all[3 * r], .own = static_cast<int>(all[3 * r + 1]), .most = static_cast<int>(all[3 * r + 2])};
+        out[r] = {
+            .node = all[3 * r], .own = static_cast<int>(all[3 * r + 1]), .most = static_cast<int>(all[3 * r + 2])};
     return out;
 }
 
@@ -47,4 +48,4 @@ void park_until_complete(MPI_Request& request, const char* what) {
         std::chrono::microseconds(10000));
 }
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -18,11 +18,11 @@ namespace jamsim {
 
 namespace {
 
-constexpr int kTagRequest = 11;  // worker → rank 0: Report of the replica just finished
-constexpr int kTagAssign = 12;   // rank 0 → worker: Assignment
-constexpr int kTagStop = 13;     // rank 0 → worker, once: stop at the next checkpoint step
-constexpr int kTagThreads = 14;  // rank 0 → worker: threads for its running replica (cores lent)
-constexpr int kTagFarmOver = 15; // rank 0 → every worker, at the end: leave the farm
+constexpr int kTagRequest = 11;   // worker → rank 0: Report of the replica just finished
+constexpr int kTagAssign = 12;    // rank 0 → worker: Assignment
+constexpr int kTagStop = 13;      // rank 0 → worker, once: stop at the next checkpoint step
+constexpr int kTagThreads = 14;   // rank 0 → worker: threads for its running replica (cores lent)
+constexpr int kTagFarmOver = 15;  // rank 0 → every worker, at the end: leave the farm
 constexpr std::int64_t kNoMoreWork = -1, kStop = -2;
 
 /// What a worker tells rank 0 when it asks for work.
@@ -39,9 +39,7 @@ struct Assignment {
 };
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) {
-    return std::chrono::duration<double>(Clock::now() - t0).count();
-}
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 std::string hms(double s) {
     if (!(s >= 0) || s > 1e7) return "--:--:--";
@@ -73,11 +71,11 @@ class Dispatcher {
   public:
     Dispatcher(MPI_Comm comm, const CampaignSpec& spec, const std::vector<std::int64_t>& queue,
                std::int64_t already_done, const std::vector<ReplicaStatus>& status,
-               std::function<void(std::int64_t, const std::string&)> fail,
-               const ProgressOptions& progress, std::vector<RankCores> cores)
+               std::function<void(std::int64_t, const std::string&)> fail, const ProgressOptions& progress,
+               std::vector<RankCores> cores)
         : comm_(comm), spec_(spec), scheduler_(make_scheduler(spec, queue, status)), fail_(std::move(fail)),
-          total_(static_cast<std::int64_t>(queue.size()) + already_done), done_(already_done),
-          progress_(progress), start_(Clock::now()), last_print_(start_) {
+          total_(static_cast<std::int64_t>(queue.size()) + already_done), done_(already_done), progress_(progress),
+          start_(Clock::now()), last_print_(start_) {
         for (auto id : queue) cost_total_run_ += estimated_cost(spec_.replicas[id]);
         workers_active_ = mpi::size(comm) - 1;
         active_.assign(static_cast<std::size_t>(mpi::size(comm)), true);
@@ -227,7 +225,8 @@ class Dispatcher {
         std::vector<RankWork> work(cores_.size());
         for (std::size_t r = 0; r < cores_.size(); ++r)
             if (const std::int64_t id = replica_of_[r]; id >= 0)
-                work[r] = {.running = true, .priority = scheduler_.critical_path(id),
+                work[r] = {.running = true,
+                           .priority = scheduler_.critical_path(id),
                            .useful = useful_threads(spec_.replicas[static_cast<std::size_t>(id)].n)};
         const std::vector<int> threads = lend_cores(cores_, work);
         for (std::size_t r = 0; r < cores_.size(); ++r) {
@@ -239,8 +238,7 @@ class Dispatcher {
                 set_kernel_threads(threads[r]);
             } else if (static_cast<int>(r) != assigned) {
                 const std::int64_t n = threads[r];
-                mpi::check(MPI_Send(&n, 1, MPI_INT64_T, static_cast<int>(r), kTagThreads, comm_),
-                           "MPI_Send (threads)");
+                mpi::check(MPI_Send(&n, 1, MPI_INT64_T, static_cast<int>(r), kTagThreads, comm_), "MPI_Send (threads)");
                 ++updates_sent_[r];
             }
         }
@@ -275,7 +273,7 @@ class Dispatcher {
         reply(source, next);
     }
 
-public:
+  public:
     /// The first requests (every worker asks once at start), answered in spread_over_nodes
     /// order, rank 0 in its place: the longest chains start on different nodes, where idle
     /// ranks can later lend them cores. The threads are shared out once, at the end.
@@ -313,18 +311,17 @@ public:
     void print(bool final_line) {
         const double elapsed = seconds_since(start_);
         const double every = progress_.terminal ? 0.5 : progress_.interval_seconds;
-        if (!final_line && std::chrono::duration<double>(Clock::now() - last_print_).count() < every)
-            return;
+        if (!final_line && std::chrono::duration<double>(Clock::now() - last_print_).count() < every) return;
         last_print_ = Clock::now();
         const bool measured = cost_done_ > 0;
         const double remaining = remaining_seconds();
         const auto total = static_cast<long long>(total_);
         const long long pending = total - done_ - failed_ - running_;
-        std::fprintf(stdout, "%s[%s] %lld/%lld done, %lld running, %lld failed, %lld pending | "
-                             "elapsed %s | remaining ~%s%s%s",
-                     progress_.terminal ? "\r" : "", spec_.name.c_str(),
-                     static_cast<long long>(done_), total, static_cast<long long>(running_),
-                     static_cast<long long>(failed_), pending, hms(elapsed).c_str(),
+        std::fprintf(stdout,
+                     "%s[%s] %lld/%lld done, %lld running, %lld failed, %lld pending | "
+                     "elapsed %s | remaining ~%s%s%s",
+                     progress_.terminal ? "\r" : "", spec_.name.c_str(), static_cast<long long>(done_), total,
+                     static_cast<long long>(running_), static_cast<long long>(failed_), pending, hms(elapsed).c_str(),
                      hms(remaining).c_str(), measured || final_line ? "" : " (nominal)",
                      progress_.terminal && !final_line ? "   " : "\n");
         std::fflush(stdout);
@@ -335,7 +332,8 @@ public:
     /// first, the nominal rate) gives each running replica's part done by now, the work left
     /// over all ranks, and the longest remaining chain on one rank; the larger of the two.
     double remaining_seconds() const {
-        const double per_rank = wall_done_ > 0 && cost_done_ > 0 ? cost_done_ / wall_done_ : kNominalEvaluationsPerSecond;
+        const double per_rank =
+            wall_done_ > 0 && cost_done_ > 0 ? cost_done_ / wall_done_ : kNominalEvaluationsPerSecond;
         double done_running = 0, chain = 0;
         for (std::size_t r = 0; r < replica_of_.size(); ++r) {
             const std::int64_t id = replica_of_[r];
@@ -351,31 +349,30 @@ public:
 
     MPI_Comm comm_;
     const CampaignSpec& spec_;
-    Scheduler scheduler_;  ///< the replicas not yet started, and which one next
+    Scheduler scheduler_;                                         ///< the replicas not yet started, and which one next
     std::function<void(std::int64_t, const std::string&)> fail_;  ///< record a failure
-    std::vector<int> waiting_;  ///< workers whose request waits for a ready replica
-    std::int64_t total_;  ///< replicas of this run's shard
+    std::vector<int> waiting_;                                    ///< workers whose request waits for a ready replica
+    std::int64_t total_;                                          ///< replicas of this run's shard
     std::int64_t done_ = 0, failed_ = 0, running_ = 0, interrupted_ = 0;
     int workers_active_ = 0;
     std::vector<bool> active_;  ///< by rank: a worker not yet told that there is no more work
     bool stopping_ = false;
-    std::vector<RankCores> cores_;           ///< by rank: its node and cores
-    std::vector<std::int64_t> replica_of_;   ///< by rank: the replica it runs, −1 when idle
-    std::vector<int> threads_;               ///< by rank: its threads now
-    std::vector<std::int64_t> updates_sent_; ///< by rank: kTagThreads messages sent
-    std::vector<Clock::time_point> started_; ///< by rank: when its replica started
-    double wall_done_ = 0;                   ///< wall seconds of the replicas finished
+    std::vector<RankCores> cores_;            ///< by rank: its node and cores
+    std::vector<std::int64_t> replica_of_;    ///< by rank: the replica it runs, −1 when idle
+    std::vector<int> threads_;                ///< by rank: its threads now
+    std::vector<std::int64_t> updates_sent_;  ///< by rank: kTagThreads messages sent
+    std::vector<Clock::time_point> started_;  ///< by rank: when its replica started
+    double wall_done_ = 0;                    ///< wall seconds of the replicas finished
     bool in_first_round_ = false;
-    std::int64_t own_first_ = -1;            ///< rank 0's replica chosen in the first round
+    std::int64_t own_first_ = -1;                ///< rank 0's replica chosen in the first round
     double cost_total_run_ = 0, cost_done_ = 0;  ///< estimated costs of this run's queue
     ProgressOptions progress_;
     Clock::time_point start_, last_print_;
 };
 
-} // namespace
+}  // namespace
 
-FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
-                     const FarmOptions& options) {
+FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive, const FarmOptions& options) {
     const int rank = mpi::rank(comm);
     const auto t0 = Clock::now();
     FarmSummary summary;
@@ -399,12 +396,13 @@ FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
                 ++done;
         }
         summary.skipped = done;
-        Dispatcher d(comm, spec, queue, done, status,
-                     [&](std::int64_t id, const std::string& reason) {
-                         archive.write_failed(id, reason, 0.0, rank);
-                         ++summary.failed;
-                     },
-                     options.progress, cores);
+        Dispatcher d(
+            comm, spec, queue, done, status,
+            [&](std::int64_t id, const std::string& reason) {
+                archive.write_failed(id, reason, 0.0, rank);
+                ++summary.failed;
+            },
+            options.progress, cores);
         const std::function<void()> serve = [&d] { d.serve_pending(); };
         const std::function<bool()> stop = [&d] {
             d.check_stop();
@@ -412,7 +410,8 @@ FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
         };
         d.first_round();
         for (std::int64_t id = d.take(); id >= 0; id = d.take()) {
-            const Outcome outcome = run_one(spec, id, feeds[static_cast<std::size_t>(id)] != 0, archive, rank, options, serve, stop, summary);
+            const Outcome outcome = run_one(spec, id, feeds[static_cast<std::size_t>(id)] != 0, archive, rank, options,
+                                            serve, stop, summary);
             d.finished(id, outcome, 0);
             d.serve_pending();
         }
@@ -421,8 +420,8 @@ FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
         for (int w = 1; w < mpi::size(comm); ++w)
             mpi::check(MPI_Send(nullptr, 0, MPI_BYTE, w, kTagFarmOver, comm), "MPI_Send (farm over)");
     } else {
-        bool stop_seen = false;  // kTagStop received from rank 0
-        std::int64_t updates_seen = 0;  // kTagThreads messages received
+        bool stop_seen = false;             // kTagStop received from rank 0
+        std::int64_t updates_seen = 0;      // kTagThreads messages received
         const auto receive_threads = [&] {  // rank 0's next thread count, applied
             std::int64_t threads = 1;
             mpi::check(MPI_Recv(&threads, 1, MPI_INT64_T, 0, kTagThreads, comm, MPI_STATUS_IGNORE),
@@ -444,8 +443,7 @@ FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
             mpi::check(MPI_Iprobe(0, kTagStop, comm, &flag, MPI_STATUS_IGNORE), "MPI_Iprobe (stop)");
             if (!flag) return;
             std::int64_t ignored = 0;
-            mpi::check(MPI_Recv(&ignored, 1, MPI_INT64_T, 0, kTagStop, comm, MPI_STATUS_IGNORE),
-                       "MPI_Recv (stop)");
+            mpi::check(MPI_Recv(&ignored, 1, MPI_INT64_T, 0, kTagStop, comm, MPI_STATUS_IGNORE), "MPI_Recv (stop)");
             stop_seen = true;
         };
         const std::function<bool()> stop = [&] {
@@ -454,8 +452,7 @@ FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
         };
         Report report{-1, Outcome::Done};
         for (;;) {
-            mpi::check(MPI_Send(&report, sizeof report, MPI_BYTE, 0, kTagRequest, comm),
-                       "MPI_Send (work request)");
+            mpi::check(MPI_Send(&report, sizeof report, MPI_BYTE, 0, kTagRequest, comm), "MPI_Send (work request)");
             Assignment a;  // waited for parked: this rank's cores are lent meanwhile
             MPI_Request request = MPI_REQUEST_NULL;
             mpi::check(MPI_Irecv(&a, sizeof a, MPI_BYTE, 0, kTagAssign, comm, &request), "MPI_Irecv (assignment)");
@@ -465,12 +462,12 @@ FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
             if (id >= 0) set_kernel_threads(static_cast<int>(a.threads));
             if (id == kStop && !stop_seen) {  // rank 0 sent kTagStop first: take it
                 std::int64_t ignored = 0;
-                mpi::check(MPI_Recv(&ignored, 1, MPI_INT64_T, 0, kTagStop, comm, MPI_STATUS_IGNORE),
-                           "MPI_Recv (stop)");
+                mpi::check(MPI_Recv(&ignored, 1, MPI_INT64_T, 0, kTagStop, comm, MPI_STATUS_IGNORE), "MPI_Recv (stop)");
                 stop_seen = true;
             }
             if (id < 0) break;
-            const Outcome outcome = run_one(spec, id, feeds[static_cast<std::size_t>(id)] != 0, archive, rank, options, poll, stop, summary);
+            const Outcome outcome = run_one(spec, id, feeds[static_cast<std::size_t>(id)] != 0, archive, rank, options,
+                                            poll, stop, summary);
             report = {id, outcome};
         }
         MPI_Request over = MPI_REQUEST_NULL;  // parked until the whole farm is over
@@ -482,4 +479,4 @@ FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
     return summary;
 }
 
-} // namespace jamsim
+}  // namespace jamsim

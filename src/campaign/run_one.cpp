@@ -13,15 +13,12 @@ namespace jamsim {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) {
-    return std::chrono::duration<double>(Clock::now() - t0).count();
-}
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 /// The checkpoint of replica `id` when it can be used; a damaged one (unreadable, arrays that
 /// do not fit the replica, non-finite values, a checksum that disagrees) is removed with a
 /// warning naming the file and why, and the replica starts again from its start.
-std::optional<ReplicaState> usable_checkpoint(const std::string& path, const ReplicaParams& params,
-                                              std::int64_t id) {
+std::optional<ReplicaState> usable_checkpoint(const std::string& path, const ReplicaParams& params, std::int64_t id) {
     try {
         return read_checkpoint(path, params);
     } catch (const CheckpointError& e) {
@@ -33,11 +30,11 @@ std::optional<ReplicaState> usable_checkpoint(const std::string& path, const Rep
     }
 }
 
-} // namespace
+}  // namespace
 
 Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, Archive& archive, int rank,
-                const FarmOptions& options, const std::function<void()>& between,
-                const std::function<bool()>& stop, FarmSummary& summary) {
+                const FarmOptions& options, const std::function<void()>& between, const std::function<bool()>& stop,
+                FarmSummary& summary) {
     namespace fs = std::filesystem;
     const ReplicaParams& params = spec.replicas[static_cast<std::size_t>(id)];
     const auto t0 = Clock::now();
@@ -65,46 +62,49 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, A
         if (options.initial_states && !resume) timed([&] { initial = options.initial_states->load(params, id); });
         if (before >= 0 && !resume)  // a rate ladder: start where the predecessor ended
             timed([&] { initial = read_state_system(end_state_path(options.archive_path, before), params); });
-    } catch (const h5::Error&) {
-        throw;
-    } catch (const std::exception& e) {
+    } catch (const h5::Error&) { throw; } catch (const std::exception& e) {
         timed([&] { archive.write_failed(id, e.what(), seconds_since(t0), rank); });
         return counted(Outcome::Failed);
     }
     if (initial && options.initial_states && before < 0)  // what it starts from, for later runs to check
-        timed([&] { archive.record_initial(id, options.initial_states->fingerprint(), InitialStates::digest(*initial)); });
+        timed([&] {
+            archive.record_initial(id, options.initial_states->fingerprint(), InitialStates::digest(*initial));
+        });
     timed([&] { archive.mark_running(id, rank, resume.has_value()); });
     auto last_save = Clock::now();
     std::size_t rows_saved = resume ? resume->series.size() : 0;  // already in the archive
-    const CheckpointPolicy policy{
-        .due = [&] { return seconds_since(last_save) >= options.checkpoint_seconds; },
-        .save =
-            [&](const ReplicaState& state) {
-                timed([&] {
-                    write_checkpoint(checkpoint, params, state);
-                    archive.write_progress(id, state.series, rows_saved,
-                                           static_cast<double>(state.step) / static_cast<double>(std::max<std::int64_t>(state.steps, 1)));
-                });
-                rows_saved = state.series.size();
-                last_save = Clock::now();
-            },
-        .stop = stop};
+    const CheckpointPolicy policy{.due = [&] { return seconds_since(last_save) >= options.checkpoint_seconds; },
+                                  .save =
+                                      [&](const ReplicaState& state) {
+                                          timed([&] {
+                                              write_checkpoint(checkpoint, params, state);
+                                              archive.write_progress(
+                                                  id, state.series, rows_saved,
+                                                  static_cast<double>(state.step) /
+                                                      static_cast<double>(std::max<std::int64_t>(state.steps, 1)));
+                                          });
+                                          rows_saved = state.series.size();
+                                          last_save = Clock::now();
+                                      },
+                                  .stop = stop};
     std::shared_ptr<const ReplicaState> last_checkpoint;
     try {
-        const ReplicaResult result = run_replica(
-            params, RunContext{.after_sample = between,
-                               // Each frame straight into its place in the archive: frames
-                               // before a checkpoint are there before the checkpoint is saved.
-                               .on_frame = [&](std::int64_t k, double strain, const FinalConfiguration& frame) {
-                                   timed([&] { archive.write_frame(id, k, strain, frame); });
-                               },
-                               .checkpoints = &policy,
-                               .resume = resume ? &*resume : nullptr,
-                               .initial = initial ? &*initial : nullptr});
+        const ReplicaResult result =
+            run_replica(params, RunContext{.after_sample = between,
+                                           // Each frame straight into its place in the archive: frames
+                                           // before a checkpoint are there before the checkpoint is saved.
+                                           .on_frame =
+                                               [&](std::int64_t k, double strain, const FinalConfiguration& frame) {
+                                                   timed([&] { archive.write_frame(id, k, strain, frame); });
+                                               },
+                                           .checkpoints = &policy,
+                                           .resume = resume ? &*resume : nullptr,
+                                           .initial = initial ? &*initial : nullptr});
         if (has_successor)  // durable before the status that lets the successor start
             timed([&] {
                 write_checkpoint(end_state_path(options.archive_path, id), params,
-                                 ReplicaState{.step = schedule_of(params).steps, .steps = schedule_of(params).steps,
+                                 ReplicaState{.step = schedule_of(params).steps,
+                                              .steps = schedule_of(params).steps,
                                               .system = result.final_state});
             });
         timed([&] { archive.write_done(id, result, rank); });
@@ -122,14 +122,14 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, A
         timed([&] { archive.write_failed(id, e.what(), seconds_since(t0), rank); });
     }
     if (outcome != Outcome::Interrupted) {  // finished: its checkpoint (and a .tmp left by a
-        std::error_code ignored;             // kill during a write) is stale now
+        std::error_code ignored;            // kill during a write) is stale now
         fs::remove(checkpoint, ignored);
         fs::remove(checkpoint + ".tmp", ignored);
     }
-    if (outcome == Outcome::Done && last_checkpoint && model_of(params).extendable)  // kept: a longer run continues from it
+    if (outcome == Outcome::Done && last_checkpoint &&
+        model_of(params).extendable)  // kept: a longer run continues from it
         timed([&] { write_checkpoint(checkpoint, params, *last_checkpoint, true); });
     return counted(outcome);
 }
 
-
-} // namespace jamsim
+}  // namespace jamsim

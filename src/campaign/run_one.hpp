@@ -16,7 +16,7 @@ enum class Outcome : std::int64_t { Done = 0, Failed = 1, Interrupted = 2 };
 /// (StopRequest via `stop`) leaves its state saved. `has_successor`: a rate ladder continues
 /// from this replica's end state. `between` is called after every sample. Counts into `summary`.
 Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, Archive& archive, int rank,
-                const FarmOptions& options, const std::function<void()>& between,
-                const std::function<bool()>& stop, FarmSummary& summary);
+                const FarmOptions& options, const std::function<void()>& between, const std::function<bool()>& stop,
+                FarmSummary& summary);
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -68,7 +68,7 @@ std::vector<double> remaining_paths(const std::vector<double>& length, const std
     return path;
 }
 
-} // namespace
+}  // namespace
 
 Chains chains_of(const std::vector<std::int64_t>& predecessor, std::size_t replicas) {
     const auto next = successors_of(predecessor, replicas);
@@ -235,14 +235,15 @@ double seconds_on_threads(const SimulatedReplica& r, const SpeedupModel& model, 
 }
 
 std::vector<int> spread_over_nodes(const std::vector<RankCores>& cores) {
-    std::map<std::int64_t, int> seen;  // by node: its ranks so far
+    std::map<std::int64_t, int> seen;                    // by node: its ranks so far
     std::vector<std::pair<int, int>> key(cores.size());  // (index within its node, rank)
     for (std::size_t r = 0; r < cores.size(); ++r) key[r] = {seen[cores[r].node]++, static_cast<int>(r)};
     std::map<std::int64_t, int> first;  // by node: its first rank
     for (std::size_t r = cores.size(); r-- > 0;) first[cores[r].node] = static_cast<int>(r);
     std::stable_sort(key.begin(), key.end(), [&](const auto& a, const auto& b) {
         if (a.first != b.first) return a.first < b.first;
-        return first[cores[static_cast<std::size_t>(a.second)].node] < first[cores[static_cast<std::size_t>(b.second)].node];
+        return first[cores[static_cast<std::size_t>(a.second)].node] <
+               first[cores[static_cast<std::size_t>(b.second)].node];
     });
     std::vector<int> order;
     for (const auto& k : key) order.push_back(k.second);
@@ -259,7 +260,8 @@ std::pair<double, double> run_with_lending(const std::vector<SimulatedReplica>& 
     const auto per_node = static_cast<std::size_t>(std::max(1, lending.ranks_per_node));
     std::vector<RankCores> cores(static_cast<std::size_t>(workers));
     for (std::size_t w = 0; w < cores.size(); ++w)
-        cores[w] = {.node = static_cast<std::int64_t>(w / per_node), .own = threads,
+        cores[w] = {.node = static_cast<std::int64_t>(w / per_node),
+                    .own = threads,
                     .most = static_cast<int>(per_node) * threads};
     std::vector<std::int64_t> at(cores.size(), -1);  // by worker: its replica
     std::vector<double> left(cores.size(), 0.0);     // by worker: the fraction of it still to run
@@ -277,7 +279,8 @@ std::pair<double, double> run_with_lending(const std::vector<SimulatedReplica>& 
         std::vector<RankWork> work(cores.size());
         for (std::size_t w = 0; w < at.size(); ++w)
             if (at[w] >= 0)
-                work[w] = {.running = true, .priority = scheduler.critical_path(at[w]),
+                work[w] = {.running = true,
+                           .priority = scheduler.critical_path(at[w]),
                            .useful = useful_threads(replicas[static_cast<std::size_t>(at[w])].n)};
         const std::vector<int> t = lend_cores(cores, work);
         std::vector<double> rate(cores.size(), 0.0);  // fraction per second
@@ -304,7 +307,7 @@ std::pair<double, double> run_with_lending(const std::vector<SimulatedReplica>& 
     return {now, busy};
 }
 
-} // namespace
+}  // namespace
 
 SimulatedRun simulate_schedule(const std::vector<SimulatedReplica>& replicas,
                                const std::vector<std::int64_t>& predecessor, int workers, int threads,
@@ -371,4 +374,4 @@ SimulatedRun simulate_schedule(const std::vector<SimulatedReplica>& replicas,
     return run;
 }
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -9,7 +9,7 @@ volatile std::sig_atomic_t StopRequest::flag_ = 0;
 
 namespace {
 extern "C" void on_stop_signal(int) { StopRequest::request(); }
-} // namespace
+}  // namespace
 
 void StopRequest::install() {
     struct sigaction action {};
@@ -24,4 +24,4 @@ void StopRequest::install() {
     std::signal(SIGPIPE, SIG_IGN);
 }
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -12,7 +12,7 @@ template <class T> void apply_order(std::vector<T>& a, std::span<const std::int3
     parallel_for(order.size(), [&](std::size_t k) { out[k] = a[static_cast<std::size_t>(order[k])]; });
     a.swap(out);
 }
-} // namespace
+}  // namespace
 
 void Particles::permute(std::span<const std::int32_t> order) {
     apply_order(x, order);
@@ -31,4 +31,4 @@ double max_diameter(const Particles& p) {
     return m;
 }
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -15,7 +15,7 @@ double disk_area_sum(const Particles& p) {
     for (double d : p.diameter) a += std::numbers::pi * d * d / 4.0;
     return a;
 }
-} // namespace
+}  // namespace
 
 double box_side_for(const Particles& p, double phi) { return std::sqrt(disk_area_sum(p) / phi); }
 
@@ -25,18 +25,13 @@ double box_side_for(std::int64_t n, double phi, double size_ratio) {
     return std::sqrt(std::numbers::pi / 4.0 * (small + large * size_ratio * size_ratio) / phi);
 }
 
-double packing_fraction(const Particles& p, const Box& box) {
-    return disk_area_sum(p) / box.area();
-}
+double packing_fraction(const Particles& p, const Box& box) { return disk_area_sum(p) / box.area(); }
 
-System random_system(std::int64_t n, double phi, SizeMix mix, std::uint64_t seed,
-                     std::uint64_t identity) {
+System random_system(std::int64_t n, double phi, SizeMix mix, std::uint64_t seed, std::uint64_t identity) {
     if (n < 2) throw std::invalid_argument("random_system: N must be at least 2");
     if (mix.size_ratio != 1.0 && n % 2 != 0)
-        throw std::invalid_argument("random_system: a 50:50 mixture needs an even N, got " +
-                                    std::to_string(n));
-    if (!(phi > 0.0 && phi < 1.0))
-        throw std::invalid_argument("random_system: phi must lie in (0, 1)");
+        throw std::invalid_argument("random_system: a 50:50 mixture needs an even N, got " + std::to_string(n));
+    if (!(phi > 0.0 && phi < 1.0)) throw std::invalid_argument("random_system: phi must lie in (0, 1)");
     Particles p;
     const auto count = static_cast<std::size_t>(n);
     p.resize(count);
@@ -54,4 +49,4 @@ System random_system(std::int64_t n, double phi, SizeMix mix, std::uint64_t seed
     return System{std::move(p), Box(side)};
 }
 
-} // namespace jamsim
+}  // namespace jamsim

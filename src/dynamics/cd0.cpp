@@ -9,10 +9,9 @@
 
 namespace jamsim {
 
-void Cd0::solve(const ForceField& forces, const Box& box, std::span<const double> x,
-                std::span<const double> y, std::span<const std::int32_t> tag, std::span<const double> fx,
-                std::span<const double> fy, double rate, std::span<double> ux,
-                std::span<double> uy) {
+void Cd0::solve(const ForceField& forces, const Box& box, std::span<const double> x, std::span<const double> y,
+                std::span<const std::int32_t> tag, std::span<const double> fx, std::span<const double> fy, double rate,
+                std::span<double> ux, std::span<double> uy) {
     const std::size_t n = x.size();
     // Candidate pairs: those of the neighbour list within a thinner skin (their pattern
     // changes only when that sub-list is filtered afresh).
@@ -20,8 +19,7 @@ void Cd0::solve(const ForceField& forces, const Box& box, std::span<const double
     const SubList& list = candidates_;
     if (list.builds() != pairs_version_) {
         pairs_.resize(list.size());
-        for (std::size_t k = 0; k < list.size(); ++k)
-            pairs_[k] = {list.owner()[k], list.neighbor()[k]};
+        for (std::size_t k = 0; k < list.size(); ++k) pairs_[k] = {list.owner()[k], list.neighbor()[k]};
         pairs_version_ = list.builds();
     }
     in_contact_.resize(list.size());
@@ -87,8 +85,7 @@ void Cd0::advance(System& sys, ForceField& forces, double dt, double rate, std::
     });
 }
 
-Dissipation Cd0::dissipation(const System& sys, const ForceField& /*forces*/,
-                             double rate) const {
+Dissipation Cd0::dissipation(const System& sys, const ForceField& /*forces*/, double rate) const {
     const Particles& p = sys.particles;
     Dissipation d;
     double vxx = 0, vyy = 0, vyx = 0;
@@ -128,8 +125,7 @@ void relax_cd0_start(System& sys, const ReplicaParams& p) {
 }
 
 namespace {
-constexpr std::string_view kCd0Parameters[] = {"dt", "integrator", "kd", "delta", "solver",
-                                               "petsc_options"};
+constexpr std::string_view kCd0Parameters[] = {"dt", "integrator", "kd", "delta", "solver", "petsc_options"};
 }
 
 DynamicsInfo cd0_model() {
@@ -139,7 +135,9 @@ DynamicsInfo cd0_model() {
             .parameters = kCd0Parameters,
             .evaluations_per_step = [](const ReplicaParams& p) { return p.integrator == "heun" ? 2 : 1; },
             .stable_dt = contact_drag_stable_dt,
-            .make = [](const ReplicaParams& p, const RandomKey&) -> std::unique_ptr<Model> { return std::make_unique<Cd0>(p); },
+            .make = [](const ReplicaParams& p, const RandomKey&) -> std::unique_ptr<Model> {
+                return std::make_unique<Cd0>(p);
+            },
             // The contact matrix and its factor: the peak over the libraries' base, from the relaxed
             // random start, is about 2.0 kB per disk at N = 65536 and 131072 (tests/README.md,
             // CD0's start).
@@ -149,4 +147,4 @@ DynamicsInfo cd0_model() {
             .relax_start = relax_cd0_start};
 }
 
-} // namespace jamsim
+}  // namespace jamsim

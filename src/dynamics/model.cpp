@@ -16,4 +16,4 @@ double mean_square_velocity(const Particles& p) {
     return p.size() ? sum / static_cast<double>(p.size()) : 0.0;
 }
 
-} // namespace jamsim
+}  // namespace jamsim

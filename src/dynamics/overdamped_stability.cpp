@@ -68,15 +68,15 @@ std::string three_digits(double x) {
 }
 
 std::string basis(const ReplicaParams& p, const char* form) {
-    std::string out = "for " + p.model + " with kd " + show_value(p.kd) + " and alpha " +
-                      show_value(p.alpha) + " (stability of the integrator: " + form +
+    std::string out = "for " + p.model + " with kd " + show_value(p.kd) + " and alpha " + show_value(p.alpha) +
+                      " (stability of the integrator: " + form +
                       ", k_c = " + three_digits(stiffness_at_limit(p.alpha)) +
                       " the stiffness of a contact of two small disks";
     if (p.alpha != 2.0) out += " at overlap " + show_value(kStabilityOverlap) + " d_s";
     return out + ")";
 }
 
-} // namespace
+}  // namespace
 
 double small_contact_stiffness(double alpha, double overlap) {
     if (alpha == 2.0) return 1.0;
@@ -87,33 +87,27 @@ double reservoir_drag_stable_dt(const ReplicaParams& p) {
     return round_down_3(2.0 * p.kd / (8.0 * stiffness_at_limit(p.alpha)));
 }
 
-double contact_drag_stable_dt(const ReplicaParams& p) {
-    return round_down_3(2.0 * p.kd / stiffness_at_limit(p.alpha));
-}
+double contact_drag_stable_dt(const ReplicaParams& p) { return round_down_3(2.0 * p.kd / stiffness_at_limit(p.alpha)); }
 
-std::string reservoir_drag_dt_basis(const ReplicaParams& p) {
-    return basis(p, "dt <= 2 kd / (8 k_c)");
-}
+std::string reservoir_drag_dt_basis(const ReplicaParams& p) { return basis(p, "dt <= 2 kd / (8 k_c)"); }
 
 std::string contact_drag_dt_basis(const ReplicaParams& p) {
     return basis(p, "dt <= 2 kd / k_c, the contact matrix bounds the Hessian");
 }
 
-std::string overdamped_dt_advisory(const ReplicaParams& p,
-                                   double (*stable_dt)(const ReplicaParams&)) {
+std::string overdamped_dt_advisory(const ReplicaParams& p, double (*stable_dt)(const ReplicaParams&)) {
     if (!(p.alpha < 2.0)) return "";
     // The same limit with the stiffness at overlap 0.01 instead of 0.1.
     constexpr double kSmallOverlap = 0.01;
-    const double scale = small_contact_stiffness(p.alpha, kStabilityOverlap) /
-                         small_contact_stiffness(p.alpha, kSmallOverlap);
+    const double scale =
+        small_contact_stiffness(p.alpha, kStabilityOverlap) / small_contact_stiffness(p.alpha, kSmallOverlap);
     const double limit = round_down_3(stable_dt(p) * scale);
     if (p.dt <= limit) return "";
     return p.model + " with alpha " + show_value(p.alpha) +
-           " < 2: contacts stiffen without bound as their overlap vanishes; dt = " +
-           show_value(p.dt) + " is stable for overlaps down to " + show_value(kStabilityOverlap) +
-           " d_s (dt <= " + show_value(stable_dt(p)) + ") but not down to " +
-           show_value(kSmallOverlap) + " d_s (dt <= " + show_value(limit) +
-           "): check that the results do not change at a smaller dt";
+           " < 2: contacts stiffen without bound as their overlap vanishes; dt = " + show_value(p.dt) +
+           " is stable for overlaps down to " + show_value(kStabilityOverlap) +
+           " d_s (dt <= " + show_value(stable_dt(p)) + ") but not down to " + show_value(kSmallOverlap) +
+           " d_s (dt <= " + show_value(limit) + "): check that the results do not change at a smaller dt";
 }
 
-} // namespace jamsim
+}  // namespace jamsim

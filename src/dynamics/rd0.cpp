@@ -24,10 +24,8 @@ void Rd0::store_velocities(System& sys) const {
     });
 }
 
-Dissipation Rd0::dissipation(const System& sys, const ForceField& /*forces*/,
-                             double /*rate*/) const {
-    return {.power = kd_ * static_cast<double>(sys.particles.size()) *
-                     mean_square_velocity(sys.particles)};
+Dissipation Rd0::dissipation(const System& sys, const ForceField& /*forces*/, double /*rate*/) const {
+    return {.power = kd_ * static_cast<double>(sys.particles.size()) * mean_square_velocity(sys.particles)};
 }
 
 namespace {
@@ -40,9 +38,11 @@ DynamicsInfo rd0_model() {
             .parameters = kRd0Parameters,
             .evaluations_per_step = [](const ReplicaParams& p) { return p.integrator == "heun" ? 2 : 1; },
             .stable_dt = reservoir_drag_stable_dt,
-            .make = [](const ReplicaParams& p, const RandomKey&) -> std::unique_ptr<Model> { return std::make_unique<Rd0>(p); },
+            .make = [](const ReplicaParams& p, const RandomKey&) -> std::unique_ptr<Model> {
+                return std::make_unique<Rd0>(p);
+            },
             .stable_dt_basis = reservoir_drag_dt_basis,
             .advisory = [](const ReplicaParams& p) { return overdamped_dt_advisory(p, reservoir_drag_stable_dt); }};
 }
 
-} // namespace jamsim
+}  // namespace jamsim

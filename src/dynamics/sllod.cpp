@@ -21,11 +21,11 @@ inline Vec2 contact_damping(Damping d, double kd, Vec2 w, Vec2 n) {
     }
     return {0.0, 0.0};
 }
-} // namespace
+}  // namespace
 
 double sllod_stable_dt(Damping damping, double m, double kd) {
     const double elastic_limit = 1.5 / std::sqrt(8.0 / m);  // small disk: the lightest
-    if (damping == Damping::RD) return elastic_limit;        // drag integrated exactly
+    if (damping == Damping::RD) return elastic_limit;       // drag integrated exactly
     const double damping_limit = 2.0 * m / (kd * 8.0);
     return std::min(damping_limit, elastic_limit);
 }
@@ -45,7 +45,7 @@ template <Damping kDamping> DynamicsInfo sllod_model(std::string_view name, std:
                 return std::make_unique<Sllod>(p, kDamping);
             }};
 }
-} // namespace
+}  // namespace
 
 DynamicsInfo rd_model() {
     return sllod_model<Damping::RD>("RD", "massive (SLLOD), reservoir drag -k_d u_i (eqs. 4.31-4.32)");
@@ -60,9 +60,8 @@ DynamicsInfo cdt_model() {
     return sllod_model<Damping::CDt>("CDt", "massive (SLLOD), tangential contact dissipation (eq. 4.30)");
 }
 
-void Sllod::rates(const System& sys, const ForceField& forces, double gamma, double rate,
-                  const std::vector<double>& x, const std::vector<double>& y,
-                  const std::vector<double>& ux, const std::vector<double>& uy,
+void Sllod::rates(const System& sys, const ForceField& forces, double gamma, double rate, const std::vector<double>& x,
+                  const std::vector<double>& y, const std::vector<double>& ux, const std::vector<double>& uy,
                   const std::vector<double>& fx, const std::vector<double>& fy) {
     const Particles& p = sys.particles;
     const std::size_t n = p.size();
@@ -94,9 +93,8 @@ void Sllod::rates(const System& sys, const ForceField& forces, double gamma, dou
 
 void Sllod::advance(System& sys, ForceField& forces, double dt, double rate, std::int64_t) {
     if (dt > stable_dt())
-        throw std::runtime_error("SLLOD: time step dt = " + std::to_string(dt) +
-                                 " exceeds the stable limit " + std::to_string(stable_dt()) +
-                                 " for mass " + std::to_string(mass_) + " and kd " +
+        throw std::runtime_error("SLLOD: time step dt = " + std::to_string(dt) + " exceeds the stable limit " +
+                                 std::to_string(stable_dt()) + " for mass " + std::to_string(mass_) + " and kd " +
                                  std::to_string(kd_));
     if (damping_ == Damping::RD)
         advance_split_rd(sys, forces, dt, rate);
@@ -171,8 +169,7 @@ void Sllod::advance_heun(System& sys, ForceField& forces, double dt, double rate
     apply_strain(sys, forces, gamma1);
 }
 
-Dissipation Sllod::dissipation(const System& sys, const ForceField& forces,
-                               double rate) const {
+Dissipation Sllod::dissipation(const System& sys, const ForceField& forces, double rate) const {
     const Particles& p = sys.particles;
     Dissipation d;
     struct Kinetic {
@@ -227,4 +224,4 @@ Dissipation Sllod::dissipation(const System& sys, const ForceField& forces,
     return d;
 }
 
-} // namespace jamsim
+}  // namespace jamsim

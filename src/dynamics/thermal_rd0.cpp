@@ -25,16 +25,13 @@ namespace {
 class ThermalRd0 final : public Model {
   public:
     ThermalRd0(const ReplicaParams& p, const RandomKey& key)
-        : drift_model_(p), kd_(p.kd), temperature_(p.temperature),
-          noise_(key, RngPurpose::ThermalNoise) {}
+        : drift_model_(p), kd_(p.kd), temperature_(p.temperature), noise_(key, RngPurpose::ThermalNoise) {}
 
-    void advance(System& sys, ForceField& forces, double dt, double rate,
-                 std::int64_t step) override {
+    void advance(System& sys, ForceField& forces, double dt, double rate, std::int64_t step) override {
         Particles& q = sys.particles;
         const double amplitude = std::sqrt(2.0 * temperature_ * dt / kd_);
         parallel_for(q.size(), [&](std::size_t i) {
-            const auto u = noise_.uniform2(static_cast<std::uint32_t>(q.tag[i]),
-                                           static_cast<std::uint32_t>(step));
+            const auto u = noise_.uniform2(static_cast<std::uint32_t>(q.tag[i]), static_cast<std::uint32_t>(step));
             // Box–Muller: two independent unit Gaussians from two uniforms.
             const double r = std::sqrt(-2.0 * std::log1p(-u[0])), a = 2.0 * std::numbers::pi * u[1];
             const Vec2 d = sys.box.sheared(dt * q.fx[i] / kd_ + amplitude * r * std::cos(a),
@@ -47,8 +44,7 @@ class ThermalRd0 final : public Model {
 
     void store_velocities(System& sys) const override { drift_model_.store_velocities(sys); }
 
-    Dissipation dissipation(const System& sys, const ForceField& forces,
-                            double rate) const override {
+    Dissipation dissipation(const System& sys, const ForceField& forces, double rate) const override {
         return drift_model_.dissipation(sys, forces, rate);
     }
 
@@ -60,7 +56,7 @@ class ThermalRd0 final : public Model {
 
 constexpr std::string_view kParameters[] = {"dt", "kd", "temperature"};
 
-} // namespace
+}  // namespace
 
 DynamicsInfo thermal_rd0_model() {
     return {.name = "RD0T",
@@ -77,4 +73,4 @@ DynamicsInfo thermal_rd0_model() {
             .advisory = [](const ReplicaParams& p) { return overdamped_dt_advisory(p, reservoir_drag_stable_dt); }};
 }
 
-} // namespace jamsim
+}  // namespace jamsim

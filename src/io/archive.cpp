@@ -45,20 +45,18 @@ std::vector<Column> parameter_columns(const CampaignSpec& spec) {
         if (std::none_of(spec.replicas.begin(), spec.replicas.end(),
                          [&](const ReplicaParams& p) { return uses_parameter(p, info.key); }))
             continue;
-        out.push_back({std::string(info.key), std::string(info.units), std::string(info.description),
-                       [&info](const ReplicaParams& p) {
-                           return uses_parameter(p, info.key) ? numeric_value(p, info) : kNaN;
-                       }});
+        out.push_back(
+            {std::string(info.key), std::string(info.units), std::string(info.description),
+             [&info](const ReplicaParams& p) { return uses_parameter(p, info.key) ? numeric_value(p, info) : kNaN; }});
     }
     out.push_back({"n_samples", "1", "rows of this replica in /timeseries",
                    [](const ReplicaParams& p) { return double(sample_count(p)); }});
-    out.push_back({"estimated_cost", "particle force evaluations",
-                   "estimated N x steps x evaluations per step",
+    out.push_back({"estimated_cost", "particle force evaluations", "estimated N x steps x evaluations per step",
                    [](const ReplicaParams& p) { return estimated_cost(p); }});
     return out;
 }
 
-} // namespace
+}  // namespace
 
 ArchiveLayout archive_layout(const CampaignSpec& spec) {
     ArchiveLayout out;
@@ -125,8 +123,7 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
     // Text parameters are campaign-wide (they cannot be swept): root attributes.
     for (const ParamInfo* info : used_parameters(spec.replicas.front()))
         if (!is_numeric(*info))
-            h5::write_attribute(f, std::string(info->key),
-                                show_value(get_value(spec.replicas.front(), *info)));
+            h5::write_attribute(f, std::string(info->key), show_value(get_value(spec.replicas.front(), *info)));
     {
         std::string warnings;  // advisory limits of the campaign, one per line ("" when none)
         for (const std::string& line : campaign_warnings(spec)) warnings.append(line).append("\n");
@@ -146,7 +143,7 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
     const std::vector<Column> columns = parameter_columns(spec);
     for (const auto& c : columns)
         h5::create_filled_dataset(f, "/replicas/" + c.name, H5T_NATIVE_DOUBLE, {replicas}, &nan, c.units,
-                       c.description);
+                                  c.description);
     if (!spec.predecessor.empty()) {
         const std::int64_t none = -1;
         h5::create_filled_dataset(f, "/replicas/predecessor", H5T_NATIVE_INT64, {replicas}, &none, "1",
@@ -161,11 +158,11 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
     }
     create_initial_columns(f, spec);
     h5::create_filled_dataset(f, "/replicas/status", H5T_NATIVE_INT8, {replicas}, &pending, "1",
-           "0 pending, 1 running, 2 done, 3 failed; written after the replica's data");
+                              "0 pending, 1 running, 2 done, 3 failed; written after the replica's data");
     h5::create_filled_dataset(f, "/replicas/rank", H5T_NATIVE_INT32, {replicas}, &no_rank, "1",
-           "MPI rank that ran the replica (-1: not run)");
+                              "MPI rank that ran the replica (-1: not run)");
     h5::create_filled_dataset(f, "/replicas/wall_seconds", H5T_NATIVE_DOUBLE, {replicas}, &nan, "s",
-           "wall time of the replica");
+                              "wall time of the replica");
     h5::create_filled_dataset(f, "/replicas/rows_written", H5T_NATIVE_INT64, {replicas}, &zero, "1",
                               "rows of /timeseries written so far (partial while status is 1)");
     {
@@ -174,52 +171,52 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
                                   "fraction of the replica's steps done at its last checkpoint (1 when done)");
     }
     h5::create_filled_dataset(f, "/replicas/force_evaluations", H5T_NATIVE_INT64, {replicas}, &zero, "1",
-           "force evaluations of the replica");
+                              "force evaluations of the replica");
     {
         const Handle rt = h5::fixed_string_type(kReasonLength);
         const char empty[kReasonLength] = {};
         h5::create_filled_dataset(f, "/replicas/failure_reason", rt.get(), {replicas}, empty, "",
-               "why a failed replica failed (empty otherwise)");
+                                  "why a failed replica failed (empty otherwise)");
     }
     // The bulk: allocated but never filled, so creating it writes nothing (a replica's rows
     // are defined once its status is done; its writer pads them with NaN to the row length).
     for (const auto& c : kSampleColumns)
-        h5::create_unfilled_dataset(f, std::string("/timeseries/") + c.name, H5T_NATIVE_DOUBLE,
-                                    {replicas, layout.samples}, c.units,
-                                    std::string(c.description) +
-                                        "; row = replica, NaN past n_samples (undefined unless status is done, "
-                                        "past rows_written while running)");
+        h5::create_unfilled_dataset(
+            f, std::string("/timeseries/") + c.name, H5T_NATIVE_DOUBLE, {replicas, layout.samples}, c.units,
+            std::string(c.description) + "; row = replica, NaN past n_samples (undefined unless status is done, "
+                                         "past rows_written while running)");
     // Final configurations of all replicas end to end: replica r's N disks start at
     // /replicas/particle_offset[r] (no padding to the largest N).
     for (const char* name : {"x", "y", "diameter"})
-        h5::create_unfilled_dataset(f, std::string("/final/") + name, H5T_NATIVE_DOUBLE, {layout.particles},
-               "d_s",
-               std::string(name) + " of the final configurations, replica r at [particle_offset[r], "
-                                   "particle_offset[r] + N[r]); x, y sheared coordinates in [0, L), "
-                                   "lab x = x + box_strain y");
+        h5::create_unfilled_dataset(f, std::string("/final/") + name, H5T_NATIVE_DOUBLE, {layout.particles}, "d_s",
+                                    std::string(name) +
+                                        " of the final configurations, replica r at [particle_offset[r], "
+                                        "particle_offset[r] + N[r]); x, y sheared coordinates in [0, L), "
+                                        "lab x = x + box_strain y");
     h5::create_group(f, "correlation").close("correlation");
-    h5::create_unfilled_dataset(f, "/correlation/x", H5T_NATIVE_DOUBLE, {replicas, layout.bins}, "d_s",
-                   "bin centres of g_y: lab x distance of disks within a strip |dy| < 1/2 (NaN past the replica's bins)");
+    h5::create_unfilled_dataset(
+        f, "/correlation/x", H5T_NATIVE_DOUBLE, {replicas, layout.bins}, "d_s",
+        "bin centres of g_y: lab x distance of disks within a strip |dy| < 1/2 (NaN past the replica's bins)");
     h5::create_unfilled_dataset(f, "/correlation/g_y", H5T_NATIVE_DOUBLE, {replicas, layout.bins}, "1",
-                   "g_y(x) = <u_y(r) u_y(r + x)>/<u_y^2> over the steady state (thesis eq. 4.23)");
+                                "g_y(x) = <u_y(r) u_y(r + x)>/<u_y^2> over the steady state (thesis eq. 4.23)");
     h5::create_filled_dataset(f, "/replicas/particle_offset", H5T_NATIVE_INT64, {replicas}, &zero, "1",
                               "index of the replica's first disk in /final/x, /final/y, /final/diameter");
     h5::create_filled_dataset(f, "/final/box_side", H5T_NATIVE_DOUBLE, {replicas}, &nan, "d_s", "cell side L");
     h5::create_filled_dataset(f, "/final/box_strain", H5T_NATIVE_DOUBLE, {replicas}, &nan, "1",
-           "Lees-Edwards strain gamma in [-1/2, 1/2)");
+                              "Lees-Edwards strain gamma in [-1/2, 1/2)");
     if (layout.frames > 0) {  // only with [run] frame_interval: archives without it are unchanged
         h5::create_group(f, "frames").close("frames");
         for (const char* name : {"x", "y"})
-            h5::create_unfilled_dataset(f, std::string("/frames/") + name, H5T_NATIVE_DOUBLE,
-                                        {layout.frames, layout.particles}, "d_s",
-                                        std::string(name) + " of configuration frame k (row k) of every replica, "
-                                        "replica r at columns [particle_offset[r], particle_offset[r] + N[r]) in tag "
-                                        "order; sheared coordinates in [0, L), lab x = x + box_strain y; defined where "
-                                        "/frames/strain is not NaN");
+            h5::create_unfilled_dataset(
+                f, std::string("/frames/") + name, H5T_NATIVE_DOUBLE, {layout.frames, layout.particles}, "d_s",
+                std::string(name) + " of configuration frame k (row k) of every replica, "
+                                    "replica r at columns [particle_offset[r], particle_offset[r] + N[r]) in tag "
+                                    "order; sheared coordinates in [0, L), lab x = x + box_strain y; defined where "
+                                    "/frames/strain is not NaN");
         h5::create_filled_dataset(f, "/frames/strain", H5T_NATIVE_DOUBLE, {replicas, layout.frames}, &nan, "1",
                                   "strain (time at rate 0, tau) of frame k of replica r (NaN: no frame)");
-        h5::create_filled_dataset(f, "/frames/box_strain", H5T_NATIVE_DOUBLE, {replicas, layout.frames}, &nan,
-                                  "1", "Lees-Edwards strain gamma in [-1/2, 1/2) of frame k of replica r");
+        h5::create_filled_dataset(f, "/frames/box_strain", H5T_NATIVE_DOUBLE, {replicas, layout.frames}, &nan, "1",
+                                  "Lees-Edwards strain gamma in [-1/2, 1/2) of frame k of replica r");
     }
 
     // Parameter columns: rank 0 writes them (independently), then everyone flushes.
@@ -234,8 +231,7 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
         std::vector<std::uint64_t> ids;
         for (const auto& p : spec.replicas) ids.push_back(replica_identity(p));
         write_block(f, "/replicas/identity", H5T_NATIVE_UINT64, {0}, {replicas}, ids.data());
-        write_block(f, "/replicas/particle_offset", H5T_NATIVE_INT64, {0}, {replicas},
-                    layout.particle_offset.data());
+        write_block(f, "/replicas/particle_offset", H5T_NATIVE_INT64, {0}, {replicas}, layout.particle_offset.data());
     }
     check(H5Fflush(f, H5F_SCOPE_GLOBAL), "flush '" + path + "'");
     return Archive(std::move(file), comm, layout);
@@ -244,12 +240,11 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
 Archive Archive::open(MPI_Comm comm, const std::string& path) {
     h5::quiet_errors();
     const auto fapl = h5::mpio_file_access(comm);
-    Handle file(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl.get()), H5Fclose,
-                "open archive '" + path + "'");
+    Handle file(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl.get()), H5Fclose, "open archive '" + path + "'");
     ArchiveLayout layout;
     const Handle dxpl = h5::independent_transfer();
-    layout.particle_offset = h5::read_all<std::int64_t>(file.get(), "/replicas/particle_offset",
-                                                        H5T_NATIVE_INT64, dxpl.get());
+    layout.particle_offset =
+        h5::read_all<std::int64_t>(file.get(), "/replicas/particle_offset", H5T_NATIVE_INT64, dxpl.get());
     layout.samples = h5::dataset_shape(file.get(), "/timeseries/time").at(1);
     layout.bins = h5::dataset_shape(file.get(), "/correlation/g_y").at(1);
     layout.particles = h5::dataset_shape(file.get(), "/final/x").at(0);
@@ -282,15 +277,11 @@ std::string Archive::check_existing(const std::string& path, const CampaignSpec&
         // numbers keyed by the replica's identity), whatever the campaign.
         const auto version_a = split_version(la).first, version_b = split_version(lb).first;
         if (version_a != version_b)
-            return "'" + path + "' was written by another version of jamsim (" + version_a +
-                   "; this one writes " + version_b + "): start a new archive";
-        while (la == lb && std::getline(a, la) && std::getline(b, lb)) {
-        }
-        return "'" + path + "' belongs to a different campaign (archive: \"" + la +
-               "\", this spec: \"" + lb + "\")";
-    } catch (const h5::Error& e) {
-        return "'" + path + "' cannot be read as a campaign archive: " + e.what();
-    }
+            return "'" + path + "' was written by another version of jamsim (" + version_a + "; this one writes " +
+                   version_b + "): start a new archive";
+        while (la == lb && std::getline(a, la) && std::getline(b, lb)) {}
+        return "'" + path + "' belongs to a different campaign (archive: \"" + la + "\", this spec: \"" + lb + "\")";
+    } catch (const h5::Error& e) { return "'" + path + "' cannot be read as a campaign archive: " + e.what(); }
 }
 
 void Archive::clear_rows(std::int64_t replica) {
@@ -301,13 +292,12 @@ void Archive::clear_rows(std::int64_t replica) {
     if (layout_.frames > 0) {
         const std::vector<double> no_frames(layout_.frames, kNaN);
         for (const char* path : {"/frames/strain", "/frames/box_strain"})
-            write_block(file_.get(), path, H5T_NATIVE_DOUBLE, {static_cast<hsize_t>(replica), 0},
-                        {1, layout_.frames}, no_frames.data());
+            write_block(file_.get(), path, H5T_NATIVE_DOUBLE, {static_cast<hsize_t>(replica), 0}, {1, layout_.frames},
+                        no_frames.data());
     }
 }
 
-void Archive::write_frame(std::int64_t replica, std::int64_t index, double strain,
-                          const FinalConfiguration& frame) {
+void Archive::write_frame(std::int64_t replica, std::int64_t index, double strain, const FinalConfiguration& frame) {
     const auto r = static_cast<hsize_t>(replica);
     const auto k = static_cast<hsize_t>(index);
     if (k >= layout_.frames)
@@ -328,9 +318,7 @@ void Archive::mark_running(std::int64_t replica, int rank, bool keep_rows) {
     write_block(file_.get(), "/replicas/rank", H5T_NATIVE_INT32, {r}, {1}, &who);
     // Its rows NaN until written (the datasets are not filled): partial rows of a running
     // replica end in NaN, as finished rows do past n_samples.
-    if (!keep_rows) {
-        clear_rows(replica);
-    }
+    if (!keep_rows) { clear_rows(replica); }
     const auto s = static_cast<std::int8_t>(ReplicaStatus::Running);
     write_block(file_.get(), "/replicas/status", H5T_NATIVE_INT8, {r}, {1}, &s);
     // A replica run again (--retry-failed) forgets an old failure; after the status, so that
@@ -349,10 +337,11 @@ void Archive::write_done(std::int64_t replica, const ReplicaResult& result, int 
         v.resize(std::max<std::size_t>(v.size(), length), kNaN);
         return v;
     };
-    if (rows > layout_.samples) throw h5::Error("replica " + std::to_string(replica) + " has more rows than its archive");
+    if (rows > layout_.samples)
+        throw h5::Error("replica " + std::to_string(replica) + " has more rows than its archive");
     for (const auto& c : kSampleColumns)
-        write_block(f, std::string("/timeseries/") + c.name, H5T_NATIVE_DOUBLE, {r, 0},
-                    {1, layout_.samples}, padded(result.series.column(c.member), layout_.samples).data());
+        write_block(f, std::string("/timeseries/") + c.name, H5T_NATIVE_DOUBLE, {r, 0}, {1, layout_.samples},
+                    padded(result.series.column(c.member), layout_.samples).data());
     const FinalConfiguration fin = final_configuration(result.final_state);
     const auto n = static_cast<hsize_t>(fin.x.size());
     const auto first = static_cast<hsize_t>(layout_.particle_offset.at(r));
@@ -370,8 +359,7 @@ void Archive::write_done(std::int64_t replica, const ReplicaResult& result, int 
     const double complete = 1.0;
     write_block(f, "/replicas/rows_written", H5T_NATIVE_INT64, {r}, {1}, &rows_written);
     write_block(f, "/replicas/progress", H5T_NATIVE_DOUBLE, {r}, {1}, &complete);
-    write_block(f, "/replicas/force_evaluations", H5T_NATIVE_INT64, {r}, {1},
-                &result.force_evaluations);
+    write_block(f, "/replicas/force_evaluations", H5T_NATIVE_INT64, {r}, {1}, &result.force_evaluations);
     const std::int32_t who = rank;
     write_block(f, "/replicas/rank", H5T_NATIVE_INT32, {r}, {1}, &who);
     // Last: the flag that makes the rows above valid.
@@ -379,8 +367,7 @@ void Archive::write_done(std::int64_t replica, const ReplicaResult& result, int 
     write_block(f, "/replicas/status", H5T_NATIVE_INT8, {r}, {1}, &s);
 }
 
-void Archive::write_progress(std::int64_t replica, const TimeSeries& series, std::size_t from_row,
-                             double progress) {
+void Archive::write_progress(std::int64_t replica, const TimeSeries& series, std::size_t from_row, double progress) {
     const hid_t f = file_.get();
     const auto r = static_cast<hsize_t>(replica);
     const auto rows = static_cast<hsize_t>(series.size());
@@ -388,16 +375,15 @@ void Archive::write_progress(std::int64_t replica, const TimeSeries& series, std
     if (rows > first)
         for (const auto& c : kSampleColumns) {
             const std::vector<double> column = series.column(c.member);
-            write_block(f, std::string("/timeseries/") + c.name, H5T_NATIVE_DOUBLE, {r, first},
-                        {1, rows - first}, column.data() + first);
+            write_block(f, std::string("/timeseries/") + c.name, H5T_NATIVE_DOUBLE, {r, first}, {1, rows - first},
+                        column.data() + first);
         }
     const auto rows_written = static_cast<std::int64_t>(rows);
     write_block(f, "/replicas/rows_written", H5T_NATIVE_INT64, {r}, {1}, &rows_written);
     write_block(f, "/replicas/progress", H5T_NATIVE_DOUBLE, {r}, {1}, &progress);
 }
 
-void Archive::write_failed(std::int64_t replica, const std::string& reason, double wall_seconds,
-                           int rank) {
+void Archive::write_failed(std::int64_t replica, const std::string& reason, double wall_seconds, int rank) {
     const hid_t f = file_.get();
     const auto r = static_cast<hsize_t>(replica);
     // Its rows: NaN (the datasets are not filled, and a reader may ignore the status).
@@ -417,18 +403,17 @@ void Archive::import_replica(const std::string& source_path, std::int64_t replic
     import_replica(source_path, replica, replica);
 }
 
-void Archive::import_replica(const std::string& source_path, std::int64_t source_replica,
-                             std::int64_t replica) {
+void Archive::import_replica(const std::string& source_path, std::int64_t source_replica, std::int64_t replica) {
     const Handle src = h5::open_unlocked_readonly(source_path);
     const auto from = static_cast<hsize_t>(source_replica);
     const auto r = static_cast<hsize_t>(replica);
     // Everything that belongs to one replica; its parameters are the same by its identity.
     std::vector<std::string> paths;
     for (const auto& c : kSampleColumns) paths.push_back(std::string("/timeseries/") + c.name);
-    for (const char* p : {"/correlation/x", "/correlation/g_y", "/final/box_side", "/final/box_strain",
-                          "/replicas/rank", "/replicas/wall_seconds", "/replicas/force_evaluations",
-                          "/replicas/rows_written", "/replicas/progress",
-                          "/replicas/failure_reason", "/replicas/status"})  // status last: it validates the rest
+    for (const char* p :
+         {"/correlation/x", "/correlation/g_y", "/final/box_side", "/final/box_strain", "/replicas/rank",
+          "/replicas/wall_seconds", "/replicas/force_evaluations", "/replicas/rows_written", "/replicas/progress",
+          "/replicas/failure_reason", "/replicas/status"})  // status last: it validates the rest
         paths.emplace_back(p);
     for (const char* p : {"/replicas/initial_state", "/replicas/initial_source"})  // where both have them
         if (H5Lexists(src.get(), p, H5P_DEFAULT) > 0 && H5Lexists(file_.get(), p, H5P_DEFAULT) > 0)
@@ -436,9 +421,9 @@ void Archive::import_replica(const std::string& source_path, std::int64_t source
     // The final configuration: its N disks, at the replica's offset in each archive.
     {
         const auto first = static_cast<hsize_t>(layout_.particle_offset.at(r));
-        const hsize_t n = (r + 1 < layout_.particle_offset.size()
-                               ? static_cast<hsize_t>(layout_.particle_offset[r + 1])
-                               : layout_.particles) - first;
+        const hsize_t n = (r + 1 < layout_.particle_offset.size() ? static_cast<hsize_t>(layout_.particle_offset[r + 1])
+                                                                  : layout_.particles) -
+                          first;
         std::int64_t source_first = 0;
         h5::read_block(src.get(), "/replicas/particle_offset", H5T_NATIVE_INT64, {from}, {1}, &source_first);
         std::vector<double> buffer(n);
@@ -459,9 +444,9 @@ void Archive::import_replica(const std::string& source_path, std::int64_t source
         std::vector<double> strains(source_frames), boxes(source_frames);
         h5::read_block(src.get(), "/frames/strain", H5T_NATIVE_DOUBLE, {from, 0}, {1, source_frames}, strains.data());
         h5::read_block(src.get(), "/frames/box_strain", H5T_NATIVE_DOUBLE, {from, 0}, {1, source_frames}, boxes.data());
-        const hsize_t n = (r + 1 < layout_.particle_offset.size()
-                               ? static_cast<hsize_t>(layout_.particle_offset[r + 1])
-                               : layout_.particles) - first;
+        const hsize_t n = (r + 1 < layout_.particle_offset.size() ? static_cast<hsize_t>(layout_.particle_offset[r + 1])
+                                                                  : layout_.particles) -
+                          first;
         std::vector<double> buffer(n);
         for (hsize_t k = 0; k < common; ++k) {
             if (std::isnan(strains[k])) continue;
@@ -501,8 +486,7 @@ void Archive::import_replica(const std::string& source_path, std::int64_t source
 
 std::vector<ReplicaStatus> Archive::read_status() const {
     const Handle dxpl = h5::independent_transfer();
-    const auto raw = h5::read_all<std::int8_t>(file_.get(), "/replicas/status", H5T_NATIVE_INT8,
-                                           dxpl.get());
+    const auto raw = h5::read_all<std::int8_t>(file_.get(), "/replicas/status", H5T_NATIVE_INT8, dxpl.get());
     std::vector<ReplicaStatus> out;
     for (auto v : raw) out.push_back(static_cast<ReplicaStatus>(v));
     return out;
@@ -525,8 +509,7 @@ void Archive::stamp(const std::string& attribute) {
         path.resize(static_cast<std::size_t>(length));
         file_.close("archive '" + path + "'");
         const auto fapl = h5::mpio_file_access(comm_);
-        file_ = Handle(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl.get()), H5Fclose,
-                       "reopen archive '" + path + "'");
+        file_ = Handle(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl.get()), H5Fclose, "reopen archive '" + path + "'");
     }
     const hid_t f = file_.get();
     h5::replace_attribute(f, attribute, now);
@@ -540,4 +523,4 @@ Archive::~Archive() {
     if (std::uncaught_exceptions() > 0) file_.abandon();
 }
 
-} // namespace jamsim
+}  // namespace jamsim

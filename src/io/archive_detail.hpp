@@ -11,10 +11,10 @@ namespace jamsim::archive_detail {
 inline constexpr std::size_t kReasonLength = 200;  // bytes of /replicas/failure_reason
 
 /// Independent write of a block of an archive dataset (the rank that runs a replica).
-inline void write_block(hid_t file, const std::string& path, hid_t memtype,
-                        std::vector<hsize_t> start, std::vector<hsize_t> count, const void* data) {
+inline void write_block(hid_t file, const std::string& path, hid_t memtype, std::vector<hsize_t> start,
+                        std::vector<hsize_t> count, const void* data) {
     const h5::Handle dxpl = h5::independent_transfer();
     h5::write_block(file, path, memtype, std::move(start), std::move(count), data, dxpl.get());
 }
 
-} // namespace jamsim::archive_detail
+}  // namespace jamsim::archive_detail

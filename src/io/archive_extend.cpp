@@ -28,16 +28,14 @@ std::pair<std::string, std::vector<double>> split_run_length(const std::string& 
     }
     return {rest, lengths};
 }
-} // namespace
+}  // namespace
 
 std::string Archive::check_extension(const std::string& path, const CampaignSpec& spec) {
     h5::quiet_errors();
     std::string stored;
     try {
         stored = h5::read_string_attribute(h5::open_unlocked_readonly(path).get(), "spec_fingerprint");
-    } catch (const h5::Error& e) {
-        return e.what();
-    }
+    } catch (const h5::Error& e) { return e.what(); }
     std::istringstream a(stored), b(fingerprint(spec));
     std::string la, lb;
     bool longer = false;
@@ -51,11 +49,12 @@ std::string Archive::check_extension(const std::string& path, const CampaignSpec
             continue;
         }
         if (k - 1 < spec.replicas.size() && !model_of(spec.replicas[k - 1]).extendable && la != lb)
-            return "replica " + std::to_string(k - 1) + " differs, and " +
-                   spec.replicas[k - 1].model + " cannot be extended (its strain is not a run length)";
+            return "replica " + std::to_string(k - 1) + " differs, and " + spec.replicas[k - 1].model +
+                   " cannot be extended (its strain is not a run length)";
         const auto [ra, va] = split_run_length(la);
         const auto [rb, vb] = split_run_length(lb);
-        if (ra != rb || va.size() != vb.size()) return "replica " + std::to_string(k - 1) + " differs in more than its run length";
+        if (ra != rb || va.size() != vb.size())
+            return "replica " + std::to_string(k - 1) + " differs in more than its run length";
         for (std::size_t j = 0; j < va.size(); ++j) {
             if (vb[j] < va[j]) return "replica " + std::to_string(k - 1) + " would run shorter";
             longer = longer || vb[j] > va[j];
@@ -92,7 +91,8 @@ void Archive::extend(MPI_Comm comm, const std::string& path, const CampaignSpec&
                 const Handle src = h5::open_unlocked_readonly(path);
                 std::int64_t rows = 0;
                 h5::read_block(src.get(), "/replicas/rows_written", H5T_NATIVE_INT64, {id}, {1}, &rows);
-                progress = static_cast<double>(rows - 1) / static_cast<double>(std::max<std::int64_t>(sample_count(p) - 1, 1));
+                progress =
+                    static_cast<double>(rows - 1) / static_cast<double>(std::max<std::int64_t>(sample_count(p) - 1, 1));
             }
             write_block(out.file_.get(), "/replicas/progress", H5T_NATIVE_DOUBLE, {id}, {1}, &progress);
             write_block(out.file_.get(), "/replicas/status", H5T_NATIVE_INT8, {id}, {1}, &s);
@@ -114,4 +114,4 @@ void Archive::extend(MPI_Comm comm, const std::string& path, const CampaignSpec&
     mpi::check(MPI_Barrier(comm), "MPI_Barrier");
 }
 
-} // namespace jamsim
+}  // namespace jamsim

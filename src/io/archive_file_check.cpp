@@ -43,8 +43,7 @@ Superblock read_superblock(std::ifstream& in, std::uint64_t size) {
         in.seekg(static_cast<std::streamoff>(at));
         in.read(head.data(), static_cast<std::streamsize>(head.size()));
         head.resize(static_cast<std::size_t>(in.gcount()));
-        if (head.size() < kSignature.size() ||
-            std::memcmp(head.data(), kSignature.data(), kSignature.size()) != 0)
+        if (head.size() < kSignature.size() || std::memcmp(head.data(), kSignature.data(), kSignature.size()) != 0)
             continue;
         sb.found = true;
         const auto version = static_cast<unsigned char>(head.size() > 8 ? head[8] : 0xff);
@@ -108,13 +107,11 @@ std::string check_contents(const std::string& path) {
                               "campaign and spec_fingerprint attributes)";
     }
     const std::string written_by = has_attribute(f, "code_version")
-                                       ? " (written by jamsim " +
-                                             h5::read_string_attribute(f, "code_version") + ")"
+                                       ? " (written by jamsim " + h5::read_string_attribute(f, "code_version") + ")"
                                        : "";
     if (!has_attribute(f, "layout_version"))
-        return quoted(path) + " has an older archive layout without a layout_version" +
-               written_by + "; this jamsim reads layout " +
-               std::to_string(kArchiveLayoutVersion) + ": read it with that version";
+        return quoted(path) + " has an older archive layout without a layout_version" + written_by +
+               "; this jamsim reads layout " + std::to_string(kArchiveLayoutVersion) + ": read it with that version";
     const std::int64_t layout = h5::read_int64_attribute(f, "layout_version");
     if (layout != kArchiveLayoutVersion)
         return quoted(path) + " has archive layout " + std::to_string(layout) + written_by +
@@ -124,15 +121,16 @@ std::string check_contents(const std::string& path) {
     const std::string current = fingerprint_version(fingerprint(CampaignSpec{}));
     if (stored != current)
         return quoted(path) + " was written by another version of jamsim (" +
-               (stored.empty() ? "an unknown fingerprint" : stored) + "; this one writes " +
-               current + ")" + written_by + ": its results mean something else (start a new "
+               (stored.empty() ? "an unknown fingerprint" : stored) + "; this one writes " + current + ")" +
+               written_by +
+               ": its results mean something else (start a new "
                "archive)";
     if (!has_link(f, "/replicas") || !has_link(f, "/replicas/status"))
         return quoted(path) + " is damaged: a jamsim campaign archive without /replicas/status";
     return "";
 }
 
-} // namespace
+}  // namespace
 
 std::string diagnose_archive_file(const std::string& path) {
     if (path.empty()) return "an empty path is not a campaign archive";
@@ -146,23 +144,20 @@ std::string diagnose_archive_file(const std::string& path) {
     const auto size = static_cast<std::uint64_t>(st.st_size);
     std::ifstream in(path, std::ios::binary);
     if (!in) return quoted(path) + " cannot be read: " + std::strerror(errno);
-    if (size == 0)
-        return quoted(path) + " is empty (0 bytes), not a campaign archive";
+    if (size == 0) return quoted(path) + " is empty (0 bytes), not a campaign archive";
     const Superblock sb = read_superblock(in, size);
     if (!sb.found)
-        return quoted(path) + " is not an HDF5 file (no HDF5 signature in its " +
-               std::to_string(size) + " bytes), so not a campaign archive";
+        return quoted(path) + " is not an HDF5 file (no HDF5 signature in its " + std::to_string(size) +
+               " bytes), so not a campaign archive";
     if (sb.end && *sb.end > size)
-        return quoted(path) + " is truncated: its HDF5 superblock says " +
-               std::to_string(*sb.end) + " bytes, the file has " + std::to_string(size) +
-               " (an interrupted copy or a full disk?)";
+        return quoted(path) + " is truncated: its HDF5 superblock says " + std::to_string(*sb.end) +
+               " bytes, the file has " + std::to_string(size) + " (an interrupted copy or a full disk?)";
     h5::quiet_errors();
     try {
         return check_contents(path);
     } catch (const h5::Error& e) {
-        return quoted(path) + " is a damaged HDF5 file (it has the HDF5 signature but " +
-               e.what() + ")";
+        return quoted(path) + " is a damaged HDF5 file (it has the HDF5 signature but " + e.what() + ")";
     }
 }
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -37,16 +37,14 @@ std::pair<std::string, long long> checkpoint_name(const std::string& name) {
     return {"", -1};
 }
 
-} // namespace
+}  // namespace
 
 std::string Archive::check_growth(const std::string& path, const CampaignSpec& spec,
                                   std::vector<std::int64_t>& source) {
     StoredCampaign stored;
     try {
         stored = read_stored_campaign(path);
-    } catch (const std::exception& e) {
-        return e.what();
-    }
+    } catch (const std::exception& e) { return e.what(); }
     const CampaignSpec& before = stored.spec;
     if (const std::string differs = settings_difference(before, spec, "archive", "file"); !differs.empty()) {
         // A longer run and more replicas at once: say which order works.
@@ -137,13 +135,13 @@ void Archive::grow(MPI_Comm comm, const std::string& path, const CampaignSpec& s
                 const auto [prefix, id] = checkpoint_name(entry.path().filename().string());
                 const auto it = new_id.find(id);
                 if (id < 0 || it == new_id.end()) continue;  // a .tmp of a kill: dropped
-                const std::string target = prefix == "end_" ? end_state_path(next, it->second)
-                                                            : checkpoint_path(next, it->second);
+                const std::string target =
+                    prefix == "end_" ? end_state_path(next, it->second) : checkpoint_path(next, it->second);
                 fs::create_hard_link(entry.path(), target, ec);
                 if (ec) fs::copy_file(entry.path(), target, fs::copy_options::overwrite_existing, ec);
                 if (ec)
-                    throw h5::Error("cannot copy the checkpoint '" + entry.path().string() + "' to '" +
-                                    target + "': " + ec.message());
+                    throw h5::Error("cannot copy the checkpoint '" + entry.path().string() + "' to '" + target +
+                                    "': " + ec.message());
             }
             if (ec) throw h5::Error("cannot list '" + old_folder.string() + "': " + ec.message());
         }
@@ -163,7 +161,8 @@ std::string Archive::finish_growth(const std::string& path) {
         if (ec) throw h5::Error("cannot remove '" + next + "': " + ec.message());
         fs::remove_all(next_folder, ec);
         if (ec) throw h5::Error("cannot remove '" + next_folder.string() + "': " + ec.message());
-        return "removed '" + next + "', left by a growth that was interrupted before it replaced "
+        return "removed '" + next +
+               "', left by a growth that was interrupted before it replaced "
                "the archive (the archive is as it was)";
     }
     if (!fs::exists(next_folder, ec)) return "";
@@ -171,12 +170,13 @@ std::string Archive::finish_growth(const std::string& path) {
     fs::remove_all(folder, ec);
     if (ec) throw h5::Error("cannot remove '" + folder.string() + "': " + ec.message());
     fs::rename(next_folder, folder, ec);
-    if (ec) throw h5::Error("cannot rename '" + next_folder.string() + "' to '" + folder.string() + "': " + ec.message());
+    if (ec)
+        throw h5::Error("cannot rename '" + next_folder.string() + "' to '" + folder.string() + "': " + ec.message());
     return "completed the growth of '" + path + "' (its checkpoints under the new replica ids)";
 }
 
-std::string Archive::replica_difference(const std::string& a, std::int64_t a_replica,
-                                        const std::string& b, std::int64_t b_replica) {
+std::string Archive::replica_difference(const std::string& a, std::int64_t a_replica, const std::string& b,
+                                        std::int64_t b_replica) {
     const Handle fa = h5::open_unlocked_readonly(a), fb = h5::open_unlocked_readonly(b);
     const auto ra = static_cast<hsize_t>(a_replica), rb = static_cast<hsize_t>(b_replica);
     // Bitwise, NaN equal to NaN (a row's padding).
@@ -193,13 +193,16 @@ std::string Archive::replica_difference(const std::string& a, std::int64_t a_rep
         const std::vector<hsize_t> dims = h5::dataset_shape(f, path);
         const hsize_t length = dims.size() == 2 ? dims[1] : 1;
         std::vector<double> out(length);
-        if (dims.size() == 2) h5::read_block(f, path, H5T_NATIVE_DOUBLE, {r, 0}, {1, length}, out.data());
-        else h5::read_block(f, path, H5T_NATIVE_DOUBLE, {r}, {1}, out.data());
+        if (dims.size() == 2)
+            h5::read_block(f, path, H5T_NATIVE_DOUBLE, {r, 0}, {1, length}, out.data());
+        else
+            h5::read_block(f, path, H5T_NATIVE_DOUBLE, {r}, {1}, out.data());
         return out;
     };
     std::vector<std::string> paths;
     for (const auto& c : kSampleColumns) paths.push_back(std::string("/timeseries/") + c.name);
-    for (const char* p : {"/correlation/x", "/correlation/g_y", "/final/box_side", "/final/box_strain"}) paths.emplace_back(p);
+    for (const char* p : {"/correlation/x", "/correlation/g_y", "/final/box_side", "/final/box_strain"})
+        paths.emplace_back(p);
     for (const auto& path : paths)
         if (!same(row(fa.get(), path, ra), row(fb.get(), path, rb))) return path;
     const auto disks = [](hid_t f, hsize_t r, const char* path) {
@@ -242,4 +245,4 @@ std::string Archive::replica_difference(const std::string& a, std::int64_t a_rep
     return "";
 }
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -37,4 +37,4 @@ InitialRecords read_initial_records(const std::string& path) {
     return out;
 }
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -45,7 +45,8 @@ std::string holder_of(int fd) {
 std::string busy_message(const std::string& archive, const std::string& path, int fd) {
     return "'" + archive + "' is being written by " + holder_of(fd) +
            "; one run writes an archive at a time: wait for it to finish (after a kill, its ranks "
-           "may take a few seconds to exit), or stop it (scancel, kill); the lock is '" + path + "'";
+           "may take a few seconds to exit), or stop it (scancel, kill); the lock is '" +
+           path + "'";
 }
 
 /// Filesystems where flock() and fcntl() locks are independent (Linux, local): there a lock
@@ -63,8 +64,7 @@ bool local_filesystem(int fd) {
     case 0x794C7630UL:  // overlayfs
     case 0x2FC12FC1UL:  // zfs
         return true;
-    default:
-        return false;
+    default: return false;
     }
 }
 
@@ -76,7 +76,8 @@ std::string archive_held(int fd, const std::string& archive) {
         return "";
     }
     if (errno != EWOULDBLOCK) return "";  // no flock here: the lock file alone guards it
-    return "'" + archive + "' is open in another process: a jamsim run that holds it (started through "
+    return "'" + archive +
+           "' is open in another process: a jamsim run that holds it (started through "
            "another path to the same file, or whose lock file was removed), or a program reading it "
            "with HDF5 file locking (h5py, h5dump); one run writes an archive at a time: wait for that "
            "run to finish or stop it (scancel, kill), or close the file in the other program";
@@ -88,11 +89,12 @@ std::string host_name() {
     return name;
 }
 
-} // namespace
+}  // namespace
 
 /// `path` still names the file open as `fd` (not removed nor replaced since it was opened).
 static bool names(const std::string& path, int fd) {
-    struct stat a {}, b {};
+    struct stat a {
+    }, b{};
     return ::stat(path.c_str(), &a) == 0 && ::fstat(fd, &b) == 0 && a.st_dev == b.st_dev && a.st_ino == b.st_ino;
 }
 
@@ -111,20 +113,23 @@ ArchiveLock ArchiveLock::acquire(MPI_Comm comm, const std::string& archive_path,
         } else if (const int e = set_lock(fd, F_WRLCK); busy(e)) {
             error = busy_message(archive_path, path, fd);
         } else if (e == 0 && !names(path, fd)) {  // removed or replaced between open and lock
-            error = "the lock file '" + path + "' was removed or replaced while this run took it: another run "
-                    "may be starting on '" + archive_path + "'; try again";
+            error = "the lock file '" + path +
+                    "' was removed or replaced while this run took it: another run "
+                    "may be starting on '" +
+                    archive_path + "'; try again";
         } else if (unsupported(e)) {
             supported = 0;
-            std::fprintf(stderr, "jamsim: warning: the filesystem of '%s' has no file locks (%s): jamsim "
-                                 "cannot refuse a second run on this archive; make sure there is none\n",
+            std::fprintf(stderr,
+                         "jamsim: warning: the filesystem of '%s' has no file locks (%s): jamsim "
+                         "cannot refuse a second run on this archive; make sure there is none\n",
                          path.c_str(), std::strerror(e));
         } else if (e != 0) {
             error = "cannot lock '" + path + "': " + std::strerror(e);
         } else {
             char started[64];
             std::snprintf(started, sizeof started, "%s", utc_now().c_str());
-            const std::string holder = command + " (PID " + std::to_string(::getpid()) + " on " + host_name() +
-                                       ", " + std::to_string(mpi::size(comm)) + " ranks, started " + started + ")\n";
+            const std::string holder = command + " (PID " + std::to_string(::getpid()) + " on " + host_name() + ", " +
+                                       std::to_string(mpi::size(comm)) + " ranks, started " + started + ")\n";
             if (::ftruncate(fd, 0) != 0 ||
                 ::pwrite(fd, holder.data(), holder.size(), 0) != static_cast<ssize_t>(holder.size()))
                 error = "cannot write the lock file '" + path + "': " + std::strerror(errno);
@@ -148,7 +153,8 @@ ArchiveLock ArchiveLock::acquire(MPI_Comm comm, const std::string& archive_path,
     mpi::check(MPI_Allreduce(&failed, &any, 1, MPI_INT, MPI_MAX, comm), "MPI_Allreduce");
     if (any) {
         if (fd >= 0) ::close(fd);
-        throw ArchiveBusy(failed ? "rank " + std::to_string(rank) + " cannot share the lock '" + path + "': " + std::strerror(e)
+        throw ArchiveBusy(failed ? "rank " + std::to_string(rank) + " cannot share the lock '" + path +
+                                       "': " + std::strerror(e)
                                  : "another rank cannot share the lock '" + path + "'");
     }
     return ArchiveLock(comm, path, fd);
@@ -179,8 +185,10 @@ void ArchiveLock::hold_archive(const std::string& archive_path) {
             if (error.empty() && ::flock(fd, LOCK_SH | LOCK_NB) != 0)
                 error = archive_held(fd, archive_path);  // another run took it in between
         }
-        if (fd >= 0 && error.empty()) archive_fd_ = fd;
-        else if (fd >= 0) ::close(fd);
+        if (fd >= 0 && error.empty())
+            archive_fd_ = fd;
+        else if (fd >= 0)
+            ::close(fd);
     }
     mpi::broadcast(error, 0, comm_);
     if (!error.empty()) throw ArchiveBusy(error);
@@ -208,4 +216,4 @@ void ArchiveLock::release() {
     }
 }
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -16,7 +16,8 @@ StoredCampaign read_stored_campaign(const std::string& path) {
     const std::string text = h5::read_string_attribute(file.get(), "spec_text");
     if (text.empty()) throw h5::Error("'" + path + "' is not a jamsim campaign archive");
     StoredCampaign out{parse_campaign(text, h5::read_string_attribute(file.get(), "spec_path"),
-                                     std::numeric_limits<std::int64_t>::max()), {}};
+                                      std::numeric_limits<std::int64_t>::max()),
+                       {}};
     for (auto v : h5::read_all<std::int8_t>(file.get(), "/replicas/status", H5T_NATIVE_INT8))
         out.status.push_back(static_cast<ReplicaStatus>(v));
     return out;
@@ -39,11 +40,9 @@ ArchiveSummary summarize_archive(const std::string& path) {
     const Handle rt = h5::fixed_string_type(kReasonLength);
     std::vector<char> reasons(status.size() * kReasonLength);
     {
-        Handle set(H5Dopen2(file.get(), "/replicas/failure_reason", H5P_DEFAULT), H5Dclose,
-                   "open failure_reason");
+        Handle set(H5Dopen2(file.get(), "/replicas/failure_reason", H5P_DEFAULT), H5Dclose, "open failure_reason");
         if (!status.empty())
-            check(H5Dread(set.get(), rt.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, reasons.data()),
-                  "read failure_reason");
+            check(H5Dread(set.get(), rt.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, reasons.data()), "read failure_reason");
     }
     for (std::size_t r = 0; r < status.size(); ++r) {
         switch (static_cast<ReplicaStatus>(status[r])) {
@@ -63,12 +62,11 @@ ArchiveSummary summarize_archive(const std::string& path) {
             break;
         case ReplicaStatus::Failed:
             ++s.failed;
-            s.failures.push_back("replica " + std::to_string(r) + ": " +
-                                 std::string(&reasons[r * kReasonLength]));
+            s.failures.push_back("replica " + std::to_string(r) + ": " + std::string(&reasons[r * kReasonLength]));
             break;
         }
     }
     return s;
 }
 
-} // namespace jamsim
+}  // namespace jamsim

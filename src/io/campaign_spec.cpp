@@ -26,25 +26,32 @@ namespace {
 std::string printable(const std::string& text) {
     std::string out;
     for (char c : text) {
-        if (c == '\0') out += "\\u0000";
-        else out.push_back(c);
+        if (c == '\0')
+            out += "\\u0000";
+        else
+            out.push_back(c);
     }
     return out;
 }
 
 std::string show(const toml::node& node) {
     std::ostringstream os;
-    if (auto s = node.as_string()) os << '"' << printable(s->get()) << '"';
-    else if (node.is_table()) os << "{...}";
+    if (auto s = node.as_string())
+        os << '"' << printable(s->get()) << '"';
+    else if (node.is_table())
+        os << "{...}";
     else if (auto a = node.as_array()) {
         os << '[';
         for (std::size_t k = 0; k < a->size(); ++k) os << (k ? ", " : "") << show(*a->get(k));
         os << ']';
-    }
-    else if (auto i = node.value<std::int64_t>(); i && node.is_integer()) os << *i;
-    else if (auto d = node.value<double>()) os << *d;
-    else if (auto b = node.value<bool>()) os << (*b ? "true" : "false");
-    else os << "(value)";
+    } else if (auto i = node.value<std::int64_t>(); i && node.is_integer())
+        os << *i;
+    else if (auto d = node.value<double>())
+        os << *d;
+    else if (auto b = node.value<bool>())
+        os << (*b ? "true" : "false");
+    else
+        os << "(value)";
     return os.str();
 }
 
@@ -53,21 +60,18 @@ class Reader {
   public:
     explicit Reader(const std::string& path) : path_(path) {}
 
-    [[noreturn]] void fail(const std::string& where, const std::string& value,
-                           const std::string& allowed) const {
+    [[noreturn]] void fail(const std::string& where, const std::string& value, const std::string& allowed) const {
         throw SpecError(path_ + ": " + where + " = " + value + " is not allowed: " + allowed);
     }
 
     /// Every key of `table` must be in `allowed` (so a typo is never ignored).
-    void only_keys(const toml::table& table, const std::string& name,
-                   const std::set<std::string>& allowed) const {
+    void only_keys(const toml::table& table, const std::string& name, const std::set<std::string>& allowed) const {
         for (auto&& [key, node] : table) {
             if (allowed.count(std::string(key.str()))) continue;
             std::string list;
             for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
             fail((name.empty() ? "" : name + " ") + printable(std::string(key.str())), show(node),
-                 "unknown key; known keys in " + (name.empty() ? "the top level" : name) +
-                     ": " + list);
+                 "unknown key; known keys in " + (name.empty() ? "the top level" : name) + ": " + list);
         }
     }
 
@@ -78,12 +82,10 @@ class Reader {
         return node->as_table();
     }
 
-    double number(const toml::table& t, const std::string& where, const std::string& key,
-                  double fallback) const {
+    double number(const toml::table& t, const std::string& where, const std::string& key, double fallback) const {
         const toml::node* node = t.get(key);
         if (!node) return fallback;
-        if (auto v = node->value<double>(); v && (node->is_floating_point() || node->is_integer()))
-            return *v;
+        if (auto v = node->value<double>(); v && (node->is_floating_point() || node->is_integer())) return *v;
         fail(where + " " + key, show(*node), "a number");
     }
 
@@ -109,12 +111,10 @@ class Reader {
     /// A NUL character would silently end the string where it is stored (HDF5 attributes,
     /// file names, C strings): refuse it.
     void no_nul(const std::string& text, const std::string& where, const toml::node& node) const {
-        if (text.find('\0') != std::string::npos)
-            fail(where, show(node), "a string without NUL characters (\\u0000)");
+        if (text.find('\0') != std::string::npos) fail(where, show(node), "a string without NUL characters (\\u0000)");
     }
 
-    template <class F> void each(const toml::table& t, const std::string& where,
-                                 const std::string& key, F&& f) const {
+    template <class F> void each(const toml::table& t, const std::string& where, const std::string& key, F&& f) const {
         const toml::node* node = t.get(key);
         if (!node) fail(where + " " + key, "(missing)", "a non-empty list");
         const toml::array* arr = node->as_array();
@@ -140,8 +140,7 @@ struct Point {
 };
 
 /// Named potentials of [potential] name: presets of the exponent alpha.
-constexpr std::pair<std::string_view, double> kNamedPotentials[] = {{"harmonic", 2.0},
-                                                                   {"hertzian", 2.5}};
+constexpr std::pair<std::string_view, double> kNamedPotentials[] = {{"harmonic", 2.0}, {"hertzian", 2.5}};
 
 /// Where a parameter is written in a campaign file, for messages: "[sweep] phi".
 std::string location(const ParamInfo& info) {
@@ -181,28 +180,29 @@ void link_rate_ladders(const Reader& r, CampaignSpec& spec) {
     }
     spec.predecessor.assign(spec.replicas.size(), -1);
     for (auto& [key, chain] : chains) {
-        std::stable_sort(chain.begin(), chain.end(), [&](std::size_t a, std::size_t b) {
-            return spec.replicas[a].rate > spec.replicas[b].rate;
-        });
+        std::stable_sort(chain.begin(), chain.end(),
+                         [&](std::size_t a, std::size_t b) { return spec.replicas[a].rate > spec.replicas[b].rate; });
         const auto& [n, phi, seed] = key;
-        const std::string which = "N = " + std::to_string(n) + ", phi = " + show_value(phi) +
-                                  ", seed = " + std::to_string(seed);
+        const std::string which =
+            "N = " + std::to_string(n) + ", phi = " + show_value(phi) + ", seed = " + std::to_string(seed);
         if (chain.size() < 2)
-            r.fail("[sweep] rate_ladder", "\"down\"", "at least two rates for each N, phi and seed (" + which + " has one)");
+            r.fail("[sweep] rate_ladder", "\"down\"",
+                   "at least two rates for each N, phi and seed (" + which + " has one)");
         for (std::size_t k = 0; k < chain.size(); ++k) {
             ReplicaParams& p = spec.replicas[chain[k]];
             if (!(p.rate > 0.0)) r.fail("[sweep] rate", show_value(p.rate), "rates > 0 in a rate ladder");
             if (k == 0) continue;
             const ReplicaParams& before = spec.replicas[chain[k - 1]];
             if (before.rate == p.rate)
-                r.fail("[sweep] rate", show_value(p.rate), "distinct rates in a rate ladder (" + which + " has it twice)");
+                r.fail("[sweep] rate", show_value(p.rate),
+                       "distinct rates in a rate ladder (" + which + " has it twice)");
             p.ladder_from = before.rate;
             spec.predecessor[chain[k]] = static_cast<std::int64_t>(chain[k - 1]);
         }
     }
 }
 
-} // namespace
+}  // namespace
 
 CampaignSpec parse_campaign(const std::string& text, const std::string& path, std::int64_t max_replicas) {
     const Reader r(path);
@@ -256,8 +256,7 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
             }
         }
     }
-    if (!find_model(base.model))
-        r.fail("[model] name", base.model, "one of: " + model_list());
+    if (!find_model(base.model)) r.fail("[model] name", base.model, "one of: " + model_list());
     if (const toml::table* pot = r.table(root, "potential")) {
         const std::string name = r.string(*pot, "[potential]", "name", "");
         if (!name.empty() && pot->get("alpha"))
@@ -282,14 +281,17 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
             }
             // Keys whose use follows another setting, not the model: say which setting.
             if (info->key == "initial_match")
-                r.fail(location(*info), shown, "initial_match only with [run] initial (it says which replica of "
-                                               "that source starts each replica; without a source there is none)");
+                r.fail(location(*info), shown,
+                       "initial_match only with [run] initial (it says which replica of "
+                       "that source starts each replica; without a source there is none)");
             if (info->key == "time" && base.rate > 0.0)
-                r.fail(location(*info), shown, "time only at rate = 0 (dynamics without shear); at rate > 0 the run "
-                                               "length is strain (" + base.model + " takes strain here)");
+                r.fail(location(*info), shown,
+                       "time only at rate = 0 (dynamics without shear); at rate > 0 the run "
+                       "length is strain (" +
+                           base.model + " takes strain here)");
             r.fail(location(*info), shown,
-                   base.model + " does not use " + std::string(info->key) + " (used by: " +
-                       (users.empty() ? "none" : users) + ")");
+                   base.model + " does not use " + std::string(info->key) +
+                       " (used by: " + (users.empty() ? "none" : users) + ")");
         }
 
     std::vector<std::uint64_t> seeds;
@@ -326,20 +328,19 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
         std::vector<double> phis, rates;
         r.each(*sweep, "[sweep]", "N",
                [&](const toml::node& n, const std::string& w) { ns.push_back(r.integer(n, w)); });
-        r.each(*sweep, "[sweep]", "phi", [&](const toml::node& n, const std::string& w) {
-            phis.push_back(sweep_number(n, w, "phi"));
-        });
+        r.each(*sweep, "[sweep]", "phi",
+               [&](const toml::node& n, const std::string& w) { phis.push_back(sweep_number(n, w, "phi")); });
         if (uses_rate || sweep->get("rate"))
-            r.each(*sweep, "[sweep]", "rate", [&](const toml::node& n, const std::string& w) {
-                rates.push_back(sweep_number(n, w, "rate"));
-            });
+            r.each(*sweep, "[sweep]", "rate",
+                   [&](const toml::node& n, const std::string& w) { rates.push_back(sweep_number(n, w, "rate")); });
         else
             rates.push_back(0.0);
-        const double grid_size = static_cast<double>(ns.size()) * static_cast<double>(phis.size()) *
-                                 static_cast<double>(rates.size());
+        const double grid_size =
+            static_cast<double>(ns.size()) * static_cast<double>(phis.size()) * static_cast<double>(rates.size());
         if (grid_size > static_cast<double>(max_replicas))
-            r.fail("[sweep]", std::to_string(ns.size()) + " N x " + std::to_string(phis.size()) + " phi x " +
-                                  std::to_string(rates.size()) + " rate",
+            r.fail("[sweep]",
+                   std::to_string(ns.size()) + " N x " + std::to_string(phis.size()) + " phi x " +
+                       std::to_string(rates.size()) + " rate",
                    "at most " + std::to_string(max_replicas) + " replicas (jamsim run --max-replicas raises the cap)");
         for (auto n : ns)
             for (double phi : phis)
@@ -359,7 +360,8 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
             const toml::node* rate = t->get("rate");
             points.push_back({r.integer(*t->get("N"), where + " N"),
                               sweep_number(*t->get("phi"), where + " phi", "phi"),
-                              rate ? sweep_number(*rate, where + " rate", "rate") : 0.0, {}});
+                              rate ? sweep_number(*rate, where + " rate", "rate") : 0.0,
+                              {}});
             // A point's own seeds (a list; e.g. a merged campaign's replicas), instead of the
             // sweep's.
             if (const toml::node* own = t->get("seeds")) {
@@ -375,8 +377,7 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
             }
         }
     }
-    if (points.empty())
-        r.fail("[sweep]", "{}", "N, phi and rate lists, or points = [...], or both");
+    if (points.empty()) r.fail("[sweep]", "{}", "N, phi and rate lists, or points = [...], or both");
     // The sweep's size, before a replica is made: a typo (seeds = 10000000) must not fill
     // the memory of every rank.
     const double seeds_per_point = seed_count > 0 ? static_cast<double>(seed_count) : static_cast<double>(seeds.size());
@@ -384,8 +385,9 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
     for (const Point& pt : points)
         replica_count += pt.seeds.empty() ? seeds_per_point : static_cast<double>(pt.seeds.size());
     if (replica_count > static_cast<double>(max_replicas))
-        r.fail("[sweep]", show_value(replica_count) + " replicas (" + std::to_string(points.size()) +
-                              " points x " + show_value(seeds_per_point) + " seeds)",
+        r.fail("[sweep]",
+               show_value(replica_count) + " replicas (" + std::to_string(points.size()) + " points x " +
+                   show_value(seeds_per_point) + " seeds)",
                "at most " + std::to_string(max_replicas) +
                    " replicas per campaign (jamsim run --max-replicas raises the cap; each replica "
                    "costs every rank about 1 kB of memory before it runs)");
@@ -414,8 +416,9 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
             const ReplicaParams& p = spec.replicas[k];
             const auto [it, fresh] = seen.emplace(describe(p), k);
             if (fresh) continue;
-            r.fail("[sweep]", "N = " + std::to_string(p.n) + ", phi = " + show_value(p.phi) + ", rate = " +
-                                  show_value(p.rate) + ", seed = " + std::to_string(p.seed),
+            r.fail("[sweep]",
+                   "N = " + std::to_string(p.n) + ", phi = " + show_value(p.phi) + ", rate = " + show_value(p.rate) +
+                       ", seed = " + std::to_string(p.seed),
                    "each replica once: replicas " + std::to_string(it->second) + " and " + std::to_string(k) +
                        " are the same (a seed, N, phi or rate listed twice, or a point that repeats the grid "
                        "or another point); list each value once");
@@ -449,8 +452,7 @@ CampaignSpec load_campaign(const std::string& path, std::int64_t max_replicas) {
                             ")");
         throw SpecError(path + ": no such campaign file");
     }
-    if (fs::is_directory(st))
-        throw SpecError(path + ": is a directory, not a campaign file (a TOML file)");
+    if (fs::is_directory(st)) throw SpecError(path + ": is a directory, not a campaign file (a TOML file)");
     if (!fs::is_regular_file(st)) throw SpecError(path + ": is not a regular file, not a campaign file");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw SpecError(path + ": cannot read the campaign file");
@@ -481,8 +483,8 @@ std::vector<std::string> campaign_warnings(const CampaignSpec& spec) {
     return out;
 }
 
-std::string settings_difference(const CampaignSpec& a, const CampaignSpec& b,
-                                const std::string& a_label, const std::string& b_label) {
+std::string settings_difference(const CampaignSpec& a, const CampaignSpec& b, const std::string& a_label,
+                                const std::string& b_label) {
     std::vector<std::string> out;
     const auto quoted = [](const ParamValue& v) {
         std::string text = show_value(v);
@@ -531,7 +533,7 @@ std::string toml_value(const ParamValue& v) {
     if (const auto* text = std::get_if<std::string>(&v)) return toml_string(*text);
     return show_value(v);
 }
-} // namespace
+}  // namespace
 
 std::string campaign_text(const std::string& name, const std::string& output,
                           const std::vector<ReplicaParams>& replicas, const std::string& comment) {
@@ -559,7 +561,8 @@ std::string campaign_text(const std::string& name, const std::string& output,
     out += "points = [\n";
     for (const auto& [point, seeds] : points) {
         const auto& [n, phi, rate] = point;
-        out += "  {N = " + std::to_string(n) + ", phi = " + show_value(phi) + ", rate = " + show_value(rate) + ", seeds = [";
+        out += "  {N = " + std::to_string(n) + ", phi = " + show_value(phi) + ", rate = " + show_value(rate) +
+               ", seeds = [";
         bool first = true;
         for (const std::uint64_t seed : seeds) {
             out += (first ? "" : ", ") + std::to_string(seed);
@@ -575,11 +578,10 @@ std::string fingerprint(const CampaignSpec& spec) {
     // identity (its physical parameters and seed) instead of its position in the sweep, and
     // records only the parameters a model uses; v6 drops the kernel caches at checkpoint steps;
     // v7 has checkpoint steps in every minimisation protocol and archive layout 4.
-    std::string out = "jamsim campaign v7 " + spec.name + " replicas " +
-                      std::to_string(spec.replicas.size()) + '\n';
+    std::string out = "jamsim campaign v7 " + spec.name + " replicas " + std::to_string(spec.replicas.size()) + '\n';
     for (std::size_t k = 0; k < spec.replicas.size(); ++k)
         out += std::to_string(k) + ' ' + describe(spec.replicas[k]) + '\n';
     return out;
 }
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -28,7 +28,7 @@ constexpr double kDiskMargin = 0.10;
 /// A rank's share of its node's available memory that one rank may plan to use.
 constexpr double kMemoryMargin = 0.8;
 
-} // namespace
+}  // namespace
 
 double free_bytes(const std::string& output) {
     namespace fs = std::filesystem;
@@ -64,10 +64,9 @@ double checkpoint_size(const ReplicaParams& p) {
     return 60.0 * static_cast<double>(p.n) + row * static_cast<double>(sample_count(p)) + 4096.0;
 }
 
-} // namespace
+}  // namespace
 
-CapacityEstimate estimate_capacity(const CampaignSpec& spec, const std::string& output, int ranks,
-                                   int ranks_per_node) {
+CapacityEstimate estimate_capacity(const CampaignSpec& spec, const std::string& output, int ranks, int ranks_per_node) {
     CapacityEstimate e;
     const ArchiveLayout layout = archive_layout(spec);
     e.archive_bytes = layout.bytes + 1e6;  // + metadata and attributes
@@ -91,19 +90,18 @@ CapacityEstimate estimate_capacity(const CampaignSpec& spec, const std::string& 
     return e;
 }
 
-std::string check_capacity(const CapacityEstimate& e, const CapacityLimits& limits,
-                           const CampaignSpec& spec, const std::string& output) {
+std::string check_capacity(const CapacityEstimate& e, const CapacityLimits& limits, const CampaignSpec& spec,
+                           const std::string& output) {
     std::int64_t largest_n = 0, most_samples = 0;
     for (const auto& p : spec.replicas) {
         largest_n = std::max(largest_n, p.n);
         most_samples = std::max(most_samples, sample_count(p));
     }
-    const std::string shape = std::to_string(spec.replicas.size()) + " replicas, N up to " +
-                              std::to_string(largest_n) + ", up to " + std::to_string(most_samples) +
-                              " samples each";
+    const std::string shape = std::to_string(spec.replicas.size()) + " replicas, N up to " + std::to_string(largest_n) +
+                              ", up to " + std::to_string(most_samples) + " samples each";
     if (e.archive_bytes > limits.max_archive_bytes)
-        return spec.path + ": the archive '" + output + "' would take " + show_bytes(e.archive_bytes) + " (" +
-               shape + "), more than the cap of " + show_bytes(limits.max_archive_bytes) +
+        return spec.path + ": the archive '" + output + "' would take " + show_bytes(e.archive_bytes) + " (" + shape +
+               "), more than the cap of " + show_bytes(limits.max_archive_bytes) +
                ": check N, seeds, strain and sample_interval, or raise the cap with --max-archive-size";
     const double needed = std::max(0.0, e.archive_bytes - e.archive_present) + e.checkpoint_bytes;
     if (std::isfinite(e.free_bytes) && needed > (1.0 - kDiskMargin) * e.free_bytes)
@@ -113,8 +111,8 @@ std::string check_capacity(const CapacityEstimate& e, const CapacityLimits& limi
                " free (jamsim leaves 10% of it free): write it to a larger filesystem (-o) or make the "
                "campaign smaller (fewer replicas or samples: a larger sample_interval)";
     if (std::isfinite(e.node_memory) && e.rank_memory * e.ranks_per_node > kMemoryMargin * e.node_memory)
-        return spec.path + ": each rank needs about " + show_bytes(e.rank_memory) + " of memory (" + shape +
-               "), " + std::to_string(e.ranks_per_node) + " ranks on this node need " +
+        return spec.path + ": each rank needs about " + show_bytes(e.rank_memory) + " of memory (" + shape + "), " +
+               std::to_string(e.ranks_per_node) + " ranks on this node need " +
                show_bytes(e.rank_memory * e.ranks_per_node) + ", but it has " + show_bytes(e.node_memory) +
                " available (jamsim plans for 80% of it): run fewer ranks per node or split the campaign";
     return "";
@@ -139,9 +137,14 @@ double parse_bytes(const std::string& text) {
     if (end == text.c_str() || !std::isfinite(v) || v < 0) return -1.0;
     std::string unit(end);
     if (!unit.empty() && (unit.back() == 'B' || unit.back() == 'b')) unit.pop_back();
-    const double scale = unit.empty() ? 1.0 : unit == "k" || unit == "K" ? 1e3 : unit == "M" ? 1e6
-                       : unit == "G" ? 1e9 : unit == "T" ? 1e12 : unit == "P" ? 1e15 : -1.0;
+    const double scale = unit.empty()                 ? 1.0
+                         : unit == "k" || unit == "K" ? 1e3
+                         : unit == "M"                ? 1e6
+                         : unit == "G"                ? 1e9
+                         : unit == "T"                ? 1e12
+                         : unit == "P"                ? 1e15
+                                                      : -1.0;
     return scale < 0 ? -1.0 : v * scale;
 }
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -38,8 +38,8 @@ void sync_folder(const std::string& folder) {
 template <class T> void write_vector(hid_t g, const std::string& name, const std::vector<T>& v, hid_t type) {
     const hsize_t dims[1] = {v.size()};
     h5::Handle space(H5Screate_simple(1, dims, nullptr), H5Sclose, "dataspace of " + name);
-    h5::Handle set(H5Dcreate2(g, name.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                   H5Dclose, "create " + name);
+    h5::Handle set(H5Dcreate2(g, name.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose,
+                   "create " + name);
     if (!v.empty()) h5::check(H5Dwrite(set.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), "write " + name);
     set.close(name);
 }
@@ -68,7 +68,7 @@ std::int64_t digest_of(const ReplicaState& state) {
     return static_cast<std::int64_t>(d.value());
 }
 
-} // namespace
+}  // namespace
 
 std::string checkpoint_folder(const std::string& archive_path) { return archive_path + ".checkpoints"; }
 
@@ -80,8 +80,7 @@ std::string end_state_path(const std::string& archive_path, std::int64_t id) {
     return checkpoint_folder(archive_path) + "/end_" + std::to_string(id) + ".h5";
 }
 
-void write_checkpoint(const std::string& path, const ReplicaParams& p, const ReplicaState& state,
-                      bool final) {
+void write_checkpoint(const std::string& path, const ReplicaParams& p, const ReplicaState& state, bool final) {
     h5::quiet_errors();
     namespace fs = std::filesystem;
     const fs::path folder = fs::path(path).parent_path();
@@ -104,15 +103,21 @@ void write_checkpoint(const std::string& path, const ReplicaParams& p, const Rep
         const Particles& q = state.system.particles;
         {
             auto g = h5::create_group(f, "particles");  // memory order: the order matters
-            for (const auto& [name, v] : {std::pair{"x", &q.x}, {"y", &q.y}, {"diameter", &q.diameter},
-                                          {"fx", &q.fx}, {"fy", &q.fy}, {"ux", &q.ux}, {"uy", &q.uy}})
+            for (const auto& [name, v] : {std::pair{"x", &q.x},
+                                          {"y", &q.y},
+                                          {"diameter", &q.diameter},
+                                          {"fx", &q.fx},
+                                          {"fy", &q.fy},
+                                          {"ux", &q.ux},
+                                          {"uy", &q.uy}})
                 write_vector(g.get(), name, *v, H5T_NATIVE_DOUBLE);
             write_vector(g.get(), "tag", q.tag, H5T_NATIVE_INT32);
             g.close("particles");
         }
         {
             auto g = h5::create_group(f, "timeseries");
-            for (const auto& c : kSampleColumns) write_vector(g.get(), c.name, state.series.column(c.member), H5T_NATIVE_DOUBLE);
+            for (const auto& c : kSampleColumns)
+                write_vector(g.get(), c.name, state.series.column(c.member), H5T_NATIVE_DOUBLE);
             g.close("timeseries");
         }
         {
@@ -149,21 +154,29 @@ bool all_finite(const std::vector<double>& v) {
 std::string body_problem(const ReplicaState& s, std::int64_t n) {
     const Particles& q = s.system.particles;
     const auto size = static_cast<std::size_t>(n);
-    for (const auto& [name, v] : {std::pair{"x", &q.x}, {"y", &q.y}, {"diameter", &q.diameter},
-                                  {"fx", &q.fx}, {"fy", &q.fy}, {"ux", &q.ux}, {"uy", &q.uy}}) {
+    for (const auto& [name, v] : {std::pair{"x", &q.x},
+                                  {"y", &q.y},
+                                  {"diameter", &q.diameter},
+                                  {"fx", &q.fx},
+                                  {"fy", &q.fy},
+                                  {"ux", &q.ux},
+                                  {"uy", &q.uy}}) {
         if (v->size() != size)
-            return std::string("particles/") + name + " holds " + std::to_string(v->size()) + " values, the replica has N = " +
-                   std::to_string(n);
+            return std::string("particles/") + name + " holds " + std::to_string(v->size()) +
+                   " values, the replica has N = " + std::to_string(n);
         if (!all_finite(*v)) return std::string("particles/") + name + " holds a value that is not finite";
     }
     if (q.tag.size() != size)
-        return "particles/tag holds " + std::to_string(q.tag.size()) + " values, the replica has N = " + std::to_string(n);
+        return "particles/tag holds " + std::to_string(q.tag.size()) +
+               " values, the replica has N = " + std::to_string(n);
     for (const std::int32_t t : q.tag)
-        if (t < 0 || t >= n) return "particles/tag holds " + std::to_string(t) + ", not a disk index below N = " + std::to_string(n);
+        if (t < 0 || t >= n)
+            return "particles/tag holds " + std::to_string(t) + ", not a disk index below N = " + std::to_string(n);
     for (const double d : q.diameter)
         if (!(d > 0)) return "particles/diameter holds a diameter that is not positive";
     const double side = s.system.box.side(), strain = s.system.box.strain();
-    if (!(side > 0) || !std::isfinite(side) || !std::isfinite(strain)) return "the box (side, strain) is not finite and positive";
+    if (!(side > 0) || !std::isfinite(side) || !std::isfinite(strain))
+        return "the box (side, strain) is not finite and positive";
     if (s.step < 0 || s.steps < 0 || s.step > s.steps)
         return "step " + std::to_string(s.step) + " is not within the run's " + std::to_string(s.steps) + " steps";
     return "";
@@ -180,9 +193,10 @@ ReplicaState read_state(const std::string& path, std::int64_t n = -1) {
         const hid_t f = file.get();
         const std::string format = h5::read_string_attribute(f, "format");
         if (format != kFormat)
-            throw CheckpointError("checkpoint '" + path + "' has format \"" + format +
-                                  "\", this jamsim reads \"" + kFormat + "\": remove it to start the replica again");
-        s.system = System{Particles{}, Box(h5::read_double_attribute(f, "box_side"), h5::read_double_attribute(f, "box_strain"))};
+            throw CheckpointError("checkpoint '" + path + "' has format \"" + format + "\", this jamsim reads \"" +
+                                  kFormat + "\": remove it to start the replica again");
+        s.system = System{Particles{},
+                          Box(h5::read_double_attribute(f, "box_side"), h5::read_double_attribute(f, "box_strain"))};
         s.step = h5::read_int64_attribute(f, "step");
         s.steps = h5::read_int64_attribute(f, "steps");
         s.force_evaluations = h5::read_int64_attribute(f, "force_evaluations");
@@ -190,15 +204,21 @@ ReplicaState read_state(const std::string& path, std::int64_t n = -1) {
         s.wall_seconds = h5::read_double_attribute(f, "wall_seconds");
         if (H5Aexists(f, "checksum") > 0) checksum = h5::read_int64_attribute(f, "checksum");
         Particles& q = s.system.particles;
-        for (const auto& [name, v] : {std::pair{"x", &q.x}, {"y", &q.y}, {"diameter", &q.diameter},
-                                      {"fx", &q.fx}, {"fy", &q.fy}, {"ux", &q.ux}, {"uy", &q.uy}})
+        for (const auto& [name, v] : {std::pair{"x", &q.x},
+                                      {"y", &q.y},
+                                      {"diameter", &q.diameter},
+                                      {"fx", &q.fx},
+                                      {"fy", &q.fy},
+                                      {"ux", &q.ux},
+                                      {"uy", &q.uy}})
             *v = h5::read_dataset(f, std::string("particles/") + name);
         q.tag = h5::read_all<std::int32_t>(f, "particles/tag", H5T_NATIVE_INT32);
         for (const auto* v : {&q.y, &q.diameter, &q.fx, &q.fy, &q.ux, &q.uy})
             if (v->size() != q.x.size() || q.tag.size() != q.x.size())
                 throw CheckpointError("checkpoint '" + path + "' is damaged: particle arrays differ in length");
         std::vector<std::vector<double>> columns;
-        for (const auto& c : kSampleColumns) columns.push_back(h5::read_dataset(f, std::string("timeseries/") + c.name));
+        for (const auto& c : kSampleColumns)
+            columns.push_back(h5::read_dataset(f, std::string("timeseries/") + c.name));
         for (const auto& c : columns)
             if (c.size() != columns.front().size())
                 throw CheckpointError("checkpoint '" + path + "' is damaged: its timeseries columns differ in length");
@@ -226,16 +246,14 @@ ReplicaState read_state(const std::string& path, std::int64_t n = -1) {
     return s;
 }
 
-} // namespace
+}  // namespace
 
 ReplicaState read_checkpoint(const std::string& path, const ReplicaParams& p) {
     h5::quiet_errors();
     std::string replica;
     try {
         replica = h5::read_string_attribute(h5::open_file_readonly(path).get(), "replica");
-    } catch (const h5::Error& e) {
-        throw CheckpointError("checkpoint '" + path + "' cannot be read: " + e.what());
-    }
+    } catch (const h5::Error& e) { throw CheckpointError("checkpoint '" + path + "' cannot be read: " + e.what()); }
     ReplicaState s = read_state(path, p.n);
     if (replica != describe_without_run_length(p))
         throw CheckpointError("checkpoint '" + path + "' belongs to another replica (\"" + replica +
@@ -272,4 +290,4 @@ void check_checkpoint_header(const std::string& path, const ReplicaParams& p) {
                               "\", this campaign's is \"" + describe_without_run_length(p) + "\")");
 }
 
-} // namespace jamsim
+}  // namespace jamsim

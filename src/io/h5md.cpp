@@ -18,8 +18,8 @@ using h5::Handle;
 void write_array(hid_t parent, const std::string& name, hid_t type, std::vector<hsize_t> dims, const void* data) {
     Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose,
                  "dataspace for '" + name + "'");
-    Handle set(H5Dcreate2(parent, name.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-               H5Dclose, "create dataset '" + name + "'");
+    Handle set(H5Dcreate2(parent, name.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose,
+               "create dataset '" + name + "'");
     h5::check(H5Dwrite(set.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "write dataset '" + name + "'");
     set.close("dataset '" + name + "'");
 }
@@ -69,7 +69,7 @@ void write_strings_attribute(hid_t obj, const std::string& name, const std::vect
     attr.close("attribute '" + name + "'");
 }
 
-} // namespace
+}  // namespace
 
 void write_h5md(const std::string& path, const StoredReplica& r, const std::string& archive,
                 const std::string& campaign) {
@@ -123,7 +123,8 @@ void write_h5md(const std::string& path, const StoredReplica& r, const std::stri
     {
         Handle obs = h5::create_group(f, "observables");
         for (const auto& [name, v] : {std::pair{"energy_per_particle", r.energy_per_particle},
-                                      {"pressure", r.pressure}, {"shear_stress", r.shear_stress},
+                                      {"pressure", r.pressure},
+                                      {"shear_stress", r.shear_stress},
                                       {"strain", r.strain}})
             write_element(obs.get(), name, {}, &v, step, r.time);
         obs.close("group observables");
@@ -135,8 +136,13 @@ void write_h5md(const std::string& path, const StoredReplica& r, const std::stri
         h5::write_attribute(j.get(), "campaign", campaign);
         h5::write_attribute(j.get(), "replica", r.id);
         h5::write_attribute(j.get(), "model", r.model);
-        for (const auto& [name, v] : {std::pair{"N", r.n}, {"phi", r.phi}, {"rate", r.rate}, {"seed", r.seed},
-                                      {"size_ratio", r.size_ratio}, {"box_side", L}, {"box_strain", gamma}})
+        for (const auto& [name, v] : {std::pair{"N", r.n},
+                                      {"phi", r.phi},
+                                      {"rate", r.rate},
+                                      {"seed", r.seed},
+                                      {"size_ratio", r.size_ratio},
+                                      {"box_side", L},
+                                      {"box_strain", gamma}})
             h5::write_attribute(j.get(), name, v);
         h5::write_attribute(j.get(), "description",
                             std::string("final configuration of a jamsim replica: lab positions x = x_sheared + "
@@ -150,4 +156,4 @@ void write_h5md(const std::string& path, const StoredReplica& r, const std::stri
     file.close("file '" + path + "'");
 }
 
-} // namespace jamsim
+}  // namespace jamsim

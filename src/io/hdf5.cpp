@@ -16,24 +16,23 @@ Handle create_file(const std::string& path) {
 }
 
 Handle open_file_readonly(const std::string& path) {
-    return Handle(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose,
-                  "open file '" + path + "'");
+    return Handle(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, "open file '" + path + "'");
 }
 
 Handle create_group(hid_t parent, const std::string& name) {
-    return Handle(H5Gcreate2(parent, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                  H5Gclose, "create group '" + name + "'");
+    return Handle(H5Gcreate2(parent, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
+                  "create group '" + name + "'");
 }
 
 namespace {
 void write_scalar_attribute(hid_t obj, const std::string& name, hid_t type, const void* value) {
     Handle space(H5Screate(H5S_SCALAR), H5Sclose, "scalar dataspace");
-    Handle attr(H5Acreate2(obj, name.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT),
-                H5Aclose, "create attribute '" + name + "'");
+    Handle attr(H5Acreate2(obj, name.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
+                "create attribute '" + name + "'");
     check(H5Awrite(attr.get(), type, value), "write attribute '" + name + "'");
     attr.close("attribute '" + name + "'");
 }
-} // namespace
+}  // namespace
 
 void write_attribute(hid_t obj, const std::string& name, double value) {
     write_scalar_attribute(obj, name, H5T_NATIVE_DOUBLE, &value);
@@ -52,12 +51,11 @@ void write_attribute(hid_t obj, const std::string& name, const std::string& valu
     write_scalar_attribute(obj, name, type.get(), &text);
 }
 
-void write_dataset(hid_t parent, const std::string& name, std::span<const double> values,
-                   const std::string& units, const std::string& description) {
+void write_dataset(hid_t parent, const std::string& name, std::span<const double> values, const std::string& units,
+                   const std::string& description) {
     const hsize_t dims[1] = {values.size()};
     Handle space(H5Screate_simple(1, dims, nullptr), H5Sclose, "dataspace for '" + name + "'");
-    Handle set(H5Dcreate2(parent, name.c_str(), H5T_NATIVE_DOUBLE, space.get(), H5P_DEFAULT,
-                          H5P_DEFAULT, H5P_DEFAULT),
+    Handle set(H5Dcreate2(parent, name.c_str(), H5T_NATIVE_DOUBLE, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
                H5Dclose, "create dataset '" + name + "'");
     if (!values.empty())
         check(H5Dwrite(set.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()),
@@ -68,8 +66,7 @@ void write_dataset(hid_t parent, const std::string& name, std::span<const double
 }
 
 std::vector<double> read_dataset(hid_t parent, const std::string& name) {
-    Handle set(H5Dopen2(parent, name.c_str(), H5P_DEFAULT), H5Dclose,
-               "open dataset '" + name + "'");
+    Handle set(H5Dopen2(parent, name.c_str(), H5P_DEFAULT), H5Dclose, "open dataset '" + name + "'");
     Handle space(H5Dget_space(set.get()), H5Sclose, "dataspace of '" + name + "'");
     const hssize_t count = H5Sget_simple_extent_npoints(space.get());
     check(static_cast<hid_t>(count), "size of '" + name + "'");
@@ -81,16 +78,14 @@ std::vector<double> read_dataset(hid_t parent, const std::string& name) {
 }
 
 double read_double_attribute(hid_t obj, const std::string& name) {
-    Handle attr(H5Aopen(obj, name.c_str(), H5P_DEFAULT), H5Aclose,
-                "open attribute '" + name + "'");
+    Handle attr(H5Aopen(obj, name.c_str(), H5P_DEFAULT), H5Aclose, "open attribute '" + name + "'");
     double v = 0.0;
     check(H5Aread(attr.get(), H5T_NATIVE_DOUBLE, &v), "read attribute '" + name + "'");
     return v;
 }
 
 std::int64_t read_int64_attribute(hid_t obj, const std::string& name) {
-    Handle attr(H5Aopen(obj, name.c_str(), H5P_DEFAULT), H5Aclose,
-                "open attribute '" + name + "'");
+    Handle attr(H5Aopen(obj, name.c_str(), H5P_DEFAULT), H5Aclose, "open attribute '" + name + "'");
     std::int64_t v = 0;
     check(H5Aread(attr.get(), H5T_NATIVE_INT64, &v), "read attribute '" + name + "'");
     return v;
@@ -113,14 +108,12 @@ std::string read_string_attribute(hid_t obj, const std::string& name) {
 }
 
 void replace_attribute(hid_t obj, const std::string& name, const std::string& value) {
-    if (H5Aexists(obj, name.c_str()) > 0)
-        check(H5Adelete(obj, name.c_str()), "replace attribute " + name);
+    if (H5Aexists(obj, name.c_str()) > 0) check(H5Adelete(obj, name.c_str()), "replace attribute " + name);
     write_attribute(obj, name, value);
 }
 
 void replace_attribute(hid_t obj, const std::string& name, std::int64_t value) {
-    if (H5Aexists(obj, name.c_str()) > 0)
-        check(H5Adelete(obj, name.c_str()), "replace attribute " + name);
+    if (H5Aexists(obj, name.c_str()) > 0) check(H5Adelete(obj, name.c_str()), "replace attribute " + name);
     write_attribute(obj, name, value);
 }
 
@@ -134,8 +127,7 @@ Handle mpio_file_access(MPI_Comm comm) {
 Handle open_unlocked_readonly(const std::string& path) {
     Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "file access properties");
     check(H5Pset_file_locking(fapl.get(), false, true), "disable file locking");
-    return Handle(H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl.get()), H5Fclose,
-                  "open '" + path + "'");
+    return Handle(H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl.get()), H5Fclose, "open '" + path + "'");
 }
 
 Handle independent_transfer() {
@@ -152,32 +144,29 @@ Handle fixed_string_type(std::size_t bytes) {
 }
 
 namespace {
-void create_dataset(hid_t file, const std::string& path, hid_t type, std::vector<hsize_t> dims,
-                    const void* fill, const std::string& units, const std::string& description) {
+void create_dataset(hid_t file, const std::string& path, hid_t type, std::vector<hsize_t> dims, const void* fill,
+                    const std::string& units, const std::string& description) {
     Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose,
                  "dataspace of " + path);
     Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "creation properties");
     check(H5Pset_alloc_time(dcpl.get(), H5D_ALLOC_TIME_EARLY), "early allocation");
     check(H5Pset_fill_time(dcpl.get(), fill ? H5D_FILL_TIME_ALLOC : H5D_FILL_TIME_NEVER), "fill time");
     if (fill) check(H5Pset_fill_value(dcpl.get(), type, fill), "fill value");
-    Handle set(H5Dcreate2(file, path.c_str(), type, space.get(), H5P_DEFAULT, dcpl.get(),
-                          H5P_DEFAULT),
-               H5Dclose, "create dataset " + path);
+    Handle set(H5Dcreate2(file, path.c_str(), type, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), H5Dclose,
+               "create dataset " + path);
     write_attribute(set.get(), "units", units);
     write_attribute(set.get(), "description", description);
     set.close(path);
 }
-} // namespace
+}  // namespace
 
-void create_filled_dataset(hid_t file, const std::string& path, hid_t type,
-                           std::vector<hsize_t> dims, const void* fill, const std::string& units,
-                           const std::string& description) {
+void create_filled_dataset(hid_t file, const std::string& path, hid_t type, std::vector<hsize_t> dims, const void* fill,
+                           const std::string& units, const std::string& description) {
     create_dataset(file, path, type, std::move(dims), fill, units, description);
 }
 
-void create_unfilled_dataset(hid_t file, const std::string& path, hid_t type,
-                             std::vector<hsize_t> dims, const std::string& units,
-                             const std::string& description) {
+void create_unfilled_dataset(hid_t file, const std::string& path, hid_t type, std::vector<hsize_t> dims,
+                             const std::string& units, const std::string& description) {
     create_dataset(file, path, type, std::move(dims), nullptr, units, description);
 }
 
@@ -191,28 +180,24 @@ Selection select_block(hid_t file, const std::string& path, const std::vector<hs
     Selection s;
     s.set = Handle(H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose, "open " + path);
     s.space = Handle(H5Dget_space(s.set.get()), H5Sclose, "dataspace of " + path);
-    check(H5Sselect_hyperslab(s.space.get(), H5S_SELECT_SET, start.data(), nullptr, count.data(),
-                              nullptr),
+    check(H5Sselect_hyperslab(s.space.get(), H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr),
           "select in " + path);
-    s.mem = Handle(H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr),
-                   H5Sclose, "memory space");
+    s.mem = Handle(H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr), H5Sclose, "memory space");
     return s;
 }
-} // namespace
+}  // namespace
 
 void write_block(hid_t file, const std::string& path, hid_t memtype, std::vector<hsize_t> start,
                  std::vector<hsize_t> count, const void* data, hid_t dxpl) {
     Selection s = select_block(file, path, start, count);
-    check(H5Dwrite(s.set.get(), memtype, s.mem.get(), s.space.get(), dxpl, data),
-          "write " + path);
+    check(H5Dwrite(s.set.get(), memtype, s.mem.get(), s.space.get(), dxpl, data), "write " + path);
     s.set.close(path);
 }
 
 void read_block(hid_t file, const std::string& path, hid_t memtype, std::vector<hsize_t> start,
                 std::vector<hsize_t> count, void* data, hid_t dxpl) {
     Selection s = select_block(file, path, start, count);
-    check(H5Dread(s.set.get(), memtype, s.mem.get(), s.space.get(), dxpl, data),
-          "read " + path);
+    check(H5Dread(s.set.get(), memtype, s.mem.get(), s.space.get(), dxpl, data), "read " + path);
 }
 
 std::vector<hsize_t> dataset_shape(hid_t file, const std::string& path) {
@@ -236,4 +221,4 @@ bool exists(hid_t file, const std::string& path) {
     }
 }
 
-} // namespace jamsim::h5
+}  // namespace jamsim::h5

@@ -14,7 +14,7 @@ namespace jamsim {
 
 namespace {
 std::string show(double v) { return show_value(v); }
-} // namespace
+}  // namespace
 
 namespace {
 /// The cell scaled affinely to phi (positions and side) when it is at another packing
@@ -30,10 +30,11 @@ void scale_to_phi(Particles& q, double& side, double phi) {
         side = target;
     }
 }
-} // namespace
+}  // namespace
 
 InitialStates::InitialStates(const std::string& source) : source_(source) {
-    const std::string allowed = "[run] initial = \"" + source + "\" is not allowed: a jamsim campaign archive or a "
+    const std::string allowed = "[run] initial = \"" + source +
+                                "\" is not allowed: a jamsim campaign archive or a "
                                 "LAMMPS data file (";
     try {
         if (!is_hdf5_file(source)) {
@@ -44,9 +45,7 @@ InitialStates::InitialStates(const std::string& source) : source_(source) {
             fingerprint_ = d.value();
             return;
         }
-    } catch (const LammpsDataError& e) {
-        throw InitialStateError(allowed + e.what() + ")");
-    }
+    } catch (const LammpsDataError& e) { throw InitialStateError(allowed + e.what() + ")"); }
     h5::quiet_errors();
     try {
         const h5::Handle f = h5::open_unlocked_readonly(source);
@@ -59,9 +58,7 @@ InitialStates::InitialStates(const std::string& source) : source_(source) {
         fingerprint_ = d.value();
         if (H5Lexists(f.get(), "/replicas/size_ratio", H5P_DEFAULT) > 0)
             size_ratio_ = h5::read_dataset(f.get(), "/replicas/size_ratio");
-    } catch (const h5::Error& e) {
-        throw InitialStateError(allowed + e.what() + ")");
-    }
+    } catch (const h5::Error& e) { throw InitialStateError(allowed + e.what() + ")"); }
 }
 
 std::int64_t InitialStates::match(const ReplicaParams& p, std::int64_t id) const {
@@ -80,9 +77,7 @@ std::int64_t InitialStates::find(const ReplicaParams& p, std::int64_t id) const 
     if (lammps_) {
         try {
             (void)system_from_lammps_data(*lammps_, source_, p.n, p.size_ratio);
-        } catch (const LammpsDataError& e) {
-            throw InitialStateError(where + e.what());
-        }
+        } catch (const LammpsDataError& e) { throw InitialStateError(where + e.what()); }
         return 0;
     }
     if (p.initial_match == "id") {
@@ -90,11 +85,10 @@ std::int64_t InitialStates::find(const ReplicaParams& p, std::int64_t id) const 
             throw InitialStateError(where + "no replica " + std::to_string(id) + " (it has " +
                                     std::to_string(status_.size()) + ")");
         const auto k = static_cast<std::size_t>(id);
-        if (status_[k] != 2)
-            throw InitialStateError(where + "replica " + std::to_string(id) + " is not finished");
+        if (status_[k] != 2) throw InitialStateError(where + "replica " + std::to_string(id) + " is not finished");
         if (n_[k] != static_cast<double>(p.n))
-            throw InitialStateError(where + "replica " + std::to_string(id) + " has N = " + show(n_[k]) +
-                                    ", replica " + std::to_string(id) + " here N = " + std::to_string(p.n));
+            throw InitialStateError(where + "replica " + std::to_string(id) + " has N = " + show(n_[k]) + ", replica " +
+                                    std::to_string(id) + " here N = " + std::to_string(p.n));
         return id;
     }
     std::int64_t found = -1;
@@ -107,8 +101,8 @@ std::int64_t InitialStates::find(const ReplicaParams& p, std::int64_t id) const 
         found = static_cast<std::int64_t>(k);
     }
     if (found < 0 || status_[static_cast<std::size_t>(found)] != 2)
-        throw InitialStateError(where + "no finished replica with N = " + std::to_string(p.n) + ", phi = " +
-                                show(p.phi) + ", seed = " + std::to_string(p.seed));
+        throw InitialStateError(where + "no finished replica with N = " + std::to_string(p.n) +
+                                ", phi = " + show(p.phi) + ", seed = " + std::to_string(p.seed));
     return found;
 }
 
@@ -128,8 +122,8 @@ System InitialStates::load(const ReplicaParams& p, std::int64_t id) const {
     h5::quiet_errors();
     try {
         const h5::Handle f = h5::open_unlocked_readonly(source_);
-        FinalConfiguration c = read_final_configuration(f.get(), static_cast<std::int64_t>(k),
-                                                         static_cast<std::int64_t>(n));
+        FinalConfiguration c =
+            read_final_configuration(f.get(), static_cast<std::int64_t>(k), static_cast<std::int64_t>(n));
         Particles q;
         q.resize(n);
         q.x = std::move(c.x);
@@ -154,7 +148,7 @@ System InitialStates::load(const ReplicaParams& p, std::int64_t id) const {
     }
 }
 
-} // namespace jamsim
+}  // namespace jamsim
 
 namespace jamsim {
 
@@ -174,21 +168,24 @@ std::string InitialStates::changed_since(const std::vector<ReplicaParams>& repli
     std::string changed;
     int listed = 0, count = 0;
     for (std::size_t id = 0; id < replicas.size() && id < recorded_source.size() && id < recorded_state.size(); ++id) {
-        if (recorded_source[id] == 0 || recorded_source[id] == fingerprint_) continue;  // not started, or the same source
+        if (recorded_source[id] == 0 || recorded_source[id] == fingerprint_)
+            continue;  // not started, or the same source
         std::uint64_t now = 0;
         try {
             now = digest(load(replicas[id], static_cast<std::int64_t>(id)));
-        } catch (const InitialStateError&) {
-        }
+        } catch (const InitialStateError&) {}
         if (now == recorded_state[id]) continue;  // the source changed elsewhere
         ++count;
         if (listed++ < 5) changed += (changed.empty() ? "" : ", ") + std::to_string(id);
     }
     if (count == 0) return "";
-    return "[run] initial = \"" + source_ + "\" has changed since this archive's replicas started from it: the state that " +
-           "started replica" + (count > 1 ? "s " : " ") + changed + (count > listed ? " and " + std::to_string(count - listed) + " more" : "") +
-           " is not in it any more (the source was extended, rerun or replaced); running on would mix starting states in " +
+    return "[run] initial = \"" + source_ +
+           "\" has changed since this archive's replicas started from it: the state that " + "started replica" +
+           (count > 1 ? "s " : " ") + changed +
+           (count > listed ? " and " + std::to_string(count - listed) + " more" : "") +
+           " is not in it any more (the source was extended, rerun or replaced); running on would mix starting states "
+           "in " +
            "one campaign: restore the source, or run this campaign into a new output";
 }
 
-} // namespace jamsim
+}  // namespace jamsim

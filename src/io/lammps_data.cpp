@@ -76,7 +76,7 @@ bool starts_numeric(std::string_view s) {
     return !s.empty() && (std::isdigit(static_cast<unsigned char>(s[0])) || s[0] == '-' || s[0] == '+' || s[0] == '.');
 }
 
-} // namespace
+}  // namespace
 
 void write_lammps_data(const std::string& path, const FinalConfiguration& c, const std::string& title) {
     std::FILE* raw = std::fopen(path.c_str(), "w");
@@ -89,8 +89,8 @@ void write_lammps_data(const std::string& path, const FinalConfiguration& c, con
     // xy such that the reader's xy / L is γ bitwise (where a double does it).
     const double xy = recoverable(gamma * L, gamma, [L](double v) { return v / L; });
     bool ok = std::fprintf(out.get(), "%s\n\n%zu atoms\n2 atom types\n\n", head.c_str(), n) > 0;
-    ok = ok && std::fprintf(out.get(), "0 %.17g xlo xhi\n0 %.17g ylo yhi\n-0.5 0.5 zlo zhi\n%.17g 0 0 xy xz yz\n\n",
-                            L, L, xy) > 0;
+    ok = ok && std::fprintf(out.get(), "0 %.17g xlo xhi\n0 %.17g ylo yhi\n-0.5 0.5 zlo zhi\n%.17g 0 0 xy xz yz\n\n", L,
+                            L, xy) > 0;
     ok = ok && std::fprintf(out.get(), "Atoms # sphere\n\n") > 0;
     const double small = n > 0 ? *std::min_element(c.diameter.begin(), c.diameter.end()) : 1.0;
     for (std::size_t i = 0; i < n && ok; ++i) {
@@ -152,13 +152,23 @@ LammpsData read_lammps_data(const std::string& path) {
                     throw LammpsDataError(where(line_no) + "atom types = " + std::string(f[0]) + ": a count >= 1");
                 d.atom_types = count;
                 have_types = true;
-            } else if (f.size() == 4 && (keyword(2) == "xlo xhi" || keyword(2) == "ylo yhi" || keyword(2) == "zlo zhi")) {
+            } else if (f.size() == 4 &&
+                       (keyword(2) == "xlo xhi" || keyword(2) == "ylo yhi" || keyword(2) == "zlo zhi")) {
                 double lo = 0, hi = 0;
                 if (!to_double(f[0], lo) || !to_double(f[1], hi) || !(hi > lo))
                     throw LammpsDataError(where(line_no) + "'" + std::string(text) + "': two numbers lo < hi");
-                if (f[2] == "xlo") { d.xlo = lo; d.xhi = hi; have_x = true; }
-                else if (f[2] == "ylo") { d.ylo = lo; d.yhi = hi; have_y = true; }
-                else { d.zlo = lo; d.zhi = hi; }
+                if (f[2] == "xlo") {
+                    d.xlo = lo;
+                    d.xhi = hi;
+                    have_x = true;
+                } else if (f[2] == "ylo") {
+                    d.ylo = lo;
+                    d.yhi = hi;
+                    have_y = true;
+                } else {
+                    d.zlo = lo;
+                    d.zhi = hi;
+                }
             } else if (f.size() == 6 && keyword(3) == "xy xz yz") {
                 if (!to_double(f[0], d.xy) || !to_double(f[1], d.xz) || !to_double(f[2], d.yz))
                     throw LammpsDataError(where(line_no) + "'" + std::string(text) + "': three numbers");
@@ -169,21 +179,23 @@ LammpsData read_lammps_data(const std::string& path) {
         if (section != "Atoms") continue;  // Masses, Velocities, Pair Coeffs, ...: not needed
         if (d.atom_style.empty()) {
             const std::string hint = fields(style_hint).empty() ? "" : std::string(fields(style_hint)[0]);
-            if (hint == "sphere" || hint == "atomic") d.atom_style = hint;
+            if (hint == "sphere" || hint == "atomic")
+                d.atom_style = hint;
             else if (!hint.empty())
                 throw LammpsDataError(where(line_no) + "Atoms # " + hint +
                                       ": atom_style sphere (id type diameter density x y z) or atomic (id type x y z)");
-            else if (f.size() == 5 || f.size() == 8) d.atom_style = "atomic";
-            else d.atom_style = "sphere";
+            else if (f.size() == 5 || f.size() == 8)
+                d.atom_style = "atomic";
+            else
+                d.atom_style = "sphere";
         }
         const bool sphere = d.atom_style == "sphere";
         const std::size_t columns = sphere ? 7 : 5;
         if (f.size() != columns && f.size() != columns + 3)
-            throw LammpsDataError(where(line_no) + "an Atoms line of " + std::to_string(f.size()) +
-                                  " fields: atom_style " + d.atom_style + " has " +
-                                  (sphere ? "id type diameter density x y z" : "id type x y z") + " (" +
-                                  std::to_string(columns) + ", or " + std::to_string(columns + 3) +
-                                  " with image flags)");
+            throw LammpsDataError(
+                where(line_no) + "an Atoms line of " + std::to_string(f.size()) + " fields: atom_style " +
+                d.atom_style + " has " + (sphere ? "id type diameter density x y z" : "id type x y z") + " (" +
+                std::to_string(columns) + ", or " + std::to_string(columns + 3) + " with image flags)");
         std::int64_t id = 0, type = 0;
         double diameter = 0, density = 0, x = 0, y = 0, z = 0;
         const std::size_t p = sphere ? 4 : 2;
@@ -200,10 +212,10 @@ LammpsData read_lammps_data(const std::string& path) {
     }
     if (in.bad()) throw LammpsDataError("'" + path + "' cannot be read");
     if (!have_atoms || !have_types || !have_x || !have_y)
-        throw LammpsDataError("'" + path + "' is not a LAMMPS data file: its header needs 'N atoms', 'N atom types', "
+        throw LammpsDataError("'" + path +
+                              "' is not a LAMMPS data file: its header needs 'N atoms', 'N atom types', "
                               "'xlo xhi' and 'ylo yhi'");
-    if (!sections_seen.count("Atoms"))
-        throw LammpsDataError("'" + path + "' has no Atoms section");
+    if (!sections_seen.count("Atoms")) throw LammpsDataError("'" + path + "' has no Atoms section");
     if (static_cast<std::int64_t>(d.id.size()) != d.atoms)
         throw LammpsDataError("'" + path + "': the header says " + std::to_string(d.atoms) +
                               " atoms, the Atoms section has " + std::to_string(d.id.size()));
@@ -213,8 +225,8 @@ LammpsData read_lammps_data(const std::string& path) {
 System system_from_lammps_data(const LammpsData& d, const std::string& path, std::int64_t n, double size_ratio) {
     const std::string file = "'" + path + "'";
     if (d.atoms != n)
-        throw LammpsDataError(file + " has " + std::to_string(d.atoms) + " atoms: the replica has N = " +
-                              std::to_string(n) + " (a file of N atoms)");
+        throw LammpsDataError(file + " has " + std::to_string(d.atoms) +
+                              " atoms: the replica has N = " + std::to_string(n) + " (a file of N atoms)");
     {
         std::vector<std::int64_t> ids = d.id;
         std::sort(ids.begin(), ids.end());
@@ -225,9 +237,8 @@ System system_from_lammps_data(const LammpsData& d, const std::string& path, std
     {  // two disks at one spot: an infinite-looking force the first step could only call unstable
         std::vector<std::size_t> at(d.id.size());
         std::iota(at.begin(), at.end(), std::size_t{0});
-        std::sort(at.begin(), at.end(), [&](std::size_t a, std::size_t b) {
-            return d.x[a] != d.x[b] ? d.x[a] < d.x[b] : d.y[a] < d.y[b];
-        });
+        std::sort(at.begin(), at.end(),
+                  [&](std::size_t a, std::size_t b) { return d.x[a] != d.x[b] ? d.x[a] < d.x[b] : d.y[a] < d.y[b]; });
         for (std::size_t k = 1; k < at.size(); ++k)
             if (d.x[at[k]] == d.x[at[k - 1]] && d.y[at[k]] == d.y[at[k - 1]])
                 throw LammpsDataError(file + ": atoms " + std::to_string(d.id[at[k - 1]]) + " and " +
@@ -238,8 +249,8 @@ System system_from_lammps_data(const LammpsData& d, const std::string& path, std
     for (std::size_t i = 0; i < d.id.size(); ++i) {
         if (d.type[i] != 1 && d.type[i] != 2)
             throw LammpsDataError(file + ": atom " + std::to_string(d.id[i]) + " has type " +
-                                  std::to_string(d.type[i]) + ": types 1 (small, d = 1) and 2 (large, d = size_ratio = " +
-                                  show(size_ratio) + ")");
+                                  std::to_string(d.type[i]) +
+                                  ": types 1 (small, d = 1) and 2 (large, d = size_ratio = " + show(size_ratio) + ")");
         if (d.type[i] == 1) ++small_count;
         if (!d.diameter.empty()) {
             const double expected = d.type[i] == 1 ? 1.0 : size_ratio;
@@ -247,7 +258,8 @@ System system_from_lammps_data(const LammpsData& d, const std::string& path, std
                 throw LammpsDataError(file + ": atom " + std::to_string(d.id[i]) + " of type " +
                                       std::to_string(d.type[i]) + " has diameter " + show(d.diameter[i]) +
                                       ": type 1 is the small disk (diameter 1) and type 2 the large one (diameter "
-                                      "size_ratio = " + show(size_ratio) +
+                                      "size_ratio = " +
+                                      show(size_ratio) +
                                       "); each type has one diameter and the two types do not overlap");
         }
     }
@@ -302,4 +314,4 @@ bool is_hdf5_file(const std::string& path) {
     return in.gcount() == 8 && std::equal(head, head + 8, kSignature);
 }
 
-} // namespace jamsim
+}  // namespace jamsim

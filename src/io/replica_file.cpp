@@ -51,10 +51,9 @@ void write_final(hid_t root, const System& sys) {
     g.close("group final");
 }
 
-} // namespace
+}  // namespace
 
-void write_replica_file(const std::string& path, const ReplicaParams& params,
-                        const ReplicaResult& result) {
+void write_replica_file(const std::string& path, const ReplicaParams& params, const ReplicaResult& result) {
     h5::quiet_errors();
     const std::string tmp = path + ".tmp";
     try {
@@ -63,8 +62,7 @@ void write_replica_file(const std::string& path, const ReplicaParams& params,
         write_params(root, params);
         h5::write_attribute(root, "code_version", std::string(kVersion));
         h5::write_attribute(root, "build_flags", std::string(kBuildFlags));
-        h5::write_attribute(root, "mean_pressure",
-                            mean_after(result.series, &Sample::pressure, params.transient));
+        h5::write_attribute(root, "mean_pressure", mean_after(result.series, &Sample::pressure, params.transient));
         h5::write_attribute(root, "mean_shear_stress",
                             mean_after(result.series, &Sample::shear_stress, params.transient));
         h5::write_attribute(root, "force_evaluations", result.force_evaluations);
@@ -73,8 +71,7 @@ void write_replica_file(const std::string& path, const ReplicaParams& params,
         {
             auto ts = h5::create_group(root, "timeseries");
             for (const auto& c : kSampleColumns)
-                h5::write_dataset(ts.get(), c.name, result.series.column(c.member), c.units,
-                                  c.description);
+                h5::write_dataset(ts.get(), c.name, result.series.column(c.member), c.units, c.description);
             ts.close("group timeseries");
         }
         write_final(root, result.final_state);
@@ -97,4 +94,4 @@ void write_replica_file(const std::string& path, const ReplicaParams& params,
     }
 }
 
-} // namespace jamsim
+}  // namespace jamsim

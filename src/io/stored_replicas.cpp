@@ -16,7 +16,7 @@ std::vector<double> column_or_nan(hid_t f, const std::string& name, std::size_t 
     if (exists > 0) return h5::read_dataset(f, "/replicas/" + name);
     return std::vector<double>(replicas, std::nan(""));
 }
-} // namespace
+}  // namespace
 
 const char* status_word(int status) {
     switch (status) {
@@ -67,8 +67,14 @@ FinalConfiguration read_final_configuration(hid_t archive, std::int64_t id, std:
 StoredReplica StoredReplicas::read(std::int64_t id) const {
     const auto k = static_cast<std::size_t>(id);
     const auto kk = static_cast<hsize_t>(id);
-    StoredReplica out{.id = id, .model = model_, .n = n_.at(k), .phi = phi_[k], .rate = rate_[k],
-                      .seed = seed_[k], .size_ratio = size_ratio_[k], .final = {}};
+    StoredReplica out{.id = id,
+                      .model = model_,
+                      .n = n_.at(k),
+                      .phi = phi_[k],
+                      .rate = rate_[k],
+                      .seed = seed_[k],
+                      .size_ratio = size_ratio_[k],
+                      .final = {}};
     const auto n = static_cast<hsize_t>(n_[k]);
     h5::quiet_errors();
     const h5::Handle f = h5::open_unlocked_readonly(path_);
@@ -77,10 +83,12 @@ StoredReplica StoredReplicas::read(std::int64_t id) const {
     if (!(samples >= 1)) throw h5::Error("replica " + std::to_string(id) + " of '" + path_ + "' has no rows");
     const auto last = static_cast<hsize_t>(samples) - 1;
     for (const auto& [name, v] : {std::pair{"energy_per_particle", &out.energy_per_particle},
-                                  {"pressure", &out.pressure}, {"shear_stress", &out.shear_stress},
-                                  {"strain", &out.strain}, {"time", &out.time}})
+                                  {"pressure", &out.pressure},
+                                  {"shear_stress", &out.shear_stress},
+                                  {"strain", &out.strain},
+                                  {"time", &out.time}})
         h5::read_block(f.get(), std::string("/timeseries/") + name, H5T_NATIVE_DOUBLE, {kk, last}, {1, 1}, v);
     return out;
 }
 
-} // namespace jamsim
+}  // namespace jamsim

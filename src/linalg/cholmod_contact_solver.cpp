@@ -14,22 +14,18 @@ struct CholmodContactSolver::Impl {
     double delta, rtol;
     std::size_t version = static_cast<std::size_t>(-1);
     std::vector<double> residual;  // scratch of the residual check
-    Impl(std::size_t n, double d, CholmodUpdatedFactor::Ordering o, double r)
-        : factor(n, d, o), delta(d), rtol(r) {}
+    Impl(std::size_t n, double d, CholmodUpdatedFactor::Ordering o, double r) : factor(n, d, o), delta(d), rtol(r) {}
 
-    void solve(std::span<const double> bx, std::span<const double> by, std::span<double> ux,
-               std::span<double> uy) {
+    void solve(std::span<const double> bx, std::span<const double> by, std::span<double> ux, std::span<double> uy) {
         factor.solve(bx.data(), by.data(), ux.data(), uy.data());
     }
     /// The backend's solve (CholmodContactSolver::solve adds the factor's timings).
     SolveInfo run(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,
-                  std::size_t pattern_version, std::span<const std::int32_t> labels,
-                  std::span<const double> b_x, std::span<const double> b_y, std::span<double> u_x,
-                  std::span<double> u_y);
+                  std::size_t pattern_version, std::span<const std::int32_t> labels, std::span<const double> b_x,
+                  std::span<const double> b_y, std::span<double> u_x, std::span<double> u_y);
 };
 
-CholmodContactSolver::CholmodContactSolver(std::size_t n, double delta, Ordering ordering,
-                                           double rtol)
+CholmodContactSolver::CholmodContactSolver(std::size_t n, double delta, Ordering ordering, double rtol)
     : impl_(new Impl(n, delta,
                      ordering == Ordering::metis ? CholmodUpdatedFactor::Ordering::metis
                                                  : CholmodUpdatedFactor::Ordering::amd,
@@ -37,22 +33,17 @@ CholmodContactSolver::CholmodContactSolver(std::size_t n, double delta, Ordering
 
 CholmodContactSolver::~CholmodContactSolver() = default;
 
-SolveInfo CholmodContactSolver::solve(std::span<const ContactPair> pairs,
-                                      std::span<const std::uint8_t> in_contact,
-                                      std::size_t pattern_version,
-                                    std::span<const std::int32_t> labels, std::span<const double> b_x,
-                                      std::span<const double> b_y, std::span<double> u_x,
+SolveInfo CholmodContactSolver::solve(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,
+                                      std::size_t pattern_version, std::span<const std::int32_t> labels,
+                                      std::span<const double> b_x, std::span<const double> b_y, std::span<double> u_x,
                                       std::span<double> u_y) {
     Impl& m = *impl_;
-    return with_factor_timings(&m.factor, [&] {
-        return m.run(pairs, in_contact, pattern_version, labels, b_x, b_y, u_x, u_y);
-    });
+    return with_factor_timings(&m.factor,
+                               [&] { return m.run(pairs, in_contact, pattern_version, labels, b_x, b_y, u_x, u_y); });
 }
 
-SolveInfo CholmodContactSolver::Impl::run(std::span<const ContactPair> pairs,
-                                          std::span<const std::uint8_t> in_contact,
-                                          std::size_t pattern_version,
-                                          std::span<const std::int32_t> labels,
+SolveInfo CholmodContactSolver::Impl::run(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,
+                                          std::size_t pattern_version, std::span<const std::int32_t> labels,
                                           std::span<const double> b_x, std::span<const double> b_y,
                                           std::span<double> u_x, std::span<double> u_y) {
     Impl& m = *this;
@@ -65,9 +56,7 @@ SolveInfo CholmodContactSolver::Impl::run(std::span<const ContactPair> pairs,
         info.factor_updates = m.factor.follow(pairs, in_contact);
         m.solve(b_x, b_y, u_x, u_y);
         if (info.factor_updates == 0 && !info.relabelled) return info;
-        if (contact_residual_within(b_x, b_y, u_x, u_y, m.delta, m.factor.contacts(), m.rtol,
-                                    m.residual))
-            return info;
+        if (contact_residual_within(b_x, b_y, u_x, u_y, m.delta, m.factor.contacts(), m.rtol, m.residual)) return info;
     }
     m.factor.factorize(pairs, in_contact);
     m.solve(b_x, b_y, u_x, u_y);
@@ -76,4 +65,4 @@ SolveInfo CholmodContactSolver::Impl::run(std::span<const ContactPair> pairs,
     return info;
 }
 
-} // namespace jamsim::linalg
+}  // namespace jamsim::linalg

@@ -8,11 +8,10 @@ using factor_kernels::ScopeTimer;
 using factor_kernels::store;
 
 void CholmodUpdatedFactor::Impl::modify(bool update, std::span<const ContactPair> pairs,
-                                         const std::vector<std::size_t>& which) {
+                                        const std::vector<std::size_t>& which) {
     if (which.empty()) return;
     const std::size_t k = which.size();
-    cholmod_sparse* W = cholmod_allocate_sparse(static_cast<std::size_t>(n), k, 2 * k, 1, 1, 0,
-                                                CHOLMOD_REAL, &c);
+    cholmod_sparse* W = cholmod_allocate_sparse(static_cast<std::size_t>(n), k, 2 * k, 1, 1, 0, CHOLMOD_REAL, &c);
     if (!W) fail("cholmod_allocate_sparse");
     auto* Wp = static_cast<int*>(W->p);
     auto* Wi = static_cast<int*>(W->i);
@@ -89,8 +88,8 @@ void CholmodUpdatedFactor::analyse(std::span<const ContactPair> pairs) {
     for (const auto& p : pairs) ++count[static_cast<std::size_t>(std::min(p.i, p.j)) + 1];
     for (std::size_t j = 0; j < static_cast<std::size_t>(n); ++j) count[j + 1] += count[j] + 1;
     const std::size_t nnz = static_cast<std::size_t>(count.back());
-    m.A = cholmod_allocate_sparse(static_cast<std::size_t>(n), static_cast<std::size_t>(n), nnz, 1,
-                                  1, -1, CHOLMOD_REAL, &m.c);
+    m.A = cholmod_allocate_sparse(static_cast<std::size_t>(n), static_cast<std::size_t>(n), nnz, 1, 1, -1, CHOLMOD_REAL,
+                                  &m.c);
     if (!m.A) m.fail("cholmod_allocate_sparse");
     auto* Ap = static_cast<int*>(m.A->p);
     auto* Ai = static_cast<int*>(m.A->i);
@@ -119,8 +118,10 @@ void CholmodUpdatedFactor::analyse(std::span<const ContactPair> pairs) {
         for (std::size_t t = 0; t < col.size(); ++t) {
             const int s = Ap[j] + static_cast<int>(t);
             Ai[s] = col[t].first;
-            if (col[t].second == 0) m.diag_slot[static_cast<std::size_t>(j)] = s;
-            else m.pair_slot[static_cast<std::size_t>(col[t].second - 1)] = s;
+            if (col[t].second == 0)
+                m.diag_slot[static_cast<std::size_t>(j)] = s;
+            else
+                m.pair_slot[static_cast<std::size_t>(col[t].second - 1)] = s;
         }
     }
     m.L = cholmod_analyze(m.A, &m.c);
@@ -131,14 +132,12 @@ void CholmodUpdatedFactor::analyse(std::span<const ContactPair> pairs) {
     m.analysis_current = true;
 }
 
-bool CholmodUpdatedFactor::adopt(std::span<const ContactPair> pairs,
-                                 std::span<const std::int32_t> labels) {
+bool CholmodUpdatedFactor::adopt(std::span<const ContactPair> pairs, std::span<const std::int32_t> labels) {
     Impl& m = *impl_;
     const ScopeTimer timer(m.counts.upkeep_seconds, m.timing);
     m.analysis_current = false;
     const auto n = static_cast<std::size_t>(m.n);
-    if (!m.have_factor || labels.size() != n || m.labels.size() != n ||
-        m.fill() > kFillGrowth * m.fresh_fill) {
+    if (!m.have_factor || labels.size() != n || m.labels.size() != n || m.fill() > kFillGrowth * m.fresh_fill) {
         m.have_factor = false;
         m.labels.assign(labels.begin(), labels.end());
         return false;
@@ -150,7 +149,8 @@ bool CholmodUpdatedFactor::adopt(std::span<const ContactPair> pairs,
     std::vector<int> new_index(n, -1);  // by label
     for (std::size_t i = 0; i < n; ++i) {
         const auto label = static_cast<std::size_t>(labels[i]);
-        if (label >= n || new_index[label] >= 0) throw std::invalid_argument("CD0 CHOLMOD factor: labels are not a permutation");
+        if (label >= n || new_index[label] >= 0)
+            throw std::invalid_argument("CD0 CHOLMOD factor: labels are not a permutation");
         new_index[label] = static_cast<int>(i);
     }
     auto* perm = static_cast<int*>(m.L->Perm);
@@ -173,7 +173,7 @@ bool CholmodUpdatedFactor::adopt(std::span<const ContactPair> pairs,
         ++first[static_cast<std::size_t>(std::min(a, b)) + 1];
     }
     for (std::size_t d = 0; d < n; ++d) first[d + 1] += first[d];
-    std::vector<int> upper(held);        // the other disk of each grouped contact
+    std::vector<int> upper(held);          // the other disk of each grouped contact
     std::vector<std::size_t> which(held);  // and its place in `renamed`
     {
         std::vector<int> next(first.begin(), first.end() - 1);
@@ -209,8 +209,7 @@ bool CholmodUpdatedFactor::adopt(std::span<const ContactPair> pairs,
     return true;
 }
 
-void CholmodUpdatedFactor::factorize(std::span<const ContactPair> pairs,
-                                     std::span<const std::uint8_t> in_contact) {
+void CholmodUpdatedFactor::factorize(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact) {
     Impl& m = *impl_;
     const ScopeTimer timer(m.counts.upkeep_seconds, m.timing);
     if (!m.analysis_current) analyse(pairs);
@@ -232,8 +231,7 @@ void CholmodUpdatedFactor::factorize(std::span<const ContactPair> pairs,
     m.fresh_fill = m.fill();
 }
 
-int CholmodUpdatedFactor::follow(std::span<const ContactPair> pairs,
-                                 std::span<const std::uint8_t> in_contact) {
+int CholmodUpdatedFactor::follow(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact) {
     Impl& m = *impl_;
     const ScopeTimer timer(m.counts.upkeep_seconds, m.timing);
     m.formed.clear();
@@ -257,8 +255,10 @@ int CholmodUpdatedFactor::follow(std::span<const ContactPair> pairs,
     m.outside.clear();
     int a = 0, b = 0;
     for (const std::size_t k : m.formed) {
-        if (m.fits(pairs[k], a, b)) m.sweep_rows.emplace_back(a, b);
-        else m.outside.push_back(k);
+        if (m.fits(pairs[k], a, b))
+            m.sweep_rows.emplace_back(a, b);
+        else
+            m.outside.push_back(k);
     }
     const std::size_t n_up = m.sweep_rows.size();
     for (const std::size_t k : m.broken) {
@@ -314,7 +314,7 @@ void solve_one(const cholmod_factor& L, const int* pinv, const double* b, double
     for (int i = 0; i < n; ++i) u[i] = y[pinv[i]];
 }
 
-} // namespace
+}  // namespace
 
 void CholmodUpdatedFactor::solve(const double* b_x, const double* b_y, double* u_x, double* u_y) {
     // x = Pᵀ L⁻ᵀ D⁻¹ L⁻¹ P b on both right-hand sides at once: row r of `y` holds (x, y) as
@@ -394,4 +394,4 @@ void CholmodUpdatedFactor::solve(const double* b_x, const double* b_y, double* u
     }
 }
 
-} // namespace jamsim::linalg
+}  // namespace jamsim::linalg

@@ -104,4 +104,4 @@ template <class Run> SolveInfo with_factor_timings(const CholmodUpdatedFactor* f
     return info;
 }
 
-} // namespace jamsim::linalg
+}  // namespace jamsim::linalg

@@ -53,7 +53,7 @@ struct SweepColumns {
     // consecutive-row kernels (`consecutive_kernel`, `consecutive2_kernel`, chosen by vector
     // width), the other entries kBlock at a time (independent chains the processor overlaps).
     static constexpr int kBlock = 8;
-    static constexpr int kRank = 63;  // changes per sweep at most (bits of a 64-bit mask, less one)
+    static constexpr int kRank = 63;      // changes per sweep at most (bits of a 64-bit mask, less one)
     const char* vector_kernels = "sse2";  // the vectors of the kernels below
     ConsecutiveKernel consecutive_kernel = consecutive_sse2;
     Consecutive2Kernel consecutive2_kernel = consecutive2_sse2;
@@ -62,31 +62,38 @@ struct SweepColumns {
     // The second column of a pair (see `sweep`): its changes' coefficients.
     double step_p2[kRank], step_beta2[kRank];
     double* step_w2[kRank];
-    long block_updates = 0;  // entry updates (entries × changes) by the consecutive-row kernels
+    long block_updates = 0;      // entry updates (entries × changes) by the consecutive-row kernels
     bool failed = false;         // a downdate met a pivot that was not positive
     std::vector<int> slot_rows;  // a column's rows as places in the workspace
 
     /// A column's `count` changes (step_p, step_beta, step_w) on its entries l[0, len), whose
     /// workspace rows are `rows`.
     void apply_column(double* l, const int* rows, int len, int count) {
-        by_runs(rows, len, [&](int from, int to) {
-            const int k = consecutive_kernel(ColumnChanges{step_p, step_beta, step_w}, l + from, rows[from], to - from, count);
-            block_updates += static_cast<long>(k) * count;
-            return from + k;
-        }, [&](int from, int to) { apply_scattered(l + from, rows + from, to - from, count); });
+        by_runs(
+            rows, len,
+            [&](int from, int to) {
+                const int k = consecutive_kernel(ColumnChanges{step_p, step_beta, step_w}, l + from, rows[from],
+                                                 to - from, count);
+                block_updates += static_cast<long>(k) * count;
+                return from + k;
+            },
+            [&](int from, int to) { apply_scattered(l + from, rows + from, to - from, count); });
     }
 
     /// The two columns of a pair on the same rows (the second column's coefficients in
     /// step_p2, step_beta2; the same changes): per entry and change, the first column's step
     /// before the second's, as column after column.
     void apply_pair(double* l1, double* l2, const int* rows, int len, int count) {
-        by_runs(rows, len, [&](int from, int to) {
-            const int k = consecutive2_kernel(ColumnChanges{step_p, step_beta, step_w},
-                                              ColumnChanges{step_p2, step_beta2, step_w}, l1 + from, l2 + from,
-                                              rows[from], to - from, count);
-            block_updates += 2L * k * count;
-            return from + k;
-        }, [&](int from, int to) { apply_scattered2(l1 + from, l2 + from, rows + from, to - from, count); });
+        by_runs(
+            rows, len,
+            [&](int from, int to) {
+                const int k = consecutive2_kernel(ColumnChanges{step_p, step_beta, step_w},
+                                                  ColumnChanges{step_p2, step_beta2, step_w}, l1 + from, l2 + from,
+                                                  rows[from], to - from, count);
+                block_updates += 2L * k * count;
+                return from + k;
+            },
+            [&](int from, int to) { apply_scattered2(l1 + from, l2 + from, rows + from, to - from, count); });
     }
 
     /// A column's entries [0, len) split by their places in the workspace: runs of at least
@@ -99,7 +106,7 @@ struct SweepColumns {
     static constexpr int kMinRun = 8;
     template <class Whole, class Scattered>
     static void by_runs(const int* rows, int len, Whole&& whole, Scattered&& scattered) {
-        int rest = 0;  // entries from `rest` on are not done yet
+        int rest = 0;                                         // entries from `rest` on are not done yet
         if (len > 0 && rows[len - 1] - rows[0] == len - 1) {  // one run (places ascend): no scan
             rest = len >= kMinRun ? whole(0, len) : 0;
             if (len > rest) scattered(rest, len);
@@ -200,14 +207,14 @@ struct SweepColumns {
     }
 };
 
-} // namespace factor_kernels
+}  // namespace factor_kernels
 
 struct CholmodUpdatedFactor::Impl {
     using ScopeTimer = factor_kernels::ScopeTimer;
     int n = 0;
     double delta = 0;
     cholmod_common c{};
-    cholmod_sparse* A = nullptr;   // lower triangle (stype −1), pattern = candidate pairs
+    cholmod_sparse* A = nullptr;  // lower triangle (stype −1), pattern = candidate pairs
     cholmod_factor* L = nullptr;
     std::vector<int> diag_slot, pair_slot;  // positions in A->x
     std::vector<int> pinv;                  // pinv[i] = row of L holding original row i
@@ -222,8 +229,8 @@ struct CholmodUpdatedFactor::Impl {
         for (int j = 0; j < n; ++j) total += nz[j];
         return total;
     }
-    std::vector<std::uint8_t> factored;     // contact set the factor represents
-    std::vector<double> xy;                 // solve: the permuted right-hand sides, interleaved
+    std::vector<std::uint8_t> factored;  // contact set the factor represents
+    std::vector<double> xy;              // solve: the permuted right-hand sides, interleaved
     // Workspace of `sweep`: one column per change over the rows of the union of the changes'
     // elimination-tree paths, that union, and per column of L which changes pass through it.
     std::vector<double> w;
@@ -295,4 +302,4 @@ struct CholmodUpdatedFactor::Impl {
     void modify(bool update, std::span<const ContactPair> pairs, const std::vector<std::size_t>& which);
 };
 
-} // namespace jamsim::linalg
+}  // namespace jamsim::linalg

@@ -45,8 +45,8 @@ template <class V, int kVecs>
 /// in `second`, its workspaces those of `first`): per entry and change, the first column's
 /// step before the second's, as column after column.
 template <class V, int kVecs>
-[[gnu::always_inline]] inline int consecutive2_blocks(ColumnChanges first, ColumnChanges second, double* l1,
-                                                     double* l2, int row0, int len, int count) {
+[[gnu::always_inline]] inline int consecutive2_blocks(ColumnChanges first, ColumnChanges second, double* l1, double* l2,
+                                                      int row0, int len, int count) {
     constexpr int kWidth = static_cast<int>(sizeof(V) / sizeof(double));
     int k = 0;
     for (; k + kWidth * kVecs <= len; k += kWidth * kVecs) {
@@ -79,7 +79,6 @@ template <class V, int kVecs>
 #undef JAMSIM_LOAD
 #undef JAMSIM_STORE
 
-
 /// Blocks of kVecs vectors (16 rows), then a tier of half as many (8 rows): runs of 8 or more
 /// rows take these kernels (see by_runs).
 template <class V, int kVecs>
@@ -89,7 +88,7 @@ template <class V, int kVecs>
 }
 template <class V, int kVecs>
 [[gnu::always_inline]] inline int tiered_blocks2(ColumnChanges a, ColumnChanges b, double* l1, double* l2, int row0,
-                                                int len, int count) {
+                                                 int len, int count) {
     const int k = consecutive2_blocks<V, kVecs>(a, b, l1, l2, row0, len, count);
     return k + consecutive2_blocks<V, kVecs / 2>(a, b, l1 + k, l2 + k, row0 + k, len - k, count);
 }
@@ -116,7 +115,7 @@ __attribute__((target("avx512f"))) int consecutive_avx512(ColumnChanges c, doubl
     return tiered_blocks<Oct, 2>(c, l, row0, len, count);
 }
 __attribute__((target("avx512f"))) int consecutive2_avx512(ColumnChanges a, ColumnChanges b, double* l1, double* l2,
-                                                          int row0, int len, int count) {
+                                                           int row0, int len, int count) {
     return tiered_blocks2<Oct, 2>(a, b, l1, l2, row0, len, count);
 }
 #endif
@@ -136,4 +135,4 @@ WideKernels choose_kernels(CholmodUpdatedFactor::Vectors vectors) {
     return k;
 }
 
-} // namespace jamsim::linalg::factor_kernels
+}  // namespace jamsim::linalg::factor_kernels

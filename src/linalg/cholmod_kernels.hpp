@@ -43,4 +43,4 @@ struct WideKernels {
 };
 WideKernels choose_kernels(CholmodUpdatedFactor::Vectors vectors);
 
-} // namespace jamsim::linalg::factor_kernels
+}  // namespace jamsim::linalg::factor_kernels

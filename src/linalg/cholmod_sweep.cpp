@@ -8,7 +8,7 @@ using factor_kernels::ColumnChanges;
 
 template <int Second>
 [[gnu::always_inline]] inline int CholmodUpdatedFactor::Impl::column_pivots(int j, std::size_t slot, std::size_t slots,
-                                                                        double* alpha) {
+                                                                            double* alpha) {
     double* const ps = Second ? columns.step_p2 : columns.step_p;
     double* const betas = Second ? columns.step_beta2 : columns.step_beta;
     double** const ws = Second ? columns.step_w2 : columns.step_w;
@@ -108,7 +108,8 @@ void CholmodUpdatedFactor::Impl::sweep(std::span<const std::pair<int, int>> rows
                 int* slots_j = columns.slot_rows.data();
                 for (int e = 0; e < len2; ++e) slots_j[e] = slot_of[static_cast<std::size_t>(rows_j[e])];
                 double* l2 = Lx + Lp[j + 1] + 1;
-                if (count > 0 && count == count2 && std::equal(columns.step_w, columns.step_w + count, columns.step_w2)) {
+                if (count > 0 && count == count2 &&
+                    std::equal(columns.step_w, columns.step_w + count, columns.step_w2)) {
                     columns.apply_pair(l + 1, l2, slots_j, len2, count);
                     continue;
                 }
@@ -143,9 +144,8 @@ void CholmodUpdatedFactor::Impl::find_etree() {
     for (int j = 0; j + 1 < n; ++j) {
         const int len = Lnz[j] - 1;
         if (len < 2 || Li[Lp[j] + 1] != j + 1 || Lnz[j + 1] != len) continue;
-        nests_next[static_cast<std::size_t>(j)] =
-            std::equal(Li + Lp[j] + 2, Li + Lp[j] + 1 + len, Li + Lp[j + 1] + 1);
+        nests_next[static_cast<std::size_t>(j)] = std::equal(Li + Lp[j] + 2, Li + Lp[j] + 1 + len, Li + Lp[j + 1] + 1);
     }
 }
 
-} // namespace jamsim::linalg
+}  // namespace jamsim::linalg

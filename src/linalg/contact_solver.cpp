@@ -61,7 +61,7 @@ class SilencedStdout {
     int saved_ = -1;
 };
 
-} // namespace
+}  // namespace
 
 std::vector<std::string> petsc_option_names(const std::string& options) {
     std::vector<std::string> names;
@@ -98,15 +98,14 @@ std::string petsc_options_problem(const std::string& options) {
         double ux[] = {0.0, 0.0}, uy[] = {0.0, 0.0};
         solver.solve(pair, touching, 0, labels, bx, by, ux, uy);
         solver.solve(pair, apart, 0, labels, bx, by, ux, uy);
-    } catch (const std::runtime_error& e) {
-        return std::string("options PETSc accepts: ") + e.what();
-    }
+    } catch (const std::runtime_error& e) { return std::string("options PETSc accepts: ") + e.what(); }
     for (const auto& name : names) {
         PetscBool used = PETSC_FALSE;
         // The database keeps names without their leading dash.
         check(PetscOptionsUsed(nullptr, name.c_str() + 1, &used), "PetscOptionsUsed");
-        if (!used) return name + " is not used by the CD0 solver (PETSc KSP and PC with prefix -" +
-                          std::string(kPetscPrefix) + "; e.g. -cd0_ksp_type, -cd0_pc_type, -cd0_ksp_rtol)";
+        if (!used)
+            return name + " is not used by the CD0 solver (PETSc KSP and PC with prefix -" + std::string(kPetscPrefix) +
+                   "; e.g. -cd0_ksp_type, -cd0_pc_type, -cd0_ksp_rtol)";
     }
     return "";
 }
@@ -118,25 +117,21 @@ PetscScope::~PetscScope() {
     if (up && !down) PetscFinalize();
 }
 
-std::unique_ptr<ContactSolver> make_contact_solver(std::string_view backend, std::size_t n,
-                                                   double delta,
+std::unique_ptr<ContactSolver> make_contact_solver(std::string_view backend, std::size_t n, double delta,
                                                    const std::string& petsc_options) {
     backend = resolve_backend(backend, n);
     if (backend == "eigen") return std::make_unique<EigenContactSolver>(n, delta);
-    if (backend == "cholmod")
-        return std::make_unique<CholmodContactSolver>(n, delta);
+    if (backend == "cholmod") return std::make_unique<CholmodContactSolver>(n, delta);
     if (backend == "cholmod-amd")  // the ordering compared in jamsim_bench_cd0
         return std::make_unique<CholmodContactSolver>(n, delta, CholmodContactSolver::Ordering::amd);
-    if (backend == "petsc")
-        return std::make_unique<PetscContactSolver>(n, delta, petsc_options);
+    if (backend == "petsc") return std::make_unique<PetscContactSolver>(n, delta, petsc_options);
     throw std::invalid_argument("unknown CD0 solver '" + std::string(backend) +
                                 "' (known: auto, cholmod, petsc, eigen)");
 }
 
-bool contact_residual_within(std::span<const double> bx, std::span<const double> by,
-                             std::span<const double> ux, std::span<const double> uy, double delta,
-                             std::span<const ContactPair> contacts, double rtol,
-                             std::vector<double>& scratch) {
+bool contact_residual_within(std::span<const double> bx, std::span<const double> by, std::span<const double> ux,
+                             std::span<const double> uy, double delta, std::span<const ContactPair> contacts,
+                             double rtol, std::vector<double>& scratch) {
     // The residual of disk i as the pair (r_x, r_y) at scratch[2i]: a contact then updates
     // its two disks with one 16-byte load and store each, where separate x and y arrays took
     // two of each (the contacts' pass is most of the check). Every sum is taken in the same
@@ -175,4 +170,4 @@ bool contact_residual_within(std::span<const double> bx, std::span<const double>
     return r2[0] <= tol2 * b2x && r2[1] <= tol2 * b2y;
 }
 
-} // namespace jamsim::linalg
+}  // namespace jamsim::linalg

@@ -18,10 +18,10 @@ namespace {
 /// Hager 1999). The symbolic pattern was analysed for every candidate pair, so a change
 /// of contacts among them never needs fill outside it.
 struct UpdatableLdlt {
-    std::vector<int> perm;      // perm[i] = row of P A Pᵀ holding original row i
-    std::vector<int> Lp, Li;    // CSC of the strictly lower part of L
+    std::vector<int> perm;    // perm[i] = row of P A Pᵀ holding original row i
+    std::vector<int> Lp, Li;  // CSC of the strictly lower part of L
     std::vector<double> Lx, D;
-    std::vector<double> work;   // dense scratch, all zero between calls
+    std::vector<double> work;  // dense scratch, all zero between calls
     std::vector<int> path_a, path_b, path;
 
     template <class Ldlt> void copy_from(const Ldlt& ldlt) {
@@ -52,8 +52,7 @@ struct UpdatableLdlt {
         walk(a, path_a);
         walk(b, path_b);
         path.clear();
-        std::set_union(path_a.begin(), path_a.end(), path_b.begin(), path_b.end(),
-                       std::back_inserter(path));
+        std::set_union(path_a.begin(), path_a.end(), path_b.begin(), path_b.end(), std::back_inserter(path));
         work[static_cast<std::size_t>(a)] = 1.0;
         work[static_cast<std::size_t>(b)] = -1.0;
         double alpha = sigma;
@@ -114,7 +113,7 @@ struct UpdatableLdlt {
     std::vector<double> y2;  // interleaved (x, y) work vector in the permuted order
 };
 
-} // namespace
+}  // namespace
 
 struct EigenContactSolver::Impl {
     using Matrix = Eigen::SparseMatrix<double>;  // column-major; lower triangle is used
@@ -123,13 +122,13 @@ struct EigenContactSolver::Impl {
     double rtol;
     Matrix A;
     Eigen::SimplicialLDLT<Matrix, Eigen::Lower> ldlt;  // analysis and fresh factorisations
-    UpdatableLdlt factor;                               // the factor in use, kept up to date
+    UpdatableLdlt factor;                              // the factor in use, kept up to date
     std::size_t version = static_cast<std::size_t>(-1);
     std::vector<Eigen::Index> diag_slot, pair_slot;  // positions in A.valuePtr()
     std::vector<std::uint8_t> factored;              // contact set the factor represents
     bool have_factor = false;
     std::vector<ContactPair> contacts;  // current contacts, compacted for the residual check
-    std::vector<double> residual;  // scratch of the residual check
+    std::vector<double> residual;       // scratch of the residual check
 
     Eigen::Index slot(Eigen::Index row, Eigen::Index col) const {
         const auto* outer = A.outerIndexPtr();
@@ -170,8 +169,7 @@ struct EigenContactSolver::Impl {
             v[diag_slot[static_cast<std::size_t>(pairs[k].j)]] += c;
         }
         ldlt.factorize(A);
-        if (ldlt.info() != Eigen::Success)
-            throw std::runtime_error("CD0 Eigen solver: factorisation failed");
+        if (ldlt.info() != Eigen::Success) throw std::runtime_error("CD0 Eigen solver: factorisation failed");
         factor.copy_from(ldlt);
         factored.assign(in_contact.begin(), in_contact.end());
         have_factor = true;
@@ -179,14 +177,13 @@ struct EigenContactSolver::Impl {
 
     /// Whether ‖b − A u‖ ≤ rtol ‖b‖ for both right-hand sides and the current contacts:
     /// (A u)_i = δ u_i + Σ_{j in contact} (u_i − u_j).
-    bool converged(std::span<const double> bx, std::span<const double> by,
-                   std::span<const double> ux, std::span<const double> uy) {
+    bool converged(std::span<const double> bx, std::span<const double> by, std::span<const double> ux,
+                   std::span<const double> uy) {
         return contact_residual_within(bx, by, ux, uy, delta, contacts, rtol, residual);
     }
 };
 
-EigenContactSolver::EigenContactSolver(std::size_t n, double delta, double rtol)
-    : impl_(new Impl{}) {
+EigenContactSolver::EigenContactSolver(std::size_t n, double delta, double rtol) : impl_(new Impl{}) {
     impl_->n = static_cast<Eigen::Index>(n);
     impl_->delta = delta;
     impl_->rtol = rtol;
@@ -194,12 +191,9 @@ EigenContactSolver::EigenContactSolver(std::size_t n, double delta, double rtol)
 
 EigenContactSolver::~EigenContactSolver() = default;
 
-
-SolveInfo EigenContactSolver::solve(std::span<const ContactPair> pairs,
-                                    std::span<const std::uint8_t> in_contact,
-                                    std::size_t pattern_version,
-                                    std::span<const std::int32_t> labels, std::span<const double> b_x,
-                                    std::span<const double> b_y, std::span<double> u_x,
+SolveInfo EigenContactSolver::solve(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,
+                                    std::size_t pattern_version, std::span<const std::int32_t> labels,
+                                    std::span<const double> b_x, std::span<const double> b_y, std::span<double> u_x,
                                     std::span<double> u_y) {
     Impl& m = *impl_;
     (void)labels;  // the Eigen factor is rebuilt with the pattern
@@ -228,4 +222,4 @@ SolveInfo EigenContactSolver::solve(std::span<const ContactPair> pairs,
     return {0, 0, true, 0};
 }
 
-} // namespace jamsim::linalg
+}  // namespace jamsim::linalg

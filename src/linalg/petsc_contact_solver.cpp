@@ -17,27 +17,27 @@ using petsc::check;
 struct PetscContactSolver::Impl {
     PetscInt n = 0;  // disks: the KSP's system has 2n unknowns, u_x then u_y
     double delta = 0, rtol = 0;
-    Mat A = nullptr;            // diag(A_c, A_c), A_c the n × n contact matrix: SeqAIJ, or
-                                // with the default PC a MATSHELL over the current contacts
+    Mat A = nullptr;  // diag(A_c, A_c), A_c the n × n contact matrix: SeqAIJ, or
+                      // with the default PC a MATSHELL over the current contacts
     Vec b = nullptr, x = nullptr;
     KSP ksp = nullptr;
-    bool shell = false;         // the PC is the default one: the CHOLMOD factor below
+    bool shell = false;  // the PC is the default one: the CHOLMOD factor below
     std::unique_ptr<CholmodUpdatedFactor> factor;
-    std::string apply_error;    // an exception caught in the PC's apply, for the message
+    std::string apply_error;            // an exception caught in the PC's apply, for the message
     std::vector<std::string> inserted;  // options this solver put into PETSc's database
     KSPNormType norm_type = KSP_NORM_UNPRECONDITIONED;
 
     std::size_t version = static_cast<std::size_t>(-1);  // pattern the Mat was built for
-    std::vector<std::uint8_t> assembled;  // contact set the Mat holds
-    std::vector<int> contacts_of;         // per disk: contacts in `assembled`
+    std::vector<std::uint8_t> assembled;                 // contact set the Mat holds
+    std::vector<int> contacts_of;                        // per disk: contacts in `assembled`
     // Positions in the SeqAIJ value array (rows sorted by column), first half; the second
     // half's are `half` further on.
     std::vector<PetscInt> diag_slot, slot_ij, slot_ji;
     PetscInt half = 0;
-    bool factor_exact = false;  // the factor solves the Mat to round-off (fresh or verified)
-    double half_rtol = 0;       // the KSP's rtol (default or -cd0_ksp_rtol): each half's bound
+    bool factor_exact = false;     // the factor solves the Mat to round-off (fresh or verified)
+    double half_rtol = 0;          // the KSP's rtol (default or -cd0_ksp_rtol): each half's bound
     std::vector<double> residual;  // scratch of the residual check
-    bool refresh = true;        // factorise afresh (shell) / recompute the PC (others) next
+    bool refresh = true;           // factorise afresh (shell) / recompute the PC (others) next
     KSPConvergedReason last_reason = KSP_CONVERGED_ITERATING;  // of the last KSPSolve
 
     /// The default PC's apply, z = A⁻¹ r: one pass of the factor for both halves.
@@ -52,9 +52,7 @@ struct PetscContactSolver::Impl {
         if ((rc = VecGetArrayWrite(z, &out))) return rc;
         try {
             m->factor->solve(in, out);
-        } catch (const std::exception& e) {
-            m->apply_error = e.what();
-        }
+        } catch (const std::exception& e) { m->apply_error = e.what(); }
         if ((rc = VecRestoreArrayWrite(z, &out))) return rc;
         if ((rc = VecRestoreArrayRead(r, &in))) return rc;
         return m->apply_error.empty() ? PetscErrorCode(0) : PetscErrorCode(PETSC_ERR_LIB);
@@ -70,8 +68,7 @@ struct PetscContactSolver::Impl {
         check(PCSetType(pc, PCSHELL), "PCSetType");
         check(PCShellSetApply(pc, &Impl::apply), "PCShellSetApply");
         check(PCShellSetContext(pc, this), "PCShellSetContext");
-        check(PCShellSetName(pc, "CD0 contact matrix: CHOLMOD LDL^T updated as contacts change"),
-              "PCShellSetName");
+        check(PCShellSetName(pc, "CD0 contact matrix: CHOLMOD LDL^T updated as contacts change"), "PCShellSetName");
         // Converge on the true residual of the scaled system (each half of b has unit norm):
         // ‖r‖ ≤ rtol/√2 ‖b‖ gives ‖b_x − A u_x‖ ≤ rtol ‖b_x‖ and the same for y.
         check(KSPSetTolerances(ksp, rtol, 1e-30, PETSC_DEFAULT, 10000), "KSPSetTolerances");
@@ -81,7 +78,8 @@ struct PetscContactSolver::Impl {
         PetscReal given = 0;
         check(KSPGetTolerances(ksp, &given, nullptr, nullptr, nullptr), "KSPGetTolerances");
         half_rtol = given;
-        check(KSPSetTolerances(ksp, given / std::sqrt(2.0), PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT), "KSPSetTolerances");
+        check(KSPSetTolerances(ksp, given / std::sqrt(2.0), PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT),
+              "KSPSetTolerances");
         check(KSPGetPC(ksp, &pc), "KSPGetPC");
         PetscBool is_shell = PETSC_FALSE;
         check(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCSHELL, &is_shell), "PetscObjectTypeCompare");
@@ -151,8 +149,10 @@ struct PetscContactSolver::Impl {
             std::sort(rows[r].begin(), rows[r].end());
             for (const auto& [col, what] : rows[r]) {
                 const auto at = static_cast<PetscInt>(cols.size());
-                if (what < 0) diag_slot[r] = at;
-                else (what % 2 == 0 ? slot_ij : slot_ji)[static_cast<std::size_t>(what / 2)] = at;
+                if (what < 0)
+                    diag_slot[r] = at;
+                else
+                    (what % 2 == 0 ? slot_ij : slot_ji)[static_cast<std::size_t>(what / 2)] = at;
                 cols.push_back(col);
             }
             start[r + 1] = static_cast<PetscInt>(cols.size());
@@ -168,8 +168,7 @@ struct PetscContactSolver::Impl {
         check(MatSetSizes(A, 2 * n, 2 * n, 2 * n, 2 * n), "MatSetSizes");
         check(MatSetType(A, MATSEQAIJ), "MatSetType");
         // Explicit zeros for pairs not touching: the pattern holds every candidate pair.
-        check(MatSeqAIJSetPreallocationCSR(A, start.data(), cols.data(), zeros.data()),
-              "MatSeqAIJSetPreallocationCSR");
+        check(MatSeqAIJSetPreallocationCSR(A, start.data(), cols.data(), zeros.data()), "MatSeqAIJSetPreallocationCSR");
         check(KSPSetOperators(ksp, A, A), "KSPSetOperators");
         assembled.assign(pairs.size(), 0);
         contacts_of.assign(nn, 0);
@@ -183,7 +182,10 @@ struct PetscContactSolver::Impl {
         PetscScalar* v = nullptr;
         int changes = 0;
         check(MatSeqAIJGetArray(A, &v), "MatSeqAIJGetArray");
-        auto set = [&](PetscInt s, double value) { v[s] = value; v[s + half] = value; };
+        auto set = [&](PetscInt s, double value) {
+            v[s] = value;
+            v[s + half] = value;
+        };
         if (all) {
             for (std::size_t r = 0; r < diag_slot.size(); ++r) set(diag_slot[r], delta + contacts_of[r]);
         } else {
@@ -225,13 +227,11 @@ struct PetscContactSolver::Impl {
     }
     /// The backend's solve (PetscContactSolver::solve adds the factor's timings).
     SolveInfo run(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,
-                  std::size_t pattern_version, std::span<const std::int32_t> labels,
-                  std::span<const double> b_x, std::span<const double> b_y, std::span<double> u_x,
-                  std::span<double> u_y);
+                  std::size_t pattern_version, std::span<const std::int32_t> labels, std::span<const double> b_x,
+                  std::span<const double> b_y, std::span<double> u_x, std::span<double> u_y);
 };
 
-PetscContactSolver::PetscContactSolver(std::size_t n, double delta, const std::string& options,
-                                       double rtol)
+PetscContactSolver::PetscContactSolver(std::size_t n, double delta, const std::string& options, double rtol)
     : impl_(new Impl{}) {
     try {
         petsc::ensure_initialized();
@@ -264,24 +264,19 @@ PetscContactSolver::~PetscContactSolver() {
     impl_ = nullptr;
 }
 
-SolveInfo PetscContactSolver::solve(std::span<const ContactPair> pairs,
-                                    std::span<const std::uint8_t> in_contact,
-                                    std::size_t pattern_version,
-                                    std::span<const std::int32_t> labels, std::span<const double> b_x,
-                                    std::span<const double> b_y, std::span<double> u_x,
+SolveInfo PetscContactSolver::solve(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,
+                                    std::size_t pattern_version, std::span<const std::int32_t> labels,
+                                    std::span<const double> b_x, std::span<const double> b_y, std::span<double> u_x,
                                     std::span<double> u_y) {
     Impl& m = *impl_;
-    return with_factor_timings(m.factor.get(), [&] {
-        return m.run(pairs, in_contact, pattern_version, labels, b_x, b_y, u_x, u_y);
-    });
+    return with_factor_timings(m.factor.get(),
+                               [&] { return m.run(pairs, in_contact, pattern_version, labels, b_x, b_y, u_x, u_y); });
 }
 
-SolveInfo PetscContactSolver::Impl::run(std::span<const ContactPair> pairs,
-                                        std::span<const std::uint8_t> in_contact,
-                                        std::size_t pattern_version,
-                                        std::span<const std::int32_t> labels,
-                                        std::span<const double> b_x, std::span<const double> b_y,
-                                        std::span<double> u_x, std::span<double> u_y) {
+SolveInfo PetscContactSolver::Impl::run(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,
+                                        std::size_t pattern_version, std::span<const std::int32_t> labels,
+                                        std::span<const double> b_x, std::span<const double> b_y, std::span<double> u_x,
+                                        std::span<double> u_y) {
     Impl& m = *this;
     const auto nn = static_cast<std::size_t>(m.n);
     SolveInfo info;
@@ -308,8 +303,7 @@ SolveInfo PetscContactSolver::Impl::run(std::span<const ContactPair> pairs,
         }
         const int changes = m.write_values(pairs, in_contact, false);
         if (changes > 0 || m.refresh) {
-            check(KSPSetReusePreconditioner(m.ksp, m.refresh ? PETSC_FALSE : PETSC_TRUE),
-                  "KSPSetReusePreconditioner");
+            check(KSPSetReusePreconditioner(m.ksp, m.refresh ? PETSC_FALSE : PETSC_TRUE), "KSPSetReusePreconditioner");
             info.refactored = m.refresh;
             m.refresh = false;
         }
@@ -361,8 +355,8 @@ SolveInfo PetscContactSolver::Impl::run(std::span<const ContactPair> pairs,
         scale_system(true);
         its = m.run_ksp();
     }
-    if (check_here && !contact_residual_within(b_x, b_y, u_x, u_y, m.delta, m.factor->contacts(),
-                                               m.half_rtol, m.residual)) {
+    if (check_here &&
+        !contact_residual_within(b_x, b_y, u_x, u_y, m.delta, m.factor->contacts(), m.half_rtol, m.residual)) {
         // Refinement by the KSP from the factor's solution, scaled.
         scale_system(true);
         check(KSPSetInitialGuessNonzero(m.ksp, PETSC_TRUE), "KSPSetInitialGuessNonzero");
@@ -400,4 +394,4 @@ SolveInfo PetscContactSolver::Impl::run(std::span<const ContactPair> pairs,
     return info;
 }
 
-} // namespace jamsim::linalg
+}  // namespace jamsim::linalg

@@ -28,4 +28,4 @@ void ensure_initialized() {
     check(PetscPushErrorHandler(PetscReturnErrorHandler, nullptr), "PetscPushErrorHandler");
 }
 
-} // namespace jamsim::linalg::petsc
+}  // namespace jamsim::linalg::petsc

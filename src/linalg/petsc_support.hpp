@@ -18,4 +18,4 @@ inline void check(PetscErrorCode rc, const char* what) {
 /// Initialises PETSc on first use, on this process alone (each rank solves its own replicas).
 void ensure_initialized();
 
-} // namespace jamsim::linalg::petsc
+}  // namespace jamsim::linalg::petsc

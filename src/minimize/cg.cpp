@@ -36,8 +36,8 @@ double dot(std::span<const double> ax, std::span<const double> ay, std::span<con
 struct ForceSums {
     double ff = 0, fg = 0, fmax = 0;
 };
-ForceSums force_sums(std::span<const double> fx, std::span<const double> fy,
-                     std::span<const double> gx, std::span<const double> gy) {
+ForceSums force_sums(std::span<const double> fx, std::span<const double> fy, std::span<const double> gx,
+                     std::span<const double> gy) {
     return blocked_reduce<ForceSums>(
         fx.size(),
         [&](std::size_t lo, std::size_t hi) {
@@ -94,9 +94,7 @@ class ConjugateGradient final : public Minimizer {
   public:
     explicit ConjugateGradient(BetaRule rule) : rule_(rule) {}
 
-    std::string_view name() const override {
-        return rule_ == BetaRule::HybridHsDy ? "cg" : "cg-pr";
-    }
+    std::string_view name() const override { return rule_ == BetaRule::HybridHsDy ? "cg" : "cg-pr"; }
 
     MinimizeResult minimize(System& sys, ForceField& forces, const MinimizeCriteria& c) override {
         SplitPositions pos(sys, forces, c.split_positions);
@@ -141,7 +139,7 @@ class ConjugateGradient final : public Minimizer {
                 dmax = fmax;
             }
             if (dmax == 0.0) return settle(it);  // no force at all
-            std::swap(gx, p.fx);  // keep F_old; the line search refills p.fx
+            std::swap(gx, p.fx);                 // keep F_old; the line search refills p.fx
             std::swap(gy, p.fy);
             // First trial (Nocedal & Wright eq. 3.60): the same first-order decrease of the
             // energy as the last accepted step, s_prev φ'_prev(0) / φ'(0); at the start a
@@ -177,15 +175,14 @@ class ConjugateGradient final : public Minimizer {
     /// Moves the positions to the accepted step along d; `s` is the first trial on entry and
     /// the accepted step on return. Returns the tallied evaluation there.
     /// dmax: the largest component of d (> 0).
-    static ForceResult line_search(SplitPositions& pos, std::span<const double> dx,
-                                   std::span<const double> dy, double dmax, double slope0,
-                                   double& s, Tally tally, double& slope_end) {
+    static ForceResult line_search(SplitPositions& pos, std::span<const double> dx, std::span<const double> dy,
+                                   double dmax, double slope0, double& s, Tally tally, double& slope_end) {
         Particles& p = pos.system().particles;
         const double target = 0.1 * std::abs(slope0);
         const double cap = 0.1 / dmax;
-        double lo = 0.0, slope_lo = slope0;  // φ' < 0 at lo
-        double hi = -1.0, slope_hi = 0.0;    // φ' > 0 at hi, once found
-        double at = 0.0;                     // where the positions are now
+        double lo = 0.0, slope_lo = slope0;      // φ' < 0 at lo
+        double hi = -1.0, slope_hi = 0.0;        // φ' > 0 at hi, once found
+        double at = 0.0;                         // where the positions are now
         double prev = 0.0, slope_prev = slope0;  // the last trial, for the secant extrapolation
         ForceResult f;
         for (int k = 0; k < 60; ++k) {
@@ -225,7 +222,7 @@ class ConjugateGradient final : public Minimizer {
     BetaRule rule_;
 };
 
-} // namespace
+}  // namespace
 
 std::unique_ptr<Minimizer> make_conjugate_gradient() {
     return std::make_unique<ConjugateGradient>(BetaRule::HybridHsDy);
@@ -235,4 +232,4 @@ std::unique_ptr<Minimizer> make_polak_ribiere() {
     return std::make_unique<ConjugateGradient>(BetaRule::PolakRibierePlus);
 }
 
-} // namespace jamsim
+}  // namespace jamsim

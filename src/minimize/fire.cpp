@@ -39,8 +39,7 @@ class Fire final : public Minimizer {
                 if (stop != MinimizeOutcome::NotConverged) return summarize(pos, sys, f, stop, it);
             }
             const double fbar = pos.mean_contact_force(tallied);
-            if (it >= c.max_iterations || pos.stalled(fmax, fbar, c.stall_iterations) ||
-                negative > n_negative_max) {
+            if (it >= c.max_iterations || pos.stalled(fmax, fbar, c.stall_iterations) || negative > n_negative_max) {
                 if (!f.tallied) f = pos.evaluate(Tally::Full);
                 return summarize(pos, sys, f, MinimizeOutcome::NotConverged, it);
             }
@@ -87,7 +86,9 @@ class Fire final : public Minimizer {
                     }
                     return q;
                 },
-                [](const Squares& a, const Squares& b) { return Squares{a.vv + b.vv, a.ff + b.ff}; });
+                [](const Squares& a, const Squares& b) {
+                    return Squares{a.vv + b.vv, a.ff + b.ff};
+                });
             if (sq.ff > 0.0) {  // mix v towards the force direction
                 const double scale = alpha * std::sqrt(sq.vv / sq.ff);
                 parallel_for(n, [&](std::size_t i) {
@@ -102,8 +103,8 @@ class Fire final : public Minimizer {
     }
 };
 
-} // namespace
+}  // namespace
 
 std::unique_ptr<Minimizer> make_fire() { return std::make_unique<Fire>(); }
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -26,4 +26,4 @@ std::unique_ptr<Minimizer> make_minimizer(std::string_view name) {
     throw std::invalid_argument("unknown minimiser '" + std::string(name) + "': allowed cg, cg-pr, fire");
 }
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -35,8 +35,7 @@ SplitPositions::SplitPositions(System& sys, ForceField& forces, bool split)
     mean_diameter_ = p.size() ? sum / static_cast<double>(p.size()) : 1.0;
 }
 
-void SplitPositions::move(double s, std::span<const double> dx, std::span<const double> dy,
-                          double dmax) {
+void SplitPositions::move(double s, std::span<const double> dx, std::span<const double> dy, double dmax) {
     Particles& p = sys_.particles;
     const std::size_t n = size();
     // d is a lab-frame displacement (forces are lab-frame, so −F·d is the slope of the energy
@@ -65,8 +64,7 @@ void SplitPositions::move(double s, std::span<const double> dx, std::span<const 
             p.y[i] += s * dy[i];
         });
     }
-    if (dmax < 0.0)
-        dmax = parallel_max(n, [&](std::size_t i) { return std::max(std::abs(dx[i]), std::abs(dy[i])); });
+    if (dmax < 0.0) dmax = parallel_max(n, [&](std::size_t i) { return std::max(std::abs(dx[i]), std::abs(dy[i])); });
     // The lab displacement of disk i is s d_i: at most sqrt(2) |s| times the largest
     // component, with 1e-12 relative slack for the rounding of the sheared update.
     if (forces_.builds() != builds_seen_) {
@@ -79,12 +77,11 @@ void SplitPositions::move(double s, std::span<const double> dx, std::span<const 
 ForceResult SplitPositions::evaluate(Tally tally) {
     Particles& p = sys_.particles;
     ++evaluations_;
-    if (!split_)
-        return forces_.compute_at(sys_.box, p.x, p.y, p.diameter, p.fx, p.fy, tally);
+    if (!split_) return forces_.compute_at(sys_.box, p.x, p.y, p.diameter, p.fx, p.fy, tally);
     // The bound is only known for moves since the build this object has seen.
     const double bound = forces_.builds() == builds_seen_ ? moved_ : -1.0;
-    const ForceResult f = forces_.compute_split(sys_.box, p.x, p.y, base_x_, base_y_, off_x_, off_y_,
-                                                p.diameter, p.fx, p.fy, tally, bound);
+    const ForceResult f = forces_.compute_split(sys_.box, p.x, p.y, base_x_, base_y_, off_x_, off_y_, p.diameter, p.fx,
+                                                p.fy, tally, bound);
     if (forces_.builds() != builds_seen_) {  // rebuilt now: displacements count from here
         builds_seen_ = forces_.builds();
         moved_ = 0.0;
@@ -142,8 +139,8 @@ bool SplitPositions::stalled(double max_force, double mean_contact_force, std::i
     return ++since_best_ > window;
 }
 
-MinimizeResult summarize(const SplitPositions& pos, const System& sys, const ForceResult& f,
-                         MinimizeOutcome outcome, std::int64_t iterations) {
+MinimizeResult summarize(const SplitPositions& pos, const System& sys, const ForceResult& f, MinimizeOutcome outcome,
+                         std::int64_t iterations) {
     MinimizeResult r;
     r.outcome = outcome;
     r.iterations = iterations;
@@ -157,21 +154,19 @@ MinimizeResult summarize(const SplitPositions& pos, const System& sys, const For
     return r;
 }
 
-Tally tally_for(std::int64_t iteration, double max_force, double mean_contact_force,
-                const ForceResult& last_tallied, std::size_t disks, const MinimizeCriteria& c) {
-    const bool near =
-        max_force <= 100.0 * std::max(c.force_tol_abs, c.force_tol * mean_contact_force) ||
-        last_tallied.energy / static_cast<double>(disks) < 1e4 * c.energy_floor;
+Tally tally_for(std::int64_t iteration, double max_force, double mean_contact_force, const ForceResult& last_tallied,
+                std::size_t disks, const MinimizeCriteria& c) {
+    const bool near = max_force <= 100.0 * std::max(c.force_tol_abs, c.force_tol * mean_contact_force) ||
+                      last_tallied.energy / static_cast<double>(disks) < 1e4 * c.energy_floor;
     return near || iteration % 32 == 31 ? Tally::Full : Tally::ForcesOnly;
 }
 
 MinimizeOutcome check_stop(const SplitPositions& pos, const System& sys, const ForceResult& f,
                            const MinimizeCriteria& c, double fmax) {
-    if (f.energy / static_cast<double>(sys.particles.size()) < c.energy_floor)
-        return MinimizeOutcome::Unjammed;
+    if (f.energy / static_cast<double>(sys.particles.size()) < c.energy_floor) return MinimizeOutcome::Unjammed;
     if (fmax <= c.force_tol * pos.mean_contact_force(f) || fmax <= c.force_tol_abs)
         return MinimizeOutcome::ForceBalanced;
     return MinimizeOutcome::NotConverged;
 }
 
-} // namespace jamsim
+}  // namespace jamsim

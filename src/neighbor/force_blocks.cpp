@@ -49,4 +49,4 @@ void ForceBlocks::build(std::span<const std::int32_t> first, std::span<const std
     });
 }
 
-} // namespace jamsim
+}  // namespace jamsim

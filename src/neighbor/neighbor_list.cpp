@@ -14,13 +14,12 @@ namespace {
 /// Particles binned into an nc × nc grid over the primary cell (sheared coordinates).
 struct CellGrid {
     int cells = 0;
-    std::vector<std::int32_t> start;    // shape [nc*nc + 1]
-    std::vector<std::int32_t> members;  // particle indices, grouped by cell, ascending
-    std::vector<std::int32_t> cell_of;  // shape [N]
+    std::vector<std::int32_t> start;       // shape [nc*nc + 1]
+    std::vector<std::int32_t> members;     // particle indices, grouped by cell, ascending
+    std::vector<std::int32_t> cell_of;     // shape [N]
     std::vector<double> image_x, image_y;  // cell sides removed by the fold, shape [N]
 
-    CellGrid(std::span<const double> x, std::span<const double> y, const Box& box, int nc)
-        : cells(nc) {
+    CellGrid(std::span<const double> x, std::span<const double> y, const Box& box, int nc) : cells(nc) {
         const std::size_t n = x.size();
         const double scale = nc / box.side();
         cell_of.resize(n);
@@ -44,17 +43,16 @@ struct CellGrid {
     }
 };
 
-} // namespace
+}  // namespace
 
-void NeighborList::build(std::span<const double> x, std::span<const double> y,
-                         std::span<const double> diameter, const Box& box) {
+void NeighborList::build(std::span<const double> x, std::span<const double> y, std::span<const double> diameter,
+                         const Box& box) {
     double max_d = 0.0;
     for (double d : diameter) max_d = std::max(max_d, d);
     const double reach = max_d + skin_;
     if (box.side() < 2.0 * reach)
         throw std::invalid_argument("neighbour list: box side " + std::to_string(box.side()) +
-                                    " is below twice the list range " + std::to_string(reach) +
-                                    "; use more particles");
+                                    " is below twice the list range " + std::to_string(reach) + "; use more particles");
     const int cells = static_cast<int>(std::floor(box.side() / reach));
     if (cells >= 5)
         build_with_cells(x, y, diameter, box, cells);
@@ -68,8 +66,7 @@ void NeighborList::finish_build(std::span<const double> diameter) {
     owner_.resize(neighbor_.size());
     contact_.resize(neighbor_.size());
     parallel_for(first_.size() - 1, [&](std::size_t i) {
-        for (auto k = static_cast<std::size_t>(first_[i]);
-             k < static_cast<std::size_t>(first_[i + 1]); ++k) {
+        for (auto k = static_cast<std::size_t>(first_[i]); k < static_cast<std::size_t>(first_[i + 1]); ++k) {
             owner_[k] = static_cast<std::int32_t>(i);
             contact_[k] = 0.5 * (diameter[i] + diameter[static_cast<std::size_t>(neighbor_[k])]);
         }
@@ -77,8 +74,8 @@ void NeighborList::finish_build(std::span<const double> diameter) {
     blocks_.build(first_, neighbor_);
 }
 
-void NeighborList::remember_reference(std::span<const double> x, std::span<const double> y,
-                                      const Box& box, double max_d) {
+void NeighborList::remember_reference(std::span<const double> x, std::span<const double> y, const Box& box,
+                                      double max_d) {
     x_ref_.resize(x.size());
     y_ref_.resize(y.size());
     parallel_for(x.size(), [&](std::size_t i) {
@@ -117,8 +114,7 @@ void NeighborList::build_all_pairs(std::span<const double> x, std::span<const do
 }
 
 void NeighborList::build_with_cells(std::span<const double> x, std::span<const double> y,
-                                    std::span<const double> diameter, const Box& box,
-                                    int nc) {
+                                    std::span<const double> diameter, const Box& box, int nc) {
     const std::size_t n = x.size();
     const double side = box.side();
     const CellGrid grid(x, y, box, nc);
@@ -127,14 +123,12 @@ void NeighborList::build_with_cells(std::span<const double> x, std::span<const d
     // listing (0,0) with j > i, (1,0), (2,0) and (−2..2, +1) visits each cell pair once.
     // When (1 + |γ|) reach ≤ w (always at γ = 0: minimisations, compression) columns ±1
     // suffice: 5 cells instead of 8.
-    static constexpr int kWide[8][2] = {{0, 0}, {1, 0}, {2, 0}, {-2, 1},
-                                        {-1, 1}, {0, 1}, {1, 1}, {2, 1}};
+    static constexpr int kWide[8][2] = {{0, 0}, {1, 0}, {2, 0}, {-2, 1}, {-1, 1}, {0, 1}, {1, 1}, {2, 1}};
     static constexpr int kNarrow[5][2] = {{0, 0}, {1, 0}, {-1, 1}, {0, 1}, {1, 1}};
     double max_d = 0.0;
     for (double d : diameter) max_d = std::max(max_d, d);
     const bool narrow = (1.0 + std::abs(box.strain())) * (max_d + skin_) <= side / nc;
-    const std::span<const int[2]> stencil = narrow ? std::span<const int[2]>(kNarrow)
-                                                   : std::span<const int[2]>(kWide);
+    const std::span<const int[2]> stencil = narrow ? std::span<const int[2]>(kNarrow) : std::span<const int[2]>(kWide);
     // The candidates of disk i, in the order the list keeps them (stencil, then cell order).
     const auto visit = [&](std::size_t i, auto&& keep) {
         const int ci = grid.cell_of[i];
@@ -143,12 +137,21 @@ void NeighborList::build_with_cells(std::span<const double> x, std::span<const d
         for (const auto& offset : stencil) {
             int nx = cx + offset[0], ny = cy + offset[1];
             int wx = 0, wy = 0;  // which periodic image of the neighbour cell
-            if (nx < 0) { nx += nc; wx = -1; }
-            if (nx >= nc) { nx -= nc; wx = 1; }
-            if (ny >= nc) { ny -= nc; wy = 1; }
+            if (nx < 0) {
+                nx += nc;
+                wx = -1;
+            }
+            if (nx >= nc) {
+                nx -= nc;
+                wx = 1;
+            }
+            if (ny >= nc) {
+                ny -= nc;
+                wy = 1;
+            }
             const int cj = ny * nc + nx;
-            for (auto k = grid.start[static_cast<std::size_t>(cj)];
-                 k < grid.start[static_cast<std::size_t>(cj) + 1]; ++k) {
+            for (auto k = grid.start[static_cast<std::size_t>(cj)]; k < grid.start[static_cast<std::size_t>(cj) + 1];
+                 ++k) {
                 const auto j = static_cast<std::size_t>(grid.members[static_cast<std::size_t>(k)]);
                 if (cj == ci && j <= i) continue;
                 // Sheared shift that takes x_j to the image sitting in cell (cx+ox, cy+oy).
@@ -218,9 +221,8 @@ void NeighborList::build_with_cells(std::span<const double> x, std::span<const d
     }
 }
 
-bool verlet_rule_broken(std::span<const double> x, std::span<const double> y,
-                        std::span<const double> x_ref, std::span<const double> y_ref,
-                        double strain, double strain_ref, double reach, double skin) {
+bool verlet_rule_broken(std::span<const double> x, std::span<const double> y, std::span<const double> x_ref,
+                        std::span<const double> y_ref, double strain, double strain_ref, double reach, double skin) {
     if (x.size() != x_ref.size()) return true;
     // 2 max|M(γ)δs| + |Δγ| reach > skin  ⇔  some |M(γ)δs|² > ((skin − affine)/2)²
     const double affine = std::abs(strain - strain_ref) * reach;
@@ -241,10 +243,8 @@ bool verlet_rule_broken(std::span<const double> x, std::span<const double> y,
     return moved_too_far != 0;
 }
 
-bool NeighborList::needs_rebuild(std::span<const double> x, std::span<const double> y,
-                                 const Box& box) const {
-    return !valid_ || verlet_rule_broken(x, y, x_ref_, y_ref_, box.strain(), strain_ref_,
-                                         max_diameter_ + skin_, skin_);
+bool NeighborList::needs_rebuild(std::span<const double> x, std::span<const double> y, const Box& box) const {
+    return !valid_ || verlet_rule_broken(x, y, x_ref_, y_ref_, box.strain(), strain_ref_, max_diameter_ + skin_, skin_);
 }
 
 std::vector<std::int32_t> spatial_order(const Particles& p, const Box& box, double cell) {
@@ -253,4 +253,4 @@ std::vector<std::int32_t> spatial_order(const Particles& p, const Box& box, doub
     return grid.members;
 }
 
-} // namespace jamsim
+}  // namespace jamsim

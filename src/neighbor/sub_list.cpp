@@ -5,13 +5,11 @@
 
 namespace jamsim {
 
-bool SubList::update(const NeighborList& parent, const Box& box, std::span<const double> x,
-                     std::span<const double> y) {
+bool SubList::update(const NeighborList& parent, const Box& box, std::span<const double> x, std::span<const double> y) {
     // The parent's rule with this skin; max_contact_ bounds |s_y| of a pair that touches, as
     // d_max does there.
     if (parent.builds() == parent_builds_ &&
-        !verlet_rule_broken(x, y, x_ref_, y_ref_, box.strain(), strain_ref_,
-                            max_contact_ + skin_, skin_))
+        !verlet_rule_broken(x, y, x_ref_, y_ref_, box.strain(), strain_ref_, max_contact_ + skin_, skin_))
         return false;
     const auto owner = parent.owner(), neighbor = parent.neighbor();
     const auto sx = parent.shift_x(), sy = parent.shift_y(), contact = parent.contact();
@@ -44,4 +42,4 @@ bool SubList::update(const NeighborList& parent, const Box& box, std::span<const
     return true;
 }
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -7,13 +7,10 @@ double ContactNetwork::z() const {
 }
 
 double ContactNetwork::rattler_fraction() const {
-    return rattler.empty() ? 0.0
-                           : 1.0 - static_cast<double>(nonrattlers) / static_cast<double>(rattler.size());
+    return rattler.empty() ? 0.0 : 1.0 - static_cast<double>(nonrattlers) / static_cast<double>(rattler.size());
 }
 
-std::int64_t ContactNetwork::excess_contacts() const {
-    return backbone_contacts() - (2 * (nonrattlers - 1) + 1);
-}
+std::int64_t ContactNetwork::excess_contacts() const { return backbone_contacts() - (2 * (nonrattlers - 1) + 1); }
 
 ContactNetwork contact_network(const System& sys, const NeighborList& list) {
     const Particles& p = sys.particles;
@@ -52,4 +49,4 @@ ContactNetwork contact_network(const System& sys, const NeighborList& list) {
     return net;
 }
 
-} // namespace jamsim
+}  // namespace jamsim

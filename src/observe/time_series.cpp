@@ -15,4 +15,4 @@ double mean_after(const TimeSeries& ts, double Sample::*member, double from_stra
     return count ? sum / static_cast<double>(count) : std::numeric_limits<double>::quiet_NaN();
 }
 
-} // namespace jamsim
+}  // namespace jamsim

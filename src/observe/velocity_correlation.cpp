@@ -20,8 +20,8 @@ VelocityCorrelation::VelocityCorrelation(double side, double bin_width, double s
 
 void VelocityCorrelation::restore(const Sums& s) {
     if (s.sum.size() != sum_.size() || s.count.size() != count_.size())
-        throw std::invalid_argument("g_y sums of " + std::to_string(s.sum.size()) +
-                                    " bins do not fit " + std::to_string(sum_.size()) + " bins");
+        throw std::invalid_argument("g_y sums of " + std::to_string(s.sum.size()) + " bins do not fit " +
+                                    std::to_string(sum_.size()) + " bins");
     sum_ = s.sum;
     count_ = s.count;
     uy2_sum_ = s.uy2_sum;
@@ -100,4 +100,4 @@ std::vector<double> VelocityCorrelation::g() const {
     return out;
 }
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -49,13 +49,11 @@ void broadcast(std::string& text, int root, MPI_Comm comm) {
     unsigned long long length = text.size();
     check(MPI_Bcast(&length, 1, MPI_UNSIGNED_LONG_LONG, root, comm), "MPI_Bcast (length)");
     text.resize(length);
-    if (length > 0)
-        check(MPI_Bcast(text.data(), static_cast<int>(length), MPI_CHAR, root, comm),
-              "MPI_Bcast (text)");
+    if (length > 0) check(MPI_Bcast(text.data(), static_cast<int>(length), MPI_CHAR, root, comm), "MPI_Bcast (text)");
 }
 
 void broadcast(int& value, int root, MPI_Comm comm) {
     check(MPI_Bcast(&value, 1, MPI_INT, root, comm), "MPI_Bcast (int)");
 }
 
-} // namespace jamsim::mpi
+}  // namespace jamsim::mpi

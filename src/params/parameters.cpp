@@ -25,8 +25,7 @@ bool non_negative(double v) { return std::isfinite(v) && v >= 0.0; }
 
 std::string check_n(const R& p) {
     if (p.n < 2) return "an integer >= 2";
-    if (p.size_ratio != 1.0 && p.n % 2 != 0)
-        return "an even number (50:50 mixture; size_ratio = 1 allows odd N)";
+    if (p.size_ratio != 1.0 && p.n % 2 != 0) return "an even number (50:50 mixture; size_ratio = 1 allows odd N)";
     return "";
 }
 
@@ -81,20 +80,18 @@ const ParamInfo kParameters[] = {
     {"rate", "sweep", "rate", "--rate", "1/tau", "shear rate", &R::rate, kPhys,
      JAMSIM_CHECK(non_negative(p.rate), "rate >= 0"), "rate >= 0"},
     {"seed", "sweep", "seeds", "--seed", "1",
-     "random seed; with the replica's physical parameters it keys every random number",
-     &R::seed, kPhys, nullptr, "an integer >= 0 (in a campaign: a count or a list)"},
+     "random seed; with the replica's physical parameters it keys every random number", &R::seed, kPhys, nullptr,
+     "an integer >= 0 (in a campaign: a count or a list)"},
     {"strain", "run", "strain", "--strain", "1",
-     "total strain (dynamics at rate > 0; QS and SHEARED: strain of the quasistatic shear)",
-     &R::strain, kNum, JAMSIM_CHECK(positive(p.strain), "strain > 0"), "strain > 0"},
-    {"time", "run", "time", "--time", "tau", "total time of a dynamics run at rate 0", &R::time,
-     kNum, JAMSIM_CHECK(positive(p.time), "time > 0 (needed when rate = 0)"), "time > 0"},
-    {"transient", "run", "transient", "--transient", "1",
-     "strain (time at rate 0) excluded from averages and g_y", &R::transient, kNum,
-     JAMSIM_CHECK(non_negative(p.transient), "transient >= 0"), "transient >= 0"},
+     "total strain (dynamics at rate > 0; QS and SHEARED: strain of the quasistatic shear)", &R::strain, kNum,
+     JAMSIM_CHECK(positive(p.strain), "strain > 0"), "strain > 0"},
+    {"time", "run", "time", "--time", "tau", "total time of a dynamics run at rate 0", &R::time, kNum,
+     JAMSIM_CHECK(positive(p.time), "time > 0 (needed when rate = 0)"), "time > 0"},
+    {"transient", "run", "transient", "--transient", "1", "strain (time at rate 0) excluded from averages and g_y",
+     &R::transient, kNum, JAMSIM_CHECK(non_negative(p.transient), "transient >= 0"), "transient >= 0"},
     {"sample_interval", "run", "sample_interval", "--sample-interval", "1",
-     "strain (time at rate 0) between samples, rounded to whole steps", &R::sample_interval,
-     kNum, JAMSIM_CHECK(positive(p.sample_interval), "sample_interval > 0"),
-     "sample_interval > 0"},
+     "strain (time at rate 0) between samples, rounded to whole steps", &R::sample_interval, kNum,
+     JAMSIM_CHECK(positive(p.sample_interval), "sample_interval > 0"), "sample_interval > 0"},
     {"frame_interval", "run", "frame_interval", "", "1",  // campaigns only: frames live in the archive
      "strain (time at rate 0) between configuration frames kept in the archive (/frames), "
      "rounded to whole steps; 0: none",
@@ -103,16 +100,15 @@ const ParamInfo kParameters[] = {
     {"checkpoint_steps", "run", "checkpoint_steps", "--checkpoint-steps", "steps",
      "steps (QS, SHEARED: strain steps; COOL: cooling steps) between checkpoint steps, where "
      "the run drops its kernel caches and may save its state",
-     &R::checkpoint_steps, kNum, JAMSIM_CHECK(p.checkpoint_steps >= 1, "checkpoint_steps >= 1"),
-     "an integer >= 1"},
+     &R::checkpoint_steps, kNum, JAMSIM_CHECK(p.checkpoint_steps >= 1, "checkpoint_steps >= 1"), "an integer >= 1"},
     {"rate_ladder", "sweep", "rate_ladder", "", "",  // campaigns only: it links replicas
      "\"down\": for each N, phi and seed the rates run from high to low, each replica starting "
      "from the end state of the next higher rate (transients cut as by Olsson and Teitel)",
-     &R::rate_ladder, kPhys,
-     JAMSIM_CHECK(p.rate_ladder.empty() || p.rate_ladder == "down", "\"down\" or \"\""), "\"\", down"},
+     &R::rate_ladder, kPhys, JAMSIM_CHECK(p.rate_ladder.empty() || p.rate_ladder == "down", "\"down\" or \"\""),
+     "\"\", down"},
     {"ladder_from", "", "", "", "1/tau",
-     "rate ladders: the rate of the replica whose end state starts this one (0: random start)",
-     &R::ladder_from, kPhys, nullptr, "derived from the sweep"},
+     "rate ladders: the rate of the replica whose end state starts this one (0: random start)", &R::ladder_from, kPhys,
+     nullptr, "derived from the sweep"},
     {"initial", "run", "initial", "--initial", "",
      "campaign archive whose finished replicas' final states are the initial configurations, "
      "or a LAMMPS data file (as jamsim export writes) that starts every replica (relative to "
@@ -122,73 +118,62 @@ const ParamInfo kParameters[] = {
      "which replica of the initial archive starts each replica: parameters (the same N, phi "
      "and seed) or id (the same replica id; positions scaled affinely to phi)",
      &R::initial_match, kPhys,
-     JAMSIM_CHECK(p.initial_match == "parameters" || p.initial_match == "id", "parameters or id"),
-     "parameters, id"},
-    {"dt", "model", "dt", "--dt", "tau", "time step", &R::dt, kNum,
-     JAMSIM_CHECK(positive(p.dt), "dt > 0"), "dt > 0 (and below the model's stable limit)"},
+     JAMSIM_CHECK(p.initial_match == "parameters" || p.initial_match == "id", "parameters or id"), "parameters, id"},
+    {"dt", "model", "dt", "--dt", "tau", "time step", &R::dt, kNum, JAMSIM_CHECK(positive(p.dt), "dt > 0"),
+     "dt > 0 (and below the model's stable limit)"},
     {"integrator", "model", "integrator", "--integrator", "",
-     "overdamped models: euler (1 force evaluation per step) or heun (2, second order)",
-     &R::integrator, kNum,
-     JAMSIM_CHECK(p.integrator == "euler" || p.integrator == "heun", "euler or heun"),
-     "euler, heun"},
+     "overdamped models: euler (1 force evaluation per step) or heun (2, second order)", &R::integrator, kNum,
+     JAMSIM_CHECK(p.integrator == "euler" || p.integrator == "heun", "euler or heun"), "euler, heun"},
     {"kd", "model", "kd", "--kd", "k_e tau/d_s^2", "dissipation coefficient k_d", &R::kd, kPhys,
      JAMSIM_CHECK(positive(p.kd), "kd > 0"), "kd > 0"},
-    {"mass", "model", "mass", "--mass", "k_e tau^2/d_s^2",
-     "mass of a small disk (large disks scale by area)", &R::mass, kPhys,
-     JAMSIM_CHECK(positive(p.mass), "mass > 0"), "mass > 0"},
-    {"delta", "model", "delta", "--delta", "1",
-     "CD0 substrate drag k_0/k_d on the non-affine velocity", &R::delta, kPhys,
-     JAMSIM_CHECK(positive(p.delta), "delta > 0"), "delta > 0"},
+    {"mass", "model", "mass", "--mass", "k_e tau^2/d_s^2", "mass of a small disk (large disks scale by area)", &R::mass,
+     kPhys, JAMSIM_CHECK(positive(p.mass), "mass > 0"), "mass > 0"},
+    {"delta", "model", "delta", "--delta", "1", "CD0 substrate drag k_0/k_d on the non-affine velocity", &R::delta,
+     kPhys, JAMSIM_CHECK(positive(p.delta), "delta > 0"), "delta > 0"},
     {"solver", "model", "solver", "--solver", "",
-     "CD0 backend: auto (petsc at every N), petsc (KSP preconditioned by a CHOLMOD LDLT updated in place; PETSc options choose others), cholmod (that LDLT alone) or eigen (Eigen LDLT updated in place)",
+     "CD0 backend: auto (petsc at every N), petsc (KSP preconditioned by a CHOLMOD LDLT updated in place; PETSc "
+     "options choose others), cholmod (that LDLT alone) or eigen (Eigen LDLT updated in place)",
      &R::solver, kNum,
-     JAMSIM_CHECK(p.solver == "auto" || p.solver == "cholmod" || p.solver == "petsc" ||
-                      p.solver == "eigen",
+     JAMSIM_CHECK(p.solver == "auto" || p.solver == "cholmod" || p.solver == "petsc" || p.solver == "eigen",
                   "auto, cholmod, petsc or eigen"),
      "auto, cholmod, petsc, eigen"},
     {"petsc_options", "model", "petsc_options", "--petsc-options", "",
-     "CD0 PETSc options with prefix cd0_, e.g. \"-cd0_pc_type icc\"", &R::petsc_options, kNum,
-     check_petsc_options, "PETSc options"},
+     "CD0 PETSc options with prefix cd0_, e.g. \"-cd0_pc_type icc\"", &R::petsc_options, kNum, check_petsc_options,
+     "PETSc options"},
     {"temperature", "model", "temperature", "--temperature", "k_e",
      "temperature (COOL, COOL_COMPRESS: the starting temperature T_0)", &R::temperature, kPhys,
      JAMSIM_CHECK(positive(p.temperature), "temperature > 0"), "temperature > 0"},
-    {"cooling_time", "model", "cooling_time", "--cooling-time", "tau",
-     "time over which T falls linearly to 0", &R::cooling_time, kPhys,
-     JAMSIM_CHECK(positive(p.cooling_time), "cooling_time > 0"), "cooling_time > 0"},
+    {"cooling_time", "model", "cooling_time", "--cooling-time", "tau", "time over which T falls linearly to 0",
+     &R::cooling_time, kPhys, JAMSIM_CHECK(positive(p.cooling_time), "cooling_time > 0"), "cooling_time > 0"},
     {"minimizer", "model", "minimizer", "--minimizer", "",
-     "cg (hybrid HS/DY), cg-pr (Polak-Ribiere) or fire (FIRE 2.0)", &R::minimizer, kNum,
-     check_minimizer, "cg, cg-pr, fire"},
-    {"strain_step", "model", "strain_step", "--strain-step", "1",
-     "quasistatic shear: strain between minimisations", &R::strain_step, kNum,
-     JAMSIM_CHECK(positive(p.strain_step), "strain_step > 0"), "strain_step > 0"},
-    {"energy_floor", "model", "energy_floor", "--energy-floor", "k_e",
-     "minimisation: E/N below this is unjammed", &R::energy_floor, kNum,
-     JAMSIM_CHECK(positive(p.energy_floor), "energy_floor > 0"), "energy_floor > 0"},
+     "cg (hybrid HS/DY), cg-pr (Polak-Ribiere) or fire (FIRE 2.0)", &R::minimizer, kNum, check_minimizer,
+     "cg, cg-pr, fire"},
+    {"strain_step", "model", "strain_step", "--strain-step", "1", "quasistatic shear: strain between minimisations",
+     &R::strain_step, kNum, JAMSIM_CHECK(positive(p.strain_step), "strain_step > 0"), "strain_step > 0"},
+    {"energy_floor", "model", "energy_floor", "--energy-floor", "k_e", "minimisation: E/N below this is unjammed",
+     &R::energy_floor, kNum, JAMSIM_CHECK(positive(p.energy_floor), "energy_floor > 0"), "energy_floor > 0"},
     {"force_tol", "model", "force_tol", "--force-tol", "1",
-     "minimisation: largest force component / mean contact force at convergence", &R::force_tol,
-     kNum, check_force_tol, "force_tol >= 0"},
+     "minimisation: largest force component / mean contact force at convergence", &R::force_tol, kNum, check_force_tol,
+     "force_tol >= 0"},
     {"force_tol_abs", "model", "force_tol_abs", "--force-tol-abs", "k_e/d_s",
      "minimisation: absolute force floor at convergence", &R::force_tol_abs, kNum,
      JAMSIM_CHECK(non_negative(p.force_tol_abs), "force_tol_abs >= 0"), "force_tol_abs >= 0"},
-    {"phi_tol", "model", "phi_tol", "--phi-tol", "1", "phi_J search: width of the final bracket",
-     &R::phi_tol, kNum, JAMSIM_CHECK(p.phi_tol > 0.0 && p.phi_tol < 1e-2, "0 < phi_tol < 0.01"),
-     "0 < phi_tol < 0.01"},
+    {"phi_tol", "model", "phi_tol", "--phi-tol", "1", "phi_J search: width of the final bracket", &R::phi_tol, kNum,
+     JAMSIM_CHECK(p.phi_tol > 0.0 && p.phi_tol < 1e-2, "0 < phi_tol < 0.01"), "0 < phi_tol < 0.01"},
     {"alpha", "potential", "alpha", "--alpha", "1",
      "potential exponent: V = k_e/alpha (1 - r/d)^alpha ([potential] name = harmonic: 2, "
      "hertzian: 2.5)",
-     &R::alpha, kPhys, JAMSIM_CHECK(std::isfinite(p.alpha) && p.alpha > 1.0, "alpha > 1"),
-     "alpha > 1"},
+     &R::alpha, kPhys, JAMSIM_CHECK(std::isfinite(p.alpha) && p.alpha > 1.0, "alpha > 1"), "alpha > 1"},
     {"size_ratio", "system", "size_ratio", "--size-ratio", "1",
      "large/small diameter of the 50:50 mixture (1: monodisperse)", &R::size_ratio, kPhys,
-     JAMSIM_CHECK(std::isfinite(p.size_ratio) && p.size_ratio >= 1.0, "size_ratio >= 1"),
-     "size_ratio >= 1"},
+     JAMSIM_CHECK(std::isfinite(p.size_ratio) && p.size_ratio >= 1.0, "size_ratio >= 1"), "size_ratio >= 1"},
     {"skin", "system", "skin", "--skin", "d_s",
      "neighbour-list skin (CD0's contact matrix: candidate pairs within skin/3)", &R::skin, kNum,
      JAMSIM_CHECK(positive(p.skin), "skin > 0"), "skin > 0"},
 };
 #undef JAMSIM_CHECK
 
-} // namespace
+}  // namespace
 
 std::span<const ParamInfo> parameters() { return kParameters; }
 
@@ -203,8 +188,10 @@ ParamValue get_value(const ReplicaParams& p, const ParamInfo& info) {
         [&](auto member) -> ParamValue {
             const auto& v = p.*member;
             using T = std::decay_t<decltype(v)>;
-            if constexpr (std::is_same_v<T, std::uint64_t>) return static_cast<std::int64_t>(v);
-            else return v;
+            if constexpr (std::is_same_v<T, std::uint64_t>)
+                return static_cast<std::int64_t>(v);
+            else
+                return v;
         },
         info.field);
 }
@@ -218,8 +205,7 @@ bool set_value(ReplicaParams& p, const ParamInfo& info, const ParamValue& value)
                 if (const auto* s = std::get_if<std::string>(&value)) return target = *s, true;
             } else if constexpr (std::is_same_v<T, double>) {
                 if (const auto* d = std::get_if<double>(&value)) return target = *d, true;
-                if (const auto* i = std::get_if<std::int64_t>(&value))
-                    return target = static_cast<double>(*i), true;
+                if (const auto* i = std::get_if<std::int64_t>(&value)) return target = static_cast<double>(*i), true;
             } else {  // integers
                 if (const auto* i = std::get_if<std::int64_t>(&value)) {
                     if (std::is_unsigned_v<T> && *i < 0) return false;
@@ -231,9 +217,7 @@ bool set_value(ReplicaParams& p, const ParamInfo& info, const ParamValue& value)
         info.field);
 }
 
-bool is_numeric(const ParamInfo& info) {
-    return !std::holds_alternative<std::string ReplicaParams::*>(info.field);
-}
+bool is_numeric(const ParamInfo& info) { return !std::holds_alternative<std::string ReplicaParams::*>(info.field); }
 
 double numeric_value(const ReplicaParams& p, const ParamInfo& info) {
     const ParamValue v = get_value(p, info);
@@ -253,9 +237,7 @@ std::string show_value(const ParamValue& value) {
     return buf;
 }
 
-std::string default_text(const ParamInfo& info) {
-    return show_value(get_value(ReplicaParams{}, info));
-}
+std::string default_text(const ParamInfo& info) { return show_value(get_value(ReplicaParams{}, info)); }
 
 bool parse_value(const ParamInfo& info, const std::string& text, ParamValue& out) {
     if (!is_numeric(info)) return out = text, true;
@@ -273,4 +255,4 @@ bool parse_value(const ParamInfo& info, const std::string& text, ParamValue& out
     return true;
 }
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -14,7 +14,7 @@ std::string str(double v) {
     return b;
 }
 std::string str(std::int64_t v) { return std::to_string(v); }
-} // namespace
+}  // namespace
 
 void set_packing_fraction(System& sys, ForceField& forces, double phi) {
     const double side = box_side_for(sys.particles, phi);
@@ -28,36 +28,43 @@ void set_packing_fraction(System& sys, ForceField& forces, double phi) {
     forces.invalidate();
 }
 
-StaticState quench(System& sys, ForceField& forces, Minimizer& minimizer,
-                   const MinimizeCriteria& criteria) {
+StaticState quench(System& sys, ForceField& forces, Minimizer& minimizer, const MinimizeCriteria& criteria) {
     StaticState s;
     s.phi = packing_fraction(sys.particles, sys.box);
     s.minimum = minimizer.minimize(sys, forces, criteria);
     if (s.minimum.outcome == MinimizeOutcome::NotConverged)
-        throw std::runtime_error("minimisation did not converge at phi = " + str(s.phi) +
-                                 " after " + str(s.minimum.iterations) +
-                                 " iterations (E/N " + str(s.minimum.energy_per_particle) +
-                                 ", largest force " + str(s.minimum.max_force) +
-                                 ", mean contact force " + str(s.minimum.mean_contact_force) + ")");
+        throw std::runtime_error("minimisation did not converge at phi = " + str(s.phi) + " after " +
+                                 str(s.minimum.iterations) + " iterations (E/N " + str(s.minimum.energy_per_particle) +
+                                 ", largest force " + str(s.minimum.max_force) + ", mean contact force " +
+                                 str(s.minimum.mean_contact_force) + ")");
     s.network = contact_network(sys, forces.list());
     return s;
 }
 
 std::vector<double> JammingSearch::pack() const {
-    return {phi, step, crossed ? 1.0 : 0.0, jammed ? 1.0 : 0.0, phi_unjammed,
-            static_cast<double>(minimizations), static_cast<double>(force_evaluations)};
+    return {phi,
+            step,
+            crossed ? 1.0 : 0.0,
+            jammed ? 1.0 : 0.0,
+            phi_unjammed,
+            static_cast<double>(minimizations),
+            static_cast<double>(force_evaluations)};
 }
 
 JammingSearch JammingSearch::unpack(const std::vector<double>& v) {
-    if (v.size() != 7) throw std::invalid_argument("a jamming search state has 7 numbers, not " + std::to_string(v.size()));
-    return {.phi = v[0], .step = v[1], .crossed = v[2] != 0.0, .jammed = v[3] != 0.0,
-            .phi_unjammed = v[4], .minimizations = static_cast<int>(v[5]),
+    if (v.size() != 7)
+        throw std::invalid_argument("a jamming search state has 7 numbers, not " + std::to_string(v.size()));
+    return {.phi = v[0],
+            .step = v[1],
+            .crossed = v[2] != 0.0,
+            .jammed = v[3] != 0.0,
+            .phi_unjammed = v[4],
+            .minimizations = static_cast<int>(v[5]),
             .force_evaluations = static_cast<std::int64_t>(v[6])};
 }
 
-JammingPoint find_jamming_point(System& sys, ForceField& forces, Minimizer& minimizer,
-                                const MinimizeCriteria& criteria, double phi_step,
-                                double phi_tol, const JammingSearch* resume,
+JammingPoint find_jamming_point(System& sys, ForceField& forces, Minimizer& minimizer, const MinimizeCriteria& criteria,
+                                double phi_step, double phi_tol, const JammingSearch* resume,
                                 const std::function<void(const JammingSearch&)>& before_minimisation) {
     JammingSearch s;
     StaticState state;
@@ -97,8 +104,11 @@ JammingPoint find_jamming_point(System& sys, ForceField& forces, Minimizer& mini
     }
     // The configuration follows its own landscape, so the answer is the final bracket: the
     // jammed state now, within `step` of the last unjammed one.
-    return {.phi_j = s.phi, .phi_unjammed = s.phi_unjammed, .state = state,
-            .minimizations = s.minimizations, .force_evaluations = s.force_evaluations};
+    return {.phi_j = s.phi,
+            .phi_unjammed = s.phi_unjammed,
+            .state = state,
+            .minimizations = s.minimizations,
+            .force_evaluations = s.force_evaluations};
 }
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -15,8 +15,8 @@ std::int64_t shear_steps(double strain, double strain_step) {
     return static_cast<std::int64_t>(std::ceil(strain / strain_step - 1e-9));
 }
 
-std::int64_t cool(System& sys, ForceField& forces, const CoolingSchedule& schedule,
-                  const RngStream& noise, std::int64_t first_step, const BeforeStep& before) {
+std::int64_t cool(System& sys, ForceField& forces, const CoolingSchedule& schedule, const RngStream& noise,
+                  std::int64_t first_step, const BeforeStep& before) {
     const std::int64_t steps = cooling_steps(schedule);
     const double dt = schedule.dt, kd = schedule.kd;
     Particles& q = sys.particles;
@@ -39,9 +39,8 @@ std::int64_t cool(System& sys, ForceField& forces, const CoolingSchedule& schedu
 }
 
 std::int64_t shear_quasistatically(System& sys, ForceField& forces, Minimizer& minimizer,
-                                   const MinimizeCriteria& criteria, double strain,
-                                   double strain_step, std::int64_t first_step,
-                                   const BeforeStep& before) {
+                                   const MinimizeCriteria& criteria, double strain, double strain_step,
+                                   std::int64_t first_step, const BeforeStep& before) {
     const std::int64_t steps = shear_steps(strain, strain_step);
     std::int64_t evaluations = 0;
     for (std::int64_t step = first_step; step < steps; ++step) {
@@ -52,4 +51,4 @@ std::int64_t shear_quasistatically(System& sys, ForceField& forces, Minimizer& m
     return evaluations;
 }
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -10,8 +10,10 @@ namespace jamsim {
 FinalConfiguration final_configuration(const System& sys) {
     const Particles& p = sys.particles;
     const std::size_t n = p.size();
-    FinalConfiguration out{.x = std::vector<double>(n), .y = std::vector<double>(n),
-                           .diameter = std::vector<double>(n), .box_side = sys.box.side(),
+    FinalConfiguration out{.x = std::vector<double>(n),
+                           .y = std::vector<double>(n),
+                           .diameter = std::vector<double>(n),
+                           .box_side = sys.box.side(),
                            .box_strain = sys.box.strain()};
     for (std::size_t k = 0; k < n; ++k) {
         const auto t = static_cast<std::size_t>(p.tag[k]);
@@ -38,8 +40,8 @@ System start_system(const ReplicaParams& p) {
 ReplicaResult run_replica(const ReplicaParams& p, const RunContext& context) {
     const auto errors = validate(p);
     if (!errors.empty())
-        throw std::invalid_argument("replica parameter " + errors.front().key + " = " +
-                                    errors.front().value + ": allowed " + errors.front().allowed);
+        throw std::invalid_argument("replica parameter " + errors.front().key + " = " + errors.front().value +
+                                    ": allowed " + errors.front().allowed);
     if (!p.initial.empty() && !context.initial && !context.resume)
         throw std::invalid_argument("replica parameter initial = " + p.initial +
                                     ": its configuration was not read (RunContext::initial)");
@@ -93,8 +95,7 @@ ReplicaResult run_dynamics(const ReplicaParams& p, const RunContext& context) {
                            .solver_iterations = model->solver_iterations(),
                            .packing_fraction = p.phi};
             if (!std::isfinite(s.energy_per_particle) || !std::isfinite(s.pressure))
-                throw std::runtime_error("non-finite state at t = " + show_value(t) +
-                                         " (time step too large?)");
+                throw std::runtime_error("non-finite state at t = " + show_value(t) + " (time step too large?)");
             result.series.push(s);
             const bool steady = p.rate > 0.0 ? s.strain >= p.transient : s.time >= p.transient;
             if (steady) correlation.accumulate(sys);
@@ -114,4 +115,4 @@ ReplicaResult run_dynamics(const ReplicaParams& p, const RunContext& context) {
     return run.finish();
 }
 
-} // namespace jamsim
+}  // namespace jamsim

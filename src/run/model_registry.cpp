@@ -45,8 +45,7 @@ ModelInfo dynamics(const DynamicsInfo& d) {
             .schedule = dynamics_schedule,
             .cost =
                 [](const ReplicaParams& p) {
-                    return static_cast<double>(p.n) *
-                           static_cast<double>(dynamics_schedule(p).steps) *
+                    return static_cast<double>(p.n) * static_cast<double>(dynamics_schedule(p).steps) *
                            evaluations_per_step(p);
                 },
             .run = run_dynamics,
@@ -61,17 +60,24 @@ ModelInfo dynamics(const DynamicsInfo& d) {
 /// One line per model or protocol: adding one is its own file plus a line here.
 const std::vector<ModelInfo>& registry() {
     static const std::vector<ModelInfo> all{
-        dynamics(rd0_model()),  dynamics(cd0_model()), dynamics(rd_model()),
-        dynamics(cd_model()),   dynamics(cdn_model()), dynamics(cdt_model()),
+        dynamics(rd0_model()),
+        dynamics(cd0_model()),
+        dynamics(rd_model()),
+        dynamics(cd_model()),
+        dynamics(cdn_model()),
+        dynamics(cdt_model()),
         dynamics(thermal_rd0_model()),
-        qs_protocol(),          rand_protocol(),       compress_protocol(),
-        cool_protocol(),        cool_compress_protocol(), sheared_protocol(),
+        qs_protocol(),
+        rand_protocol(),
+        compress_protocol(),
+        cool_protocol(),
+        cool_compress_protocol(),
+        sheared_protocol(),
     };
     return all;
 }
 
-constexpr std::string_view kCommonParameters[] = {"model", "N",          "phi", "seed",
-                                                  "alpha", "size_ratio", "skin"};
+constexpr std::string_view kCommonParameters[] = {"model", "N", "phi", "seed", "alpha", "size_ratio", "skin"};
 
 bool contains(std::span<const std::string_view> keys, std::string_view key) {
     return std::find(keys.begin(), keys.end(), key) != keys.end();
@@ -101,7 +107,7 @@ RunLength run_length(const ReplicaParams& p) {
 /// Fewer samples than this after the transient: averages from so few are worth a warning.
 constexpr std::int64_t kFewSamples = 10;
 
-} // namespace
+}  // namespace
 
 std::span<const ModelInfo> models() { return registry(); }
 
@@ -129,9 +135,7 @@ bool uses_parameter(const ReplicaParams& p, std::string_view key) {
     const ModelInfo* m = find_model(p.model);
     if (!m) return false;
     if (m->kind == ModelKind::Dynamics) {
-        if (key == "rate" || key == "transient" || key == "sample_interval" ||
-            key == "checkpoint_steps")
-            return true;
+        if (key == "rate" || key == "transient" || key == "sample_interval" || key == "checkpoint_steps") return true;
         if (key == "strain") return p.rate > 0.0;
         if (key == "rate_ladder" || key == "ladder_from") return !p.rate_ladder.empty();
         if (key == "frame_interval") return p.frame_interval != 0.0;  // recorded only when set
@@ -157,7 +161,7 @@ std::string three_digits(double v) {
     return buffer;
 }
 
-} // namespace
+}  // namespace
 
 std::vector<ParamError> validate(const ReplicaParams& p) {
     const ModelInfo* m = find_model(p.model);
@@ -172,18 +176,15 @@ std::vector<ParamError> validate(const ReplicaParams& p) {
         errors.push_back({"dt", show_value(p.dt),
                           "dt <= " + show_value(m->stable_dt(p)) + " " +
                               (m->stable_dt_basis ? m->stable_dt_basis(p)
-                                                  : "for " + p.model + " with mass " +
-                                                        show_value(p.mass) + " and kd " +
-                                                        show_value(p.kd) +
-                                                        " (stability of the integrator)")});
+                                                  : "for " + p.model + " with mass " + show_value(p.mass) + " and kd " +
+                                                        show_value(p.kd) + " (stability of the integrator)")});
     // The transient and the sampling against the run length (strain, or time at rate 0): a
     // transient that covers the run leaves nothing to average (empty means, an all-NaN g_y),
     // a sample interval beyond it only the first sample.
     if (const RunLength run = run_length(p); run.key) {
         if (uses_parameter(p, "transient") && p.transient >= run.value)
             errors.push_back({"transient", show_value(p.transient),
-                              std::string("transient < ") + run.key + " = " +
-                                  show_value(run.value) +
+                              std::string("transient < ") + run.key + " = " + show_value(run.value) +
                                   " (averages and g_y use the samples after the transient)"});
         // Steps are counted in 64 bits, and far fewer than that fit any allocation.
         if (uses_parameter(p, "dt") && m->kind == ModelKind::Dynamics) {
@@ -192,13 +193,13 @@ std::vector<ParamError> validate(const ReplicaParams& p) {
                 errors.push_back({"dt", show_value(p.dt),
                                   "dt >= " + three_digits(duration / kMostSteps) + " here: " + run.key + " = " +
                                       show_value(run.value) + (p.rate > 0.0 ? " at rate = " + show_value(p.rate) : "") +
-                                      " would take " + three_digits(duration / p.dt) + " steps, and a replica runs at most " +
-                                      three_digits(kMostSteps) + " (check dt, " + run.key + " and rate)"});
+                                      " would take " + three_digits(duration / p.dt) +
+                                      " steps, and a replica runs at most " + three_digits(kMostSteps) +
+                                      " (check dt, " + run.key + " and rate)"});
         }
         if (uses_parameter(p, "sample_interval") && p.sample_interval > run.value)
             errors.push_back({"sample_interval", show_value(p.sample_interval),
-                              std::string("sample_interval <= ") + run.key + " = " +
-                                  show_value(run.value) +
+                              std::string("sample_interval <= ") + run.key + " = " + show_value(run.value) +
                                   " (a longer interval samples only the initial state)"});
     }
     return errors;
@@ -212,26 +213,25 @@ std::vector<std::pair<std::string, std::string>> advisories(const ReplicaParams&
         if (std::string note = m->advisory(p); !note.empty()) out.emplace_back("dt", note);
     // A replica that no allocation can finish is almost always a typo (dt, strain, rate).
     if (const double seconds = m->cost(p) / kNominalEvaluationsPerSecond; seconds > kYear)
-        out.emplace_back("cost", "a replica of N = " + std::to_string(p.n) + " at rate = " + show_value(p.rate) + " would take about " + three_digits(seconds / kYear) +
+        out.emplace_back("cost", "a replica of N = " + std::to_string(p.n) + " at rate = " + show_value(p.rate) +
+                                     " would take about " + three_digits(seconds / kYear) +
                                      " core-years at the nominal speed (" + std::to_string(m->schedule(p).steps) +
                                      " steps): check dt, strain (time) and rate; jamsim run --dry-run measures it");
     // Samples at or after the transient, from the schedule (both ends are sampled).
     const RunLength run = run_length(p);
     if (run.key && uses_parameter(p, "transient") && uses_parameter(p, "sample_interval")) {
         const Schedule s = m->schedule(p);
-        const double per_sample = run.value / static_cast<double>(s.steps) *
-                                  static_cast<double>(s.sample_every);  // strain (time)
+        const double per_sample =
+            run.value / static_cast<double>(s.steps) * static_cast<double>(s.sample_every);  // strain (time)
         const std::int64_t last = s.steps / s.sample_every;
         const auto first = static_cast<std::int64_t>(std::ceil(p.transient / per_sample - 1e-9));
         const std::int64_t after = std::max<std::int64_t>(0, last - first + 1);
         if (after < kFewSamples)
-            out.emplace_back("samples",
-                             "transient = " + show_value(p.transient) + " leaves " +
-                                 std::to_string(after) + " samples (" + run.key + " = " +
-                                 show_value(run.value) + ", sample_interval = " +
-                                 show_value(p.sample_interval) +
-                                 ") for the averages and g_y, fewer than " +
-                                 std::to_string(kFewSamples) + ": they will be noisy");
+            out.emplace_back("samples", "transient = " + show_value(p.transient) + " leaves " + std::to_string(after) +
+                                            " samples (" + run.key + " = " + show_value(run.value) +
+                                            ", sample_interval = " + show_value(p.sample_interval) +
+                                            ") for the averages and g_y, fewer than " + std::to_string(kFewSamples) +
+                                            ": they will be noisy");
     }
     return out;
 }
@@ -271,7 +271,7 @@ std::string describe_parameters(const ReplicaParams& p, bool run_length) {
     }
     return out;
 }
-} // namespace
+}  // namespace
 
 std::string describe(const ReplicaParams& p) { return describe_parameters(p, true); }
 std::string describe_without_run_length(const ReplicaParams& p) { return describe_parameters(p, false); }
@@ -286,4 +286,4 @@ std::uint64_t replica_identity(const ReplicaParams& p) {
 
 RandomKey random_key(const ReplicaParams& p) { return {p.seed, replica_identity(p)}; }
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -17,11 +17,11 @@ namespace jamsim {
 class ReplicaRun {
   public:
     ReplicaRun(const ReplicaParams& p, const RunContext& context)
-        : params_(p), context_(context), start_(std::chrono::steady_clock::now()),
-          result{.series = {},
-                 .final_state = context.resume    ? context.resume->system
-                                : context.initial ? *context.initial
-                                                  : start_system(p)},
+        : params_(p), context_(context),
+          start_(std::chrono::steady_clock::now()), result{.series = {},
+                                                           .final_state = context.resume    ? context.resume->system
+                                                                          : context.initial ? *context.initial
+                                                                                            : start_system(p)},
           forces(potential::make_soft_sphere(p.alpha), p.skin) {
         if (const ReplicaState* r = context.resume) {
             result.series = r->series;
@@ -39,8 +39,7 @@ class ReplicaRun {
     /// At a checkpoint step (step > 0, a multiple of checkpoint_steps, not the step a resumed
     /// run starts with): checkpoint(). Returns true when the caches were dropped (the caller
     /// makes a fresh model or minimiser).
-    bool checkpoint_step(std::int64_t step, std::int64_t steps,
-                         const VelocityCorrelation* correlation = nullptr) {
+    bool checkpoint_step(std::int64_t step, std::int64_t steps, const VelocityCorrelation* correlation = nullptr) {
         if (step == 0 || step % params_.checkpoint_steps != 0) return false;
         return checkpoint(step, steps, correlation);
     }
@@ -48,27 +47,31 @@ class ReplicaRun {
     /// Make `step` a checkpoint step (unless a resumed run starts with it): drop the kernel
     /// caches (a fresh force field), keep the state, save it if the policy says so and stop if
     /// asked to. `protocol` is a protocol's own state at this step (a φ_J search's bracket).
-    bool checkpoint(std::int64_t step, std::int64_t steps,
-                    const VelocityCorrelation* correlation = nullptr,
+    bool checkpoint(std::int64_t step, std::int64_t steps, const VelocityCorrelation* correlation = nullptr,
                     std::vector<double> protocol = {}) {
         if (step == first_step() && resumed()) return false;
         result.list_builds += static_cast<std::int64_t>(forces.builds());
         forces = ForceField(potential::make_soft_sphere(params_.alpha), params_.skin);
         // The state at this step, kept (the last one is handed back with the result, so a
         // finished replica can be extended from it) and saved when the policy says so.
-        auto state = std::make_shared<ReplicaState>(ReplicaState{
-            .step = step, .steps = steps, .system = system(), .series = result.series,
-            .correlation = correlation ? correlation->sums() : VelocityCorrelation::Sums{},
-            .protocol = std::move(protocol),
-            .force_evaluations = result.force_evaluations, .list_builds = result.list_builds,
-            .wall_seconds = elapsed()});
+        auto state = std::make_shared<ReplicaState>(
+            ReplicaState{.step = step,
+                         .steps = steps,
+                         .system = system(),
+                         .series = result.series,
+                         .correlation = correlation ? correlation->sums() : VelocityCorrelation::Sums{},
+                         .protocol = std::move(protocol),
+                         .force_evaluations = result.force_evaluations,
+                         .list_builds = result.list_builds,
+                         .wall_seconds = elapsed()});
         result.last_checkpoint = state;
         const CheckpointPolicy* policy = context_.checkpoints;
         if (!policy) return true;
         const bool stop = policy->stop && policy->stop();
         if (policy->save && (stop || (policy->due && policy->due()))) policy->save(*state);
-        if (stop) throw ReplicaInterrupted("stopped at step " + std::to_string(step) + " of " +
-                                           std::to_string(steps) + " (state saved)");
+        if (stop)
+            throw ReplicaInterrupted("stopped at step " + std::to_string(step) + " of " + std::to_string(steps) +
+                                     " (state saved)");
         return true;
     }
 
@@ -80,8 +83,7 @@ class ReplicaRun {
 
   private:
     double elapsed() const {
-        return earlier_seconds_ +
-               std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+        return earlier_seconds_ + std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     }
     const ReplicaParams& params_;
     const RunContext& context_;
@@ -93,4 +95,4 @@ class ReplicaRun {
     ForceField forces;
 };
 
-} // namespace jamsim
+}  // namespace jamsim

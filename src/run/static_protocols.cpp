@@ -64,8 +64,8 @@ Sample sample_of(const StaticState& st, const System& sys, double strain) {
 /// COOL is a single minimisation, not divided.
 struct Protocol : ReplicaRun {
     Protocol(const ReplicaParams& p, const RunContext& context, std::int64_t stage_steps = 0)
-        : ReplicaRun(p, context), params(p), after_sample(context.after_sample),
-          minimizer(make_minimizer(p.minimizer)), criteria(criteria_of(p)), stage(stage_steps) {}
+        : ReplicaRun(p, context), params(p), after_sample(context.after_sample), minimizer(make_minimizer(p.minimizer)),
+          criteria(criteria_of(p)), stage(stage_steps) {}
 
     StaticState minimise() {  // quench the configuration as it is, counting its cost
         StaticState st = quench(system(), forces, *minimizer, criteria);
@@ -90,32 +90,33 @@ struct Protocol : ReplicaRun {
         const std::int64_t first = stage_start();
         if (first == stage) return;
         const std::int64_t before_stage = result.force_evaluations;
-        result.force_evaluations = before_stage +
-            cool(system(), forces, {p.temperature, p.cooling_time, p.dt, p.kd},
-                 RngStream(random_key(p), RngPurpose::ThermalNoise), first,
-                 [&](std::int64_t step, std::int64_t n) { before_stage_step(step, before_stage, n); });
+        result.force_evaluations =
+            before_stage + cool(system(), forces, {p.temperature, p.cooling_time, p.dt, p.kd},
+                                RngStream(random_key(p), RngPurpose::ThermalNoise), first,
+                                [&](std::int64_t step, std::int64_t n) { before_stage_step(step, before_stage, n); });
     }
     void shear() {  // quasistatic shear at phi (the sheared ensemble)
         const std::int64_t first = stage_start();
         if (first == stage) return;
         const std::int64_t before_stage = result.force_evaluations;
-        result.force_evaluations = before_stage + shear_quasistatically(
-            system(), forces, *minimizer, criteria, params.strain, params.strain_step, first,
-            [&](std::int64_t step, std::int64_t n) { before_stage_step(step, before_stage, n); });
+        result.force_evaluations =
+            before_stage +
+            shear_quasistatically(system(), forces, *minimizer, criteria, params.strain, params.strain_step, first,
+                                  [&](std::int64_t step, std::int64_t n) { before_stage_step(step, before_stage, n); });
     }
     void record_jamming_point() {  // compression/decompression to φ_J (O'Hern et al.)
         std::optional<JammingSearch> resume;
         if (resumed() && first_step() > stage) resume = JammingSearch::unpack(resumed()->protocol);
         // The evaluations before the search; the search counts its own (saved with it).
         const std::int64_t before_search = result.force_evaluations - (resume ? resume->force_evaluations : 0);
-        const JammingPoint jp = find_jamming_point(
-            system(), forces, *minimizer, criteria, 1e-3, params.phi_tol, resume ? &*resume : nullptr,
-            [&](const JammingSearch& s) {
-                result.force_evaluations = before_search + s.force_evaluations;
-                const std::int64_t step = stage + s.minimizations;  // before minimisation m + 1
-                // Progress: the search takes ~30 minimisations (Δφ from 1e-3 down to phi_tol).
-                checkpoint(step, stage + std::max(s.minimizations + 1, 30), nullptr, s.pack());
-            });
+        const JammingPoint jp =
+            find_jamming_point(system(), forces, *minimizer, criteria, 1e-3, params.phi_tol,
+                               resume ? &*resume : nullptr, [&](const JammingSearch& s) {
+                                   result.force_evaluations = before_search + s.force_evaluations;
+                                   const std::int64_t step = stage + s.minimizations;  // before minimisation m + 1
+                                   // Progress: the search takes ~30 minimisations (Δφ from 1e-3 down to phi_tol).
+                                   checkpoint(step, stage + std::max(s.minimizations + 1, 30), nullptr, s.pack());
+                               });
         result.force_evaluations = before_search + jp.force_evaluations;
         record(jp.state, 0.0);
     }
@@ -184,88 +185,112 @@ Schedule one_state(const ReplicaParams&) { return {.steps = 0, .sample_every = 1
 int one_evaluation(const ReplicaParams&) { return 1; }
 
 // Parameters: the minimiser and its stopping rule, plus what each protocol adds.
-constexpr std::string_view kQs[] = {"minimizer", "energy_floor", "force_tol", "force_tol_abs",
-                                    "strain", "strain_step", "transient", "sample_interval",
-                                    "checkpoint_steps"};
+constexpr std::string_view kQs[] = {"minimizer",   "energy_floor", "force_tol",       "force_tol_abs",   "strain",
+                                    "strain_step", "transient",    "sample_interval", "checkpoint_steps"};
 constexpr std::string_view kRand[] = {"minimizer", "energy_floor", "force_tol", "force_tol_abs"};
-constexpr std::string_view kCompress[] = {"minimizer", "energy_floor", "force_tol",
-                                          "force_tol_abs", "phi_tol"};
-constexpr std::string_view kCool[] = {"minimizer", "energy_floor", "force_tol", "force_tol_abs",
-                                      "temperature", "cooling_time", "dt", "kd",
-                                      "checkpoint_steps"};
-constexpr std::string_view kCoolCompress[] = {"minimizer", "energy_floor", "force_tol",
-                                              "force_tol_abs", "phi_tol", "temperature",
-                                              "cooling_time", "dt", "kd", "checkpoint_steps"};
-constexpr std::string_view kSheared[] = {"minimizer", "energy_floor", "force_tol",
-                                         "force_tol_abs", "strain", "strain_step", "phi_tol",
-                                         "checkpoint_steps"};
+constexpr std::string_view kCompress[] = {"minimizer", "energy_floor", "force_tol", "force_tol_abs", "phi_tol"};
+constexpr std::string_view kCool[] = {"minimizer",    "energy_floor", "force_tol", "force_tol_abs",   "temperature",
+                                      "cooling_time", "dt",           "kd",        "checkpoint_steps"};
+constexpr std::string_view kCoolCompress[] = {"minimizer", "energy_floor",    "force_tol",    "force_tol_abs",
+                                              "phi_tol",   "temperature",     "cooling_time", "dt",
+                                              "kd",        "checkpoint_steps"};
+constexpr std::string_view kSheared[] = {"minimizer", "energy_floor", "force_tol", "force_tol_abs",
+                                         "strain",    "strain_step",  "phi_tol",   "checkpoint_steps"};
 
 // Cost estimates in force evaluations per disk: a RAND quench ~1e3, a φ_J search ~2e4, a
 // QS step ~1e2, a cooling step 1.
 double n_of(const ReplicaParams& p) { return static_cast<double>(p.n); }
 double qs_steps(const ReplicaParams& p) { return p.strain / p.strain_step; }
-std::string cooling_advisory(const ReplicaParams& p) {
-    return overdamped_dt_advisory(p, reservoir_drag_stable_dt);
-}
+std::string cooling_advisory(const ReplicaParams& p) { return overdamped_dt_advisory(p, reservoir_drag_stable_dt); }
 
-} // namespace
+}  // namespace
 
 ModelInfo qs_protocol() {
-    return {.name = "QS", .kind = ModelKind::Minimisation,
+    return {.name = "QS",
+            .kind = ModelKind::Minimisation,
             .summary = "quasistatic shear: strain_step (affine), minimise; a sample per sample_interval",
-            .parameters = kQs, .evaluations_per_step = one_evaluation, .stable_dt = no_dt_limit,
-            .schedule = [](const ReplicaParams& p) {
-                return Schedule{.steps = static_cast<std::int64_t>(std::ceil(qs_steps(p) - 1e-9)),
-                                .sample_every = std::max<std::int64_t>(1, std::llround(p.sample_interval / p.strain_step))};
-            },
+            .parameters = kQs,
+            .evaluations_per_step = one_evaluation,
+            .stable_dt = no_dt_limit,
+            .schedule =
+                [](const ReplicaParams& p) {
+                    return Schedule{.steps = static_cast<std::int64_t>(std::ceil(qs_steps(p) - 1e-9)),
+                                    .sample_every =
+                                        std::max<std::int64_t>(1, std::llround(p.sample_interval / p.strain_step))};
+                },
             .cost = [](const ReplicaParams& p) { return n_of(p) * 1e2 * qs_steps(p); },
-            .run = run_qs, .extendable = true};
+            .run = run_qs,
+            .extendable = true};
 }
 
 ModelInfo rand_protocol() {
-    return {.name = "RAND", .kind = ModelKind::Minimisation,
+    return {.name = "RAND",
+            .kind = ModelKind::Minimisation,
             .summary = "random positions at phi (an infinite-temperature quench), minimised: one state",
-            .parameters = kRand, .evaluations_per_step = one_evaluation, .stable_dt = no_dt_limit,
-            .schedule = one_state, .cost = [](const ReplicaParams& p) { return n_of(p) * 1e3; },
+            .parameters = kRand,
+            .evaluations_per_step = one_evaluation,
+            .stable_dt = no_dt_limit,
+            .schedule = one_state,
+            .cost = [](const ReplicaParams& p) { return n_of(p) * 1e3; },
             .run = run_rand};
 }
 
 ModelInfo compress_protocol() {
-    return {.name = "COMPRESS", .kind = ModelKind::Minimisation,
+    return {.name = "COMPRESS",
+            .kind = ModelKind::Minimisation,
             .summary = "RAND, then compression/decompression to its own phi_J: the jammed state at phi_J+",
-            .parameters = kCompress, .evaluations_per_step = one_evaluation, .stable_dt = no_dt_limit,
-            .schedule = one_state, .cost = [](const ReplicaParams& p) { return n_of(p) * 2e4; },
-            .run = run_compress, .open_ended = true};
+            .parameters = kCompress,
+            .evaluations_per_step = one_evaluation,
+            .stable_dt = no_dt_limit,
+            .schedule = one_state,
+            .cost = [](const ReplicaParams& p) { return n_of(p) * 2e4; },
+            .run = run_compress,
+            .open_ended = true};
 }
 
 ModelInfo cool_protocol() {
-    return {.name = "COOL", .kind = ModelKind::Minimisation,
+    return {.name = "COOL",
+            .kind = ModelKind::Minimisation,
             .summary = "overdamped Langevin cooling T(t) = T_0 (1 - t/cooling_time), then a quench",
-            .parameters = kCool, .evaluations_per_step = one_evaluation,
+            .parameters = kCool,
+            .evaluations_per_step = one_evaluation,
             .stable_dt = reservoir_drag_stable_dt,  // the cooling is RD0T's Euler step
             .schedule = one_state,
             .cost = [](const ReplicaParams& p) { return n_of(p) * (1e3 + p.cooling_time / p.dt); },
-            .run = run_cool, .checkpointed_steps = cooling_steps_of,
-            .stable_dt_basis = reservoir_drag_dt_basis, .advisory = cooling_advisory};
+            .run = run_cool,
+            .checkpointed_steps = cooling_steps_of,
+            .stable_dt_basis = reservoir_drag_dt_basis,
+            .advisory = cooling_advisory};
 }
 
 ModelInfo cool_compress_protocol() {
-    return {.name = "COOL_COMPRESS", .kind = ModelKind::Minimisation,
+    return {.name = "COOL_COMPRESS",
+            .kind = ModelKind::Minimisation,
             .summary = "COOL's cooling, then the phi_J search of COMPRESS (Paper I)",
-            .parameters = kCoolCompress, .evaluations_per_step = one_evaluation,
-            .stable_dt = reservoir_drag_stable_dt, .schedule = one_state,
+            .parameters = kCoolCompress,
+            .evaluations_per_step = one_evaluation,
+            .stable_dt = reservoir_drag_stable_dt,
+            .schedule = one_state,
             .cost = [](const ReplicaParams& p) { return n_of(p) * (2e4 + p.cooling_time / p.dt); },
-            .run = run_cool_compress, .checkpointed_steps = cooling_steps_of, .open_ended = true,
-            .stable_dt_basis = reservoir_drag_dt_basis, .advisory = cooling_advisory};
+            .run = run_cool_compress,
+            .checkpointed_steps = cooling_steps_of,
+            .open_ended = true,
+            .stable_dt_basis = reservoir_drag_dt_basis,
+            .advisory = cooling_advisory};
 }
 
 ModelInfo sheared_protocol() {
-    return {.name = "SHEARED", .kind = ModelKind::Minimisation,
+    return {.name = "SHEARED",
+            .kind = ModelKind::Minimisation,
             .summary = "the sheared ensemble: QS shear at phi to strain, then the phi_J search",
-            .parameters = kSheared, .evaluations_per_step = one_evaluation,
-            .stable_dt = no_dt_limit, .schedule = one_state,
+            .parameters = kSheared,
+            .evaluations_per_step = one_evaluation,
+            .stable_dt = no_dt_limit,
+            .schedule = one_state,
             .cost = [](const ReplicaParams& p) { return n_of(p) * (2e4 + 1e2 * qs_steps(p)); },
-            .run = run_sheared, .checkpointed_steps = shear_steps_of, .open_ended = true};
+            .run = run_sheared,
+            .checkpointed_steps = shear_steps_of,
+            .open_ended = true};
 }
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -87,8 +87,8 @@ double rd0_step_seconds(const System& start, const ReplicaParams& p) {
 std::string state_path(const ReplicaParams& p) {
     const char* dir = std::getenv("JAMSIM_BENCH_CD0_STATES");
     if (!dir || !*dir) return {};
-    return std::string(dir) + "/cd0_flow_N" + std::to_string(p.n) + "_phi" +
-           std::to_string(std::lround(p.phi * 100)) + ".h5";
+    return std::string(dir) + "/cd0_flow_N" + std::to_string(p.n) + "_phi" + std::to_string(std::lround(p.phi * 100)) +
+           ".h5";
 }
 
 /// CD0's start (random positions relaxed by relax_cd0_start) sheared by CD0 to strain 0.2 at the benchmark's rate: the same state for
@@ -211,7 +211,7 @@ void BM_Rd0Step(benchmark::State& state) {
     for (auto _ : state) step(model, sys, ff, p);
     state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * p.n);
 }
-} // namespace
+}  // namespace
 
 int main(int argc, char** argv) {
     // Fixed step counts (after the preparation): enough steps to span
@@ -237,13 +237,18 @@ int main(int argc, char** argv) {
             if (n > 65536 && phi != 84) continue;
             if (n <= 65536)
                 benchmark::RegisterBenchmark("BM_Rd0Step", BM_Rd0Step)
-                    ->ArgNames({"N", "phi100"})->Args({n, phi})->Iterations(steps(n))->Unit(benchmark::kMicrosecond);
+                    ->ArgNames({"N", "phi100"})
+                    ->Args({n, phi})
+                    ->Iterations(steps(n))
+                    ->Unit(benchmark::kMicrosecond);
             for (const auto& b : backends) {
                 if (n > b.largest) continue;
                 const char *solver = b.solver, *options = b.options;
                 benchmark::RegisterBenchmark((std::string("BM_") + b.name).c_str(),
                                              [solver, options](benchmark::State& st) { run_cd0(st, solver, options); })
-                    ->ArgNames({"N", "phi100"})->Args({n, phi})->Iterations(steps(n))
+                    ->ArgNames({"N", "phi100"})
+                    ->Args({n, phi})
+                    ->Iterations(steps(n))
                     ->Unit(benchmark::kMicrosecond);
             }
         }
@@ -251,8 +256,11 @@ int main(int argc, char** argv) {
     for (long n : {16384L, 65536L})
         for (long t : {1L, 2L, 4L, 8L, 16L})
             benchmark::RegisterBenchmark("BM_Cd0Threads", BM_Cd0Threads)
-                ->ArgNames({"N", "threads"})->Args({n, t})->Iterations(steps(n))
-                ->UseRealTime()->Unit(benchmark::kMicrosecond);
+                ->ArgNames({"N", "threads"})
+                ->Args({n, t})
+                ->Iterations(steps(n))
+                ->UseRealTime()
+                ->Unit(benchmark::kMicrosecond);
     benchmark::Initialize(&argc, argv);
     // Remaining arguments are PETSc options (-cd0_ksp_type, -cd0_pc_type, -cd0_ksp_rtol, ...).
     PetscInitialize(&argc, &argv, nullptr, nullptr);

@@ -34,12 +34,11 @@ static void BM_Rd0(benchmark::State& state) {
     const double steps = static_cast<double>(state.iterations());
     const double evals_per_step = integ == "heun" ? 2.0 : 1.0;
     state.SetItemsProcessed(static_cast<std::int64_t>(steps) * p.n);
-    state.counters["force_evals_per_s"] = benchmark::Counter(
-        steps * evals_per_step * static_cast<double>(p.n), benchmark::Counter::kIsRate);
+    state.counters["force_evals_per_s"] =
+        benchmark::Counter(steps * evals_per_step * static_cast<double>(p.n), benchmark::Counter::kIsRate);
     state.counters["steps_per_rebuild"] =
         steps / static_cast<double>(std::max<std::size_t>(1, ff.list().builds() - builds0));
-    state.counters["pairs_per_particle"] =
-        static_cast<double>(ff.list().size()) / static_cast<double>(p.n);
+    state.counters["pairs_per_particle"] = static_cast<double>(ff.list().size()) / static_cast<double>(p.n);
 }
 BENCHMARK(BM_Rd0)
     ->ArgNames({"N", "heun"})
@@ -91,7 +90,7 @@ static void BM_Rd0Threads(benchmark::State& state) {
 BENCHMARK(BM_Rd0Threads)
     ->ArgNames({"N", "threads"})
     ->ArgsProduct({{16384, 65536, 262144}, {1, 2, 4, 8, 16}})  // here: --benchmark_filter='threads:(1|2)/'
-    ->UseRealTime()  // wall-clock time: the threads share the step
+    ->UseRealTime()                                            // wall-clock time: the threads share the step
     ->Unit(benchmark::kMillisecond)
     ->MinTime(2.0);
 

@@ -23,7 +23,7 @@ N = [64, 128]
 phi = [0.8]
 rate = [1e-2]
 )";
-} // namespace
+}  // namespace
 
 TEST(Archive, WriteReadBackFailAndImport) {
     const CampaignSpec spec = parse_campaign(kSpec, "inline.toml");

@@ -23,8 +23,7 @@ TEST(Cd0, EnergyDecreasesWithoutShear) {
     for (std::size_t k = 1; k < r.series.size(); ++k)
         ASSERT_LE(r.series[k].energy_per_particle, r.series[k - 1].energy_per_particle) << k;
     // The start is relaxed already (relax_cd0_start); the energy still falls clearly.
-    EXPECT_LT(r.series[r.series.size() - 1].energy_per_particle,
-              0.5 * r.series[0].energy_per_particle);
+    EXPECT_LT(r.series[r.series.size() - 1].energy_per_particle, 0.5 * r.series[0].energy_per_particle);
 }
 
 // A CD0 replica from random positions starts from them relaxed (relax_cd0_start): its first

@@ -51,9 +51,8 @@ void expect_same(const ReplicaResult& a, const ReplicaResult& b, const std::stri
 
 void check_resume(const ReplicaParams& p) {
     std::vector<ReplicaState> saved;
-    const CheckpointPolicy keep_all{.due = [] { return true; },
-                                    .save = [&](const ReplicaState& s) { saved.push_back(s); },
-                                    .stop = {}};
+    const CheckpointPolicy keep_all{
+        .due = [] { return true; }, .save = [&](const ReplicaState& s) { saved.push_back(s); }, .stop = {}};
     const ReplicaResult plain = run_replica(p);
     const ReplicaResult checkpointed = run_replica(p, {.checkpoints = &keep_all});
     expect_same(plain, checkpointed, p.model + ": saving changed the run");
@@ -64,8 +63,7 @@ void check_resume(const ReplicaParams& p) {
         expect_same(plain, resumed, p.model + " from step " + std::to_string(saved[k].step));
     }
     // Through a checkpoint file.
-    const std::string path = (std::filesystem::temp_directory_path() /
-                              ("jamsim_ckpt_" + p.model + ".h5")).string();
+    const std::string path = (std::filesystem::temp_directory_path() / ("jamsim_ckpt_" + p.model + ".h5")).string();
     write_checkpoint(path, p, saved[saved.size() / 2]);
     const ReplicaState read = read_checkpoint(path, p);
     std::filesystem::remove(path);
@@ -82,7 +80,7 @@ void check_resume(const ReplicaParams& p) {
     expect_same(plain, run_replica(p, {.resume = &at_stop[0]}), p.model + " after a stop");
 }
 
-} // namespace
+}  // namespace
 
 TEST(CheckpointResume, Rd0EulerAndHeun) {
     ReplicaParams p = replica("RD0");
@@ -151,8 +149,8 @@ TEST(CheckpointResume, Cooling) { check_resume(protocol("COOL")); }
 TEST(CheckpointResume, CoolingThenPhiJSearch) {
     const ReplicaParams p = protocol("COOL_COMPRESS");
     std::vector<ReplicaState> saved;
-    const CheckpointPolicy keep{.due = [] { return true; },
-                                .save = [&](const ReplicaState& s) { saved.push_back(s); }, .stop = {}};
+    const CheckpointPolicy keep{
+        .due = [] { return true; }, .save = [&](const ReplicaState& s) { saved.push_back(s); }, .stop = {}};
     run_replica(p, {.checkpoints = &keep});
     // Both stages are checkpointed: cooling steps 40, 80, ..., 280, then the search's.
     ASSERT_GT(saved.size(), 8u);
@@ -168,8 +166,8 @@ TEST(CheckpointResume, ShearedThenPhiJSearch) { check_resume(protocol("SHEARED")
 TEST(CheckpointResume, ForeignCheckpointRefused) {
     const ReplicaParams p = replica("RD0");
     std::vector<ReplicaState> saved;
-    const CheckpointPolicy keep{.due = [] { return true; },
-                                .save = [&](const ReplicaState& s) { saved.push_back(s); }, .stop = {}};
+    const CheckpointPolicy keep{
+        .due = [] { return true; }, .save = [&](const ReplicaState& s) { saved.push_back(s); }, .stop = {}};
     run_replica(p, {.checkpoints = &keep});
     const std::string path = (std::filesystem::temp_directory_path() / "jamsim_ckpt_foreign.h5").string();
     write_checkpoint(path, p, saved.front());

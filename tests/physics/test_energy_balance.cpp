@@ -42,7 +42,7 @@ void check_balance(const std::string& model, const std::string& solver) {
     EXPECT_LT(std::abs(m), 0.03 * in);
     EXPECT_GT(in, 0.0);
 }
-} // namespace
+}  // namespace
 
 TEST(EnergyBalance, Rd0) { check_balance("RD0", "petsc"); }
 TEST(EnergyBalance, Cd0) { check_balance("CD0", "eigen"); }

@@ -42,7 +42,7 @@ Vec2 momentum(const System& sys, double mass) {
     return m;
 }
 
-} // namespace
+}  // namespace
 
 // Steady state: shear work (σ + σ_dis + σ_kin) γ̇ A equals the dissipated power plus
 // d(E + K)/dt, which averages to zero; per-seed differences must be consistent with zero.
@@ -57,8 +57,7 @@ TEST(Massive, EnergyBalance) {
             diff.push_back(in - mean_after(r.series, &Sample::dissipated_power, p.transient));
         }
         const Stat d = over(diff), in = over(input);
-        std::printf("%s: P_in = %.4g, <P_in - P_dis> = %.3g +- %.2g\n", model, in.mean, d.mean,
-                    d.error);
+        std::printf("%s: P_in = %.4g, <P_in - P_dis> = %.3g +- %.2g\n", model, in.mean, d.mean, d.error);
         EXPECT_LT(std::abs(d.mean), 3 * d.error + 1e-15) << model;
         EXPECT_LT(std::abs(d.mean), 0.03 * in.mean) << model;
     }
@@ -139,8 +138,7 @@ TEST(Massive, SmallMassRdReproducesRd0) {
         rd.push_back(mean_after(run_replica(p).series, &Sample::pressure, p.transient));
     }
     const Stat a = over(rd0), b = over(rd);
-    std::printf("<p>: RD0 %.4g +- %.2g, RD (m = 0.01) %.4g +- %.2g\n", a.mean, a.error, b.mean,
-                b.error);
+    std::printf("<p>: RD0 %.4g +- %.2g, RD (m = 0.01) %.4g +- %.2g\n", a.mean, a.error, b.mean, b.error);
     EXPECT_LT(std::abs(a.mean - b.mean), 3 * std::hypot(a.error, b.error));
     EXPECT_LT(a.error, 0.1 * a.mean);
 }

@@ -32,7 +32,7 @@ Quench rand_quench(const std::string& minimizer, std::int64_t n, double phi, std
     return q;
 }
 
-} // namespace
+}  // namespace
 
 TEST(Minimize, RandBelowJammingReachesZeroEnergy) {
     for (const char* name : {"cg", "cg-pr", "fire"})
@@ -48,7 +48,8 @@ TEST(Minimize, RandAboveJammingBalancesForces) {
     for (const char* name : {"cg", "cg-pr", "fire"})
         for (std::uint64_t seed = 1; seed <= 10; ++seed) {
             const Quench q = rand_quench(name, 256, 0.86, seed, c);
-            std::printf("%s seed %2llu: its %6lld evals %6lld E/N %.6e p %.6e fmax/fbar %.2e Z %.4f rattlers %.3f excess %lld\n",
+            std::printf("%s seed %2llu: its %6lld evals %6lld E/N %.6e p %.6e fmax/fbar %.2e Z %.4f rattlers %.3f "
+                        "excess %lld\n",
                         name, static_cast<unsigned long long>(seed), static_cast<long long>(q.result.iterations),
                         static_cast<long long>(q.result.force_evaluations), q.result.energy_per_particle,
                         q.result.pressure, q.result.max_force / q.result.mean_contact_force, q.network.z(),
@@ -72,9 +73,10 @@ TEST(Jamming, IsostaticJustAboveJamming) {
             auto cg = make_minimizer("cg");
             const JammingPoint jp = find_jamming_point(sys, ff, *cg, MinimizeCriteria{});
             const auto& net = jp.state.network;
-            std::printf("N %3lld seed %2llu: phi_J %.7f (unjammed %.7f) p %.3e N' %lld Nc' %lld excess %lld (%d minimisations)\n",
-                        static_cast<long long>(n), static_cast<unsigned long long>(seed), jp.phi_j,
-                        jp.phi_unjammed, jp.state.minimum.pressure, static_cast<long long>(net.nonrattlers),
+            std::printf("N %3lld seed %2llu: phi_J %.7f (unjammed %.7f) p %.3e N' %lld Nc' %lld excess %lld (%d "
+                        "minimisations)\n",
+                        static_cast<long long>(n), static_cast<unsigned long long>(seed), jp.phi_j, jp.phi_unjammed,
+                        jp.state.minimum.pressure, static_cast<long long>(net.nonrattlers),
                         static_cast<long long>(net.backbone_contacts()), static_cast<long long>(net.excess_contacts()),
                         jp.minimizations);
             EXPECT_GT(jp.phi_j, jp.phi_unjammed);
@@ -103,8 +105,8 @@ TEST(Minimize, CgAndFireSampleTheSameMinima) {
     const auto [ef, pf] = sample("fire");
     for (const char* name : {"cg", "cg-pr"}) {
         const auto [ec, pc] = sample(name);
-        std::printf("E/N: %s %.4e +- %.1e, FIRE %.4e +- %.1e; p: %s %.4e +- %.1e, FIRE %.4e +- %.1e\n",
-                    name, ec.mean, ec.error, ef.mean, ef.error, name, pc.mean, pc.error, pf.mean, pf.error);
+        std::printf("E/N: %s %.4e +- %.1e, FIRE %.4e +- %.1e; p: %s %.4e +- %.1e, FIRE %.4e +- %.1e\n", name, ec.mean,
+                    ec.error, ef.mean, ef.error, name, pc.mean, pc.error, pf.mean, pf.error);
         EXPECT_LE(std::abs(ec.mean - ef.mean), 3.0 * std::hypot(ec.error, ef.error)) << name;
         EXPECT_LE(std::abs(pc.mean - pf.mean), 3.0 * std::hypot(pc.error, pf.error)) << name;
     }
@@ -140,8 +142,8 @@ TEST(Minimize, SplitPositionsRemoveTheResolutionGradient) {
             for (double x : v) s += x * x;
             return std::sqrt(s / static_cast<double>(v.size()));
         };
-        std::printf("split %d: residual force rms near origin %.3e, far %.3e (fmax %.3e)\n", split,
-                    rms(near), rms(far), r.max_force);
+        std::printf("split %d: residual force rms near origin %.3e, far %.3e (fmax %.3e)\n", split, rms(near), rms(far),
+                    r.max_force);
         return std::pair{rms(far) / rms(near), rms(far)};
     };
     const auto [plain, plain_floor] = floor_ratio(false);

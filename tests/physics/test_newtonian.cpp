@@ -43,9 +43,8 @@ Rheology measure(double phi, double rate, int seeds, double transient, double me
         s.push_back(mean_after(r.series, &Sample::shear_stress, transient) / rate);
     }
     const Rheology out{over_seeds(p), over_seeds(s)};
-    std::printf("phi %.2f rate %.0e: p/rate = %.4g +- %.2g, sigma/rate = %.4g +- %.2g\n", phi,
-                rate, out.p_over_rate.mean, out.p_over_rate.error, out.sigma_over_rate.mean,
-                out.sigma_over_rate.error);
+    std::printf("phi %.2f rate %.0e: p/rate = %.4g +- %.2g, sigma/rate = %.4g +- %.2g\n", phi, rate,
+                out.p_over_rate.mean, out.p_over_rate.error, out.sigma_over_rate.mean, out.sigma_over_rate.error);
     return out;
 }
 
@@ -53,7 +52,7 @@ double z_score(Estimate a, Estimate b) {
     return std::abs(a.mean - b.mean) / std::sqrt(a.error * a.error + b.error * b.error);
 }
 
-} // namespace
+}  // namespace
 
 TEST(Rd0Rheology, NewtonianAtPhi070) {
     const Rheology fast = measure(0.70, 3e-3, 8, 1.0, 4.0);

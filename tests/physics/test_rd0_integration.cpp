@@ -40,8 +40,7 @@ System sheared_start(const ReplicaParams& params) {
 }
 
 /// Integrate RD0 from `start` for time T with step dt.
-System integrate(const ReplicaParams& params, const System& start, double T, double dt,
-                 const std::string& integ) {
+System integrate(const ReplicaParams& params, const System& start, double T, double dt, const std::string& integ) {
     System sys = start;
     ForceField ff(potential::make_soft_sphere(params.alpha), params.skin);
     Rd0 model(ReplicaParams{.integrator = integ, .kd = 1.0});
@@ -86,7 +85,7 @@ std::vector<double> observed_orders(const ReplicaParams& p, const std::string& i
     return orders;
 }
 
-} // namespace
+}  // namespace
 
 TEST(Rd0, SameSeedGivesBitwiseIdenticalTimeSeries) {
     const ReplicaParams p = small_run();
@@ -96,7 +95,8 @@ TEST(Rd0, SameSeedGivesBitwiseIdenticalTimeSeries) {
     for (std::size_t k = 0; k < a.series.size(); ++k)
         for (const auto& c : kSampleColumns)  // bitwise, so NaN (not applicable) equals NaN
             ASSERT_EQ(std::bit_cast<std::uint64_t>(a.series[k].*c.member),
-                      std::bit_cast<std::uint64_t>(b.series[k].*c.member)) << c.name;
+                      std::bit_cast<std::uint64_t>(b.series[k].*c.member))
+                << c.name;
     ReplicaParams other = p;
     other.seed = 4;
     const auto c = run_replica(other);
@@ -128,8 +128,7 @@ TEST(Rd0, EnergyDecreasesWithoutShear) {
     const auto r = run_replica(p);
     for (std::size_t k = 1; k < r.series.size(); ++k)
         ASSERT_LE(r.series[k].energy_per_particle, r.series[k - 1].energy_per_particle);
-    EXPECT_LT(r.series[r.series.size() - 1].energy_per_particle,
-              0.1 * r.series[0].energy_per_particle);
+    EXPECT_LT(r.series[r.series.size() - 1].energy_per_particle, 0.1 * r.series[0].energy_per_particle);
 }
 
 // The non-affine velocity of RD0 is f/k_d, so at rate 0 its mean square is (1/N) Σ |f|².

@@ -23,8 +23,8 @@ using namespace jamsim;
 namespace {
 
 struct Balance {
-    double h = 0;        // E + K
-    double q = 0;        // P_in − P_dis
+    double h = 0;  // E + K
+    double q = 0;  // P_in − P_dis
     std::int64_t contacts = 0;
 };
 
@@ -79,13 +79,13 @@ void check_order(const std::string& name, const std::string& integ, double expec
     const double r3 = residual(sys, p, h0 / 8, &changed[3]);
     ASSERT_FALSE(changed[0] || changed[1] || changed[2] || changed[3]) << name << ": pick another state";
     const double q1 = r1 / r2, q2 = r2 / r3;
-    std::printf("%s: R(h) = %.3e %.3e %.3e %.3e, ratios %.3f %.3f %.3f (expected %.0f)\n",
-                name.c_str(), r0, r1, r2, r3, r0 / r1, q1, q2, expected_ratio);
+    std::printf("%s: R(h) = %.3e %.3e %.3e %.3e, ratios %.3f %.3f %.3f (expected %.0f)\n", name.c_str(), r0, r1, r2, r3,
+                r0 / r1, q1, q2, expected_ratio);
     EXPECT_LE(std::abs(q2 / expected_ratio - 1.0), 0.15) << name;
     EXPECT_LE(std::abs(q2 / expected_ratio - 1.0), std::abs(q1 / expected_ratio - 1.0) + 0.02) << name;
 }
 
-} // namespace
+}  // namespace
 
 TEST(StepEnergyBalance, Rd0Heun) { check_order("RD0", "heun", 8.0); }
 TEST(StepEnergyBalance, Rd0Euler) { check_order("RD0", "euler", 4.0); }

@@ -43,7 +43,7 @@ std::vector<double> by_tag(const Particles& q, const std::vector<double>& v) {
     return out;
 }
 
-} // namespace
+}  // namespace
 
 // Free disks diffuse with D = T/k_d: each displacement component after time t has mean 0 and
 // variance 2 D t. The sample variance over 2N components has relative standard error

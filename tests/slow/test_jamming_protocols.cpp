@@ -82,7 +82,7 @@ Probability width_with_error(const std::vector<double>& phis, const std::vector<
     return {w, std::sqrt(v)};
 }
 
-} // namespace
+}  // namespace
 
 // P_J(φ) of RAND quenches rises monotonically through [0.80, 0.86], and the rise is
 // narrower for N = 256 than for N = 64 (the width shrinks with N, Paper I).
@@ -176,10 +176,10 @@ TEST(Cooling, SlowerCoolingGivesDeeperMinima) {
     const auto [p_rand, e_rand] = quenched("RAND", 1.0);
     const auto [p_fast, e_fast] = quenched("COOL", 1e3);
     const auto [p_slow, e_slow] = quenched("COOL", 2e4);
-    std::printf("quenched <p>: RAND %.5f +- %.5f, cooled over 1e3 %.5f +- %.5f, over 2e4 %.5f +- %.5f\n",
-                p_rand.mean, p_rand.error, p_fast.mean, p_fast.error, p_slow.mean, p_slow.error);
-    std::printf("quenched <E/N>: RAND %.3e +- %.1e, 1e3 %.3e +- %.1e, 2e4 %.3e +- %.1e\n", e_rand.mean,
-                e_rand.error, e_fast.mean, e_fast.error, e_slow.mean, e_slow.error);
+    std::printf("quenched <p>: RAND %.5f +- %.5f, cooled over 1e3 %.5f +- %.5f, over 2e4 %.5f +- %.5f\n", p_rand.mean,
+                p_rand.error, p_fast.mean, p_fast.error, p_slow.mean, p_slow.error);
+    std::printf("quenched <E/N>: RAND %.3e +- %.1e, 1e3 %.3e +- %.1e, 2e4 %.3e +- %.1e\n", e_rand.mean, e_rand.error,
+                e_fast.mean, e_fast.error, e_slow.mean, e_slow.error);
     EXPECT_GT(p_rand.mean - p_slow.mean, 3 * std::hypot(p_rand.error, p_slow.error));
     EXPECT_GT(e_rand.mean - e_slow.mean, 3 * std::hypot(e_rand.error, e_slow.error));
     EXPECT_GT(p_fast.mean - p_slow.mean, 0.0) << "slower cooling should not give a higher pressure";
@@ -221,7 +221,7 @@ TEST(PressureDistribution, NarrowsWithN) {
         return Probability{width(p), e.error * std::sqrt(static_cast<double>(boot.size()))};
     };
     const Probability small = relative_width(64), large = relative_width(512);
-    std::printf("std(p)/<p> at phi = 0.86: N = 64 %.3f +- %.3f, N = 512 %.3f +- %.3f\n", small.p,
-                small.error, large.p, large.error);
+    std::printf("std(p)/<p> at phi = 0.86: N = 64 %.3f +- %.3f, N = 512 %.3f +- %.3f\n", small.p, small.error, large.p,
+                large.error);
     EXPECT_GT(small.p - large.p, 3 * std::hypot(small.error, large.error));
 }

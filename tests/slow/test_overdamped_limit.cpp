@@ -33,8 +33,7 @@ TEST(OverdampedLimit, SmallMassCdReproducesCd0) {
         cd.push_back(mean_after(run_replica(p).series, &Sample::pressure, p.transient));
     }
     const auto a = jamsim::testing::mean_and_error(cd0), b = jamsim::testing::mean_and_error(cd);
-    std::printf("<p>: CD0 %.4g +- %.2g, CD (m = 0.01) %.4g +- %.2g\n", a.mean, a.error, b.mean,
-                b.error);
+    std::printf("<p>: CD0 %.4g +- %.2g, CD (m = 0.01) %.4g +- %.2g\n", a.mean, a.error, b.mean, b.error);
     EXPECT_LT(std::abs(a.mean - b.mean), 3 * std::hypot(a.error, b.error));
     EXPECT_LT(a.error, 0.1 * a.mean);
 }

@@ -51,7 +51,7 @@ Stat slope(const std::string& model, double high, double low) {
                 model.c_str(), high, hi.mean, hi.error, low, lo.mean, lo.error, s, e);
     return {s, e};
 }
-} // namespace
+}  // namespace
 
 TEST(Rheology, NewtonianOverdampedBagnoldianCDn) {
     const Stat rd0 = slope("RD0", 1e-3, 1e-4), cd0 = slope("CD0", 1e-3, 1e-4);

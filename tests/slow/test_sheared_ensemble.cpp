@@ -44,7 +44,7 @@ jamsim::testing::Estimate ensemble(bool cooled, double strain, std::vector<doubl
     return jamsim::testing::mean_and_error(phi_j);
 }
 
-} // namespace
+}  // namespace
 
 // Compression keeps the preparation: cooled configurations jam at a higher φ_J than random
 // ones. After QS shear to γ = 2 the gap between the preparations has shrunk, and what is left
@@ -69,11 +69,12 @@ TEST(ShearedEnsemble, ForgetsThePreparation) {
     using jamsim::testing::mean_and_error;
     const auto b = mean_and_error(before), a = mean_and_error(after), d = mean_and_error(shrink);
     std::printf("<phi_J> over %d seeds, N = %lld: RAND %.5f, cooled %.5f; after QS shear to 2: "
-                "RAND %.5f, cooled %.5f\n", kSeeds, static_cast<long long>(kDisks),
-                mean_and_error(v[0]).mean, mean_and_error(v[1]).mean, mean_and_error(v[2]).mean,
-                mean_and_error(v[3]).mean);
+                "RAND %.5f, cooled %.5f\n",
+                kSeeds, static_cast<long long>(kDisks), mean_and_error(v[0]).mean, mean_and_error(v[1]).mean,
+                mean_and_error(v[2]).mean, mean_and_error(v[3]).mean);
     std::printf("paired gaps cooled - random: before %.5f +- %.5f, after %.5f +- %.5f, shrink "
-                "%.5f +- %.5f\n", b.mean, b.error, a.mean, a.error, d.mean, d.error);
+                "%.5f +- %.5f\n",
+                b.mean, b.error, a.mean, a.error, d.mean, d.error);
     EXPECT_GT(b.mean, 3.0 * b.error);
     EXPECT_GT(d.mean, 3.0 * d.error);
     EXPECT_LE(std::abs(a.mean), 3.0 * a.error);

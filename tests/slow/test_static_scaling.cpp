@@ -103,7 +103,7 @@ Slopes measure(double alpha, std::int64_t n, int seeds, const std::vector<double
     return s;
 }
 
-} // namespace
+}  // namespace
 
 TEST(StaticScaling, HarmonicExponents) {
     const std::vector<double> dphi{1e-4, 2e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2};
@@ -116,8 +116,8 @@ TEST(StaticScaling, HarmonicExponents) {
                 s.p.size(), p.mean, p.error, e.mean, e.error, z.mean, z.error, s.z.size());
     const auto pc = mean_and_error(s.p_corrected), ec = mean_and_error(s.e_corrected),
                zc = mean_and_error(s.z_corrected);
-    std::printf("  with the correction fitted: p %.3f +- %.3f, E %.3f +- %.3f, Z - Z_iso %.3f +- %.3f\n",
-                pc.mean, pc.error, ec.mean, ec.error, zc.mean, zc.error);
+    std::printf("  with the correction fitted: p %.3f +- %.3f, E %.3f +- %.3f, Z - Z_iso %.3f +- %.3f\n", pc.mean,
+                pc.error, ec.mean, ec.error, zc.mean, zc.error);
     ASSERT_GE(s.p.size(), 48u);
     ASSERT_GE(s.z.size(), 48u);
     // Power: the fits must be able to tell the exponents from other candidates (harmonic from
@@ -134,12 +134,10 @@ TEST(StaticScaling, HertzianPressure) {
     const std::vector<double> dphi{1e-4, 2e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2};
     const Slopes s = measure(2.5, 256, 64, dphi, {});
     const auto p = jamsim::testing::mean_and_error(s.p), e = jamsim::testing::mean_and_error(s.e);
-    std::printf("Hertzian, N = 256, %zu configurations: p %.3f +- %.3f (1.5), E %.3f +- %.3f (2.5)\n",
-                s.p.size(), p.mean, p.error, e.mean, e.error);
-    const auto pc = jamsim::testing::mean_and_error(s.p_corrected),
-               ec = jamsim::testing::mean_and_error(s.e_corrected);
-    std::printf("  with the correction fitted: p %.3f +- %.3f, E %.3f +- %.3f\n", pc.mean, pc.error,
-                ec.mean, ec.error);
+    std::printf("Hertzian, N = 256, %zu configurations: p %.3f +- %.3f (1.5), E %.3f +- %.3f (2.5)\n", s.p.size(),
+                p.mean, p.error, e.mean, e.error);
+    const auto pc = jamsim::testing::mean_and_error(s.p_corrected), ec = jamsim::testing::mean_and_error(s.e_corrected);
+    std::printf("  with the correction fitted: p %.3f +- %.3f, E %.3f +- %.3f\n", pc.mean, pc.error, ec.mean, ec.error);
     ASSERT_GE(s.p.size(), 48u);
     EXPECT_LT(3 * pc.error, 0.1);
     EXPECT_LT(3 * ec.error, 0.1);

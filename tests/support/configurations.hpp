@@ -18,18 +18,16 @@ namespace jamsim::testing {
 /// Random 50:50 configuration at phi and strain gamma; the first `edge_particles` disks
 /// are placed within 0.05 of every edge and corner of the cell (both sides), so pairs
 /// straddle every boundary.
-inline System random_configuration(std::int64_t n, double phi, double gamma, std::uint64_t seed,
-                                   bool straddle = true) {
+inline System random_configuration(std::int64_t n, double phi, double gamma, std::uint64_t seed, bool straddle = true) {
     System sys = random_system(n, phi, SizeMix{1.4}, seed, 7);
     sys.box.set_strain_unwrapped(gamma);
     if (straddle) {
         const double L = sys.box.side();
         const double eps = 0.02;
         // corners and edge midpoints, each just inside the cell
-        const double spots[][2] = {{eps, eps},         {L - eps, eps},     {eps, L - eps},
-                                   {L - eps, L - eps}, {L / 2, eps},       {L / 2, L - eps},
-                                   {eps, L / 2},       {L - eps, L / 2},   {L / 3, 2 * eps},
-                                   {2 * eps, L / 3}};
+        const double spots[][2] = {{eps, eps},       {L - eps, eps},   {eps, L - eps}, {L - eps, L - eps},
+                                   {L / 2, eps},     {L / 2, L - eps}, {eps, L / 2},   {L - eps, L / 2},
+                                   {L / 3, 2 * eps}, {2 * eps, L / 3}};
         std::size_t k = 0;
         for (const auto& s : spots) {
             if (k >= sys.particles.size()) break;
@@ -56,8 +54,8 @@ inline Pair image_separation(const System& s, std::size_t i, std::size_t j, int 
 /// `sys` randomly moved for trial `trial` of a Verlet-rule property test: every disk
 /// displaced by up to ±s/2 in x and y (s uniform in [0, max_step) per trial), and the strain
 /// set uniformly within strain ± spread/2.
-inline System randomly_moved(const System& sys, const RngStream& rng, std::uint32_t trial,
-                             double max_step, double strain, double spread) {
+inline System randomly_moved(const System& sys, const RngStream& rng, std::uint32_t trial, double max_step,
+                             double strain, double spread) {
     System moved = sys;
     const double scale = max_step * rng.uniform2(trial, 999)[0];
     for (std::size_t i = 0; i < moved.particles.size(); ++i) {
@@ -80,8 +78,7 @@ inline PairSet pairs_within(const System& s, double extra) {
             for (int m = -2; m <= 2; ++m)
                 for (int n = -2; n <= 2; ++n) {
                     const auto r = image_separation(s, i, j, m, n);
-                    const double range =
-                        0.5 * (s.particles.diameter[i] + s.particles.diameter[j]) + extra;
+                    const double range = 0.5 * (s.particles.diameter[i] + s.particles.diameter[j]) + extra;
                     if (r.rx * r.rx + r.ry * r.ry < range * range) out.insert({i, j});
                 }
     return out;
@@ -140,4 +137,4 @@ inline Reference brute_force(const System& s, const potential::SoftSphere& pot) 
     return ref;
 }
 
-} // namespace jamsim::testing
+}  // namespace jamsim::testing

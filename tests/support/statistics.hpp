@@ -17,4 +17,4 @@ inline Estimate mean_and_error(const std::vector<double>& v) {
     return {m, std::sqrt(s2 / static_cast<double>(v.size()))};
 }
 
-} // namespace jamsim::testing
+}  // namespace jamsim::testing

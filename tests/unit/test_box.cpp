@@ -27,9 +27,7 @@ TEST(Box, MinImageMatchesExplicitImages) {
                 }
             const Vec2 r = box.min_image(dx, dy);
             // Exact whenever the shortest image is shorter than L/2 (all the force loop needs).
-            if (best < 0.25 * L * L) {
-                EXPECT_NEAR(norm2(r), best, 1e-9) << "gamma " << gamma;
-            }
+            if (best < 0.25 * L * L) { EXPECT_NEAR(norm2(r), best, 1e-9) << "gamma " << gamma; }
             (void)v;
         }
     }

@@ -58,49 +58,53 @@ Eigen::Map<const Eigen::VectorXd> as_vector(std::span<const double> v) {
     return {v.data(), static_cast<Eigen::Index>(v.size())};
 }
 
-} // namespace
+}  // namespace
 
 // Every backend, and the PETSc backend with PETSc's own preconditioners instead of its
 // default (the updated CHOLMOD factor).
 const std::pair<const char*, const char*> kBackends[] = {
-    {"petsc", ""}, {"eigen", ""}, {"cholmod", ""}, {"cholmod-amd", ""},
-    {"petsc", "-cd0_pc_type cholesky"}, {"petsc", "-cd0_pc_type cholesky -cd0_pc_factor_mat_solver_type mumps"}};
+    {"petsc", ""},
+    {"eigen", ""},
+    {"cholmod", ""},
+    {"cholmod-amd", ""},
+    {"petsc", "-cd0_pc_type cholesky"},
+    {"petsc", "-cd0_pc_type cholesky -cd0_pc_factor_mat_solver_type mumps"}};
 
 TEST(Cd0, ContactSolveMatchesDenseEigen) {
     // Tight solver tolerance for the comparison (set before the solver is created).
     ASSERT_EQ(PetscOptionsSetValue(nullptr, "-cd0_ksp_rtol", "1e-14"), 0);
     for (const auto& [solver, options] : kBackends)
-    for (std::int64_t n : {40, 300})
-        for (double gamma : {-0.45, 0.0, 0.3}) {
-            System sys = random_configuration(n, 0.86, gamma, 17);
-            ForceField ff(potential::make_soft_sphere(2.0), 0.3);
-            ff.compute(sys);
-            const double rate = 0.01, kd = 1.5, delta = 1e-2;
-            ReplicaParams params{.integrator = "euler", .kd = kd, .delta = delta};
-            params.solver = solver;
-            params.petsc_options = options;
-            Cd0 model(params);
-            model.prepare(sys, ff, rate);
-            const Particles& p = sys.particles;
-            const auto N = static_cast<Eigen::Index>(p.size());
-            const DenseSystem d = dense_system(sys, rate, kd, delta);
-            ASSERT_GT(d.crossing, 0) << "no contact across the sheared boundary";
-            const Eigen::LDLT<Eigen::MatrixXd> ldlt(d.A);
-            const Eigen::VectorXd ux = ldlt.solve(d.bx), uy = ldlt.solve(d.by);
-            const double scale = std::max(ux.cwiseAbs().maxCoeff(), uy.cwiseAbs().maxCoeff());
-            for (Eigen::Index i = 0; i < N; ++i) {
-                EXPECT_NEAR(p.ux[static_cast<std::size_t>(i)], ux[i], 1e-9 * scale) << solver << options;
-                EXPECT_NEAR(p.uy[static_cast<std::size_t>(i)], uy[i], 1e-9 * scale);
+        for (std::int64_t n : {40, 300})
+            for (double gamma : {-0.45, 0.0, 0.3}) {
+                System sys = random_configuration(n, 0.86, gamma, 17);
+                ForceField ff(potential::make_soft_sphere(2.0), 0.3);
+                ff.compute(sys);
+                const double rate = 0.01, kd = 1.5, delta = 1e-2;
+                ReplicaParams params{.integrator = "euler", .kd = kd, .delta = delta};
+                params.solver = solver;
+                params.petsc_options = options;
+                Cd0 model(params);
+                model.prepare(sys, ff, rate);
+                const Particles& p = sys.particles;
+                const auto N = static_cast<Eigen::Index>(p.size());
+                const DenseSystem d = dense_system(sys, rate, kd, delta);
+                ASSERT_GT(d.crossing, 0) << "no contact across the sheared boundary";
+                const Eigen::LDLT<Eigen::MatrixXd> ldlt(d.A);
+                const Eigen::VectorXd ux = ldlt.solve(d.bx), uy = ldlt.solve(d.by);
+                const double scale = std::max(ux.cwiseAbs().maxCoeff(), uy.cwiseAbs().maxCoeff());
+                for (Eigen::Index i = 0; i < N; ++i) {
+                    EXPECT_NEAR(p.ux[static_cast<std::size_t>(i)], ux[i], 1e-9 * scale) << solver << options;
+                    EXPECT_NEAR(p.uy[static_cast<std::size_t>(i)], uy[i], 1e-9 * scale);
+                }
+                // Σ_i (A u)_i = δ Σ_i u_i = Σ_i b_i = 0: no net non-affine motion.
+                double sx = 0, sy = 0;
+                for (std::size_t i = 0; i < p.size(); ++i) {
+                    sx += p.ux[i];
+                    sy += p.uy[i];
+                }
+                EXPECT_NEAR(sx / static_cast<double>(n), 0.0, 1e-9 * scale);
+                EXPECT_NEAR(sy / static_cast<double>(n), 0.0, 1e-9 * scale);
             }
-            // Σ_i (A u)_i = δ Σ_i u_i = Σ_i b_i = 0: no net non-affine motion.
-            double sx = 0, sy = 0;
-            for (std::size_t i = 0; i < p.size(); ++i) {
-                sx += p.ux[i];
-                sy += p.uy[i];
-            }
-            EXPECT_NEAR(sx / static_cast<double>(n), 0.0, 1e-9 * scale);
-            EXPECT_NEAR(sy / static_cast<double>(n), 0.0, 1e-9 * scale);
-        }
 }
 
 // CD0 takes its contacts and affine drag from the force loop's record of the same
@@ -159,8 +163,10 @@ TEST(Cd0, StaleFactorSolvesMeetTheTolerance) {
                 const DenseSystem d = dense_system(sys, rate, kd, delta);
                 const auto ux = as_vector(sys.particles.ux), uy = as_vector(sys.particles.uy);
                 // Round-off in A u is ~ ‖A‖ ‖u‖ ε with ‖A‖ ≤ 2 z_max + δ; far below rtol here.
-                EXPECT_LE((d.bx - d.A * ux).norm(), rtol * d.bx.norm() * (1 + 1e-6)) << solver << options << " step " << step;
-                EXPECT_LE((d.by - d.A * uy).norm(), rtol * d.by.norm() * (1 + 1e-6)) << solver << options << " step " << step;
+                EXPECT_LE((d.bx - d.A * ux).norm(), rtol * d.bx.norm() * (1 + 1e-6))
+                    << solver << options << " step " << step;
+                EXPECT_LE((d.by - d.A * uy).norm(), rtol * d.by.norm() * (1 + 1e-6))
+                    << solver << options << " step " << step;
                 ++checked;
             }
             model.advance(sys, ff, 0.2, rate, 0);
@@ -244,9 +250,7 @@ TEST(Cd0, UnreachableToleranceFailsWithPetscReason) {
                 model.prepare(sys, ff, 1e-3);
                 model.advance(sys, ff, 0.2, 1e-3, 0);
             }
-        } catch (const std::runtime_error& e) {
-            message = e.what();
-        }
+        } catch (const std::runtime_error& e) { message = e.what(); }
     }
     PetscOptionsClearValue(nullptr, "-cd0_ksp_rtol");
     PetscOptionsClearValue(nullptr, "-cd0_ksp_max_it");
@@ -311,8 +315,10 @@ TEST(Cd0, RefinedSolvesMeetTheTolerance) {
                 const auto ux = as_vector(sys.particles.ux), uy = as_vector(sys.particles.uy);
                 // The dense product's own round-off, ~ ε ‖A‖ ‖u‖ √n with ‖A‖ ≤ 2 z_max + δ ≤ 25.
                 const double eps = std::numeric_limits<double>::epsilon(), root_n = std::sqrt(300.0);
-                EXPECT_LE((d.bx - d.A * ux).norm(), rtol * d.bx.norm() + 25 * eps * root_n * ux.norm()) << "step " << step;
-                EXPECT_LE((d.by - d.A * uy).norm(), rtol * d.by.norm() + 25 * eps * root_n * uy.norm()) << "step " << step;
+                EXPECT_LE((d.bx - d.A * ux).norm(), rtol * d.bx.norm() + 25 * eps * root_n * ux.norm())
+                    << "step " << step;
+                EXPECT_LE((d.by - d.A * uy).norm(), rtol * d.by.norm() + 25 * eps * root_n * uy.norm())
+                    << "step " << step;
             }
             model.advance(sys, ff, 0.2, rate, 0);
         }

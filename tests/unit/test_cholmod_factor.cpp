@@ -56,13 +56,16 @@ std::vector<ContactPair> binned_neighbour_pairs(int n, double range, std::mt1993
     std::vector<std::vector<int>> cell(static_cast<std::size_t>(cells * cells));
     const auto cell_of = [&](double v) { return std::min(cells - 1, static_cast<int>(v * cells)); };
     for (int i = 0; i < n; ++i)
-        cell[static_cast<std::size_t>(cell_of(x[static_cast<std::size_t>(i)]) * cells + cell_of(y[static_cast<std::size_t>(i)]))].push_back(i);
+        cell[static_cast<std::size_t>(cell_of(x[static_cast<std::size_t>(i)]) * cells +
+                                      cell_of(y[static_cast<std::size_t>(i)]))]
+            .push_back(i);
     std::vector<ContactPair> pairs;
     for (int i = 0; i < n; ++i) {
         const int cx = cell_of(x[static_cast<std::size_t>(i)]), cy = cell_of(y[static_cast<std::size_t>(i)]);
         for (int ox = -1; ox <= 1; ++ox)
             for (int oy = -1; oy <= 1; ++oy)
-                for (const int j : cell[static_cast<std::size_t>(((cx + ox + cells) % cells) * cells + (cy + oy + cells) % cells)]) {
+                for (const int j :
+                     cell[static_cast<std::size_t>(((cx + ox + cells) % cells) * cells + (cy + oy + cells) % cells)]) {
                     if (j <= i) continue;
                     double dx = std::abs(x[static_cast<std::size_t>(i)] - x[static_cast<std::size_t>(j)]);
                     double dy = std::abs(y[static_cast<std::size_t>(i)] - y[static_cast<std::size_t>(j)]);
@@ -104,7 +107,7 @@ double deviation(CholmodUpdatedFactor& factor, int n, std::span<const ContactPai
     return worst / scale;
 }
 
-} // namespace
+}  // namespace
 
 // Many contacts formed and broken per step (more than one pass of the sweep holds), through
 // a relabelling that renumbers the rows and adds candidate pairs outside the factor's
@@ -136,7 +139,8 @@ TEST(CholmodFactor, UpdatedFactorMatchesDenseSolve) {
                 std::shuffle(order.begin(), order.end(), rng);  // new row of old row r: order[r]
                 std::vector<std::int32_t> new_labels(static_cast<std::size_t>(n));
                 for (int r = 0; r < n; ++r)
-                    new_labels[static_cast<std::size_t>(order[static_cast<std::size_t>(r)])] = labels[static_cast<std::size_t>(r)];
+                    new_labels[static_cast<std::size_t>(order[static_cast<std::size_t>(r)])] =
+                        labels[static_cast<std::size_t>(r)];
                 for (auto& p : pairs) p = {order[static_cast<std::size_t>(p.i)], order[static_cast<std::size_t>(p.j)]};
                 std::uniform_int_distribution<int> any(0, n - 1);
                 auto listed = [&](int i, int j) {  // a neighbour list holds each pair once
@@ -211,7 +215,8 @@ TEST(CholmodFactor, UpdatesAndSolvesAreBitwiseReproducible) {
 TEST(CholmodFactor, WideVectorKernelsGiveTheBaselineBits) {
     using Vectors = CholmodUpdatedFactor::Vectors;
     const int n = 1500;
-    CholmodUpdatedFactor baseline(static_cast<std::size_t>(n), kDelta, CholmodUpdatedFactor::Ordering::metis, Vectors::sse2);
+    CholmodUpdatedFactor baseline(static_cast<std::size_t>(n), kDelta, CholmodUpdatedFactor::Ordering::metis,
+                                  Vectors::sse2);
     ASSERT_STREQ(baseline.vector_kernels(), "sse2");
     std::vector<std::unique_ptr<CholmodUpdatedFactor>> wide;
     for (const Vectors v : {Vectors::best, Vectors::avx2}) {

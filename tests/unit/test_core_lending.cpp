@@ -64,5 +64,5 @@ TEST(CoreLending, FirstReplicasSpreadOverNodes) {
     EXPECT_EQ(spread_over_nodes(mixed), (std::vector<int>{0, 1, 4, 2, 3}));
 }
 
-} // namespace
-} // namespace jamsim
+}  // namespace
+}  // namespace jamsim

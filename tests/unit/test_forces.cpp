@@ -31,7 +31,7 @@ struct Case {
     double phi;
 };
 
-} // namespace
+}  // namespace
 
 // Forces, energy, p and σ from the neighbour list against a brute-force sum over explicit
 // images, with particles straddling every edge and corner, at several strains. N = 40 takes
@@ -114,8 +114,7 @@ TEST(PairForces, PressureAndShearStressAreStrainDerivatives) {
                 out.box.set_strain_unwrapped(g);
                 return energy_of(out, alpha);
             };
-            const double sigma_fd = (sheared(gamma + h) - sheared(gamma - h)) / (2 * h) /
-                                    base.box.area();
+            const double sigma_fd = (sheared(gamma + h) - sheared(gamma - h)) / (2 * h) / base.box.area();
             EXPECT_NEAR(f.shear_stress(evaluated.box), sigma_fd, 1e-9 + 1e-6 * std::abs(sigma_fd));
         }
 }
@@ -128,15 +127,12 @@ TEST(PairForces, WrappedTwinIsIdentical) {
     System b = a;
     b.box.set_strain_unwrapped(gamma - 1.0);
     b.box.remap_after_wrap(1, b.particles.x, b.particles.y);
-    for (auto i = 0u; i < b.particles.size(); ++i)
-        b.box.wrap_into_cell(b.particles.x[i], b.particles.y[i]);
+    for (auto i = 0u; i < b.particles.size(); ++i) b.box.wrap_into_cell(b.particles.x[i], b.particles.y[i]);
     // every pair's minimum-image distance
     for (std::size_t i = 0; i < 60; ++i)
         for (std::size_t j = i + 1; j < a.particles.size(); ++j) {
-            const auto ra = a.box.min_image(a.particles.x[i] - a.particles.x[j],
-                                            a.particles.y[i] - a.particles.y[j]);
-            const auto rb = b.box.min_image(b.particles.x[i] - b.particles.x[j],
-                                            b.particles.y[i] - b.particles.y[j]);
+            const auto ra = a.box.min_image(a.particles.x[i] - a.particles.x[j], a.particles.y[i] - a.particles.y[j]);
+            const auto rb = b.box.min_image(b.particles.x[i] - b.particles.x[j], b.particles.y[i] - b.particles.y[j]);
             ASSERT_NEAR(std::sqrt(norm2(ra)), std::sqrt(norm2(rb)), 1e-12);
         }
     const auto fa = forces_of(a, 2.0), fb = forces_of(b, 2.0);

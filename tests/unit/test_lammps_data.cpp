@@ -20,7 +20,8 @@ using namespace jamsim;
 namespace {
 
 std::string temp_path(const std::string& name) {
-    return (std::filesystem::temp_directory_path() / ("jamsim_test_" + std::to_string(::getpid()) + "_" + name)).string();
+    return (std::filesystem::temp_directory_path() / ("jamsim_test_" + std::to_string(::getpid()) + "_" + name))
+        .string();
 }
 
 /// A random configuration (N disks of the 50:50 mixture) at strain `gamma`, in output form.
@@ -60,7 +61,7 @@ std::string refusal(const std::string& path, std::int64_t n = 200, double size_r
     return "";
 }
 
-} // namespace
+}  // namespace
 
 TEST(LammpsData, RoundTripIsBitwiseWithoutShear) {
     const FinalConfiguration c = configuration(0.0);
@@ -105,13 +106,12 @@ TEST(LammpsData, RoundTripOfAShearedCell) {
 
 TEST(LammpsData, ReadsAtomicStyleOrderedByTypeThenId) {
     // Ids out of order, types interleaved, a shifted origin, image flags, other sections.
-    const std::string path = write_text("atomic.data",
-                                        "LAMMPS data file via write_data\n\n4 atoms\n2 atom types\n\n"
-                                        "-1 3 xlo xhi\n2 6 ylo yhi\n-0.5 0.5 zlo zhi\n\n"
-                                        "Masses\n\n1 1\n2 1.96\n\n"
-                                        "Atoms # atomic\n\n4 2 0.5 3.5 0 0 0 0\n1 1 1.0 2.5 0 0 0 0\n"
-                                        "3 1 2.0 4.5 0 1 0 0\n2 2 -0.5 5.5 0 0 0 0\n\n"
-                                        "Velocities\n\n1 0 0 0\n2 0 0 0\n3 0 0 0\n4 0 0 0\n");
+    const std::string path = write_text("atomic.data", "LAMMPS data file via write_data\n\n4 atoms\n2 atom types\n\n"
+                                                       "-1 3 xlo xhi\n2 6 ylo yhi\n-0.5 0.5 zlo zhi\n\n"
+                                                       "Masses\n\n1 1\n2 1.96\n\n"
+                                                       "Atoms # atomic\n\n4 2 0.5 3.5 0 0 0 0\n1 1 1.0 2.5 0 0 0 0\n"
+                                                       "3 1 2.0 4.5 0 1 0 0\n2 2 -0.5 5.5 0 0 0 0\n\n"
+                                                       "Velocities\n\n1 0 0 0\n2 0 0 0\n3 0 0 0\n4 0 0 0\n");
     const System s = system_from_lammps_data(read_lammps_data(path), path, 4, 1.4);
     std::filesystem::remove(path);
     EXPECT_EQ(s.box.side(), 4.0);
@@ -125,9 +125,9 @@ TEST(LammpsData, ReadsAtomicStyleOrderedByTypeThenId) {
 
 TEST(LammpsData, TiltBeyondHalfIsTheSameLattice) {
     // xy = 0.75 L: gamma 0.75 wraps to -0.25; lab positions are unchanged modulo the lattice.
-    const std::string path = write_text("tilt.data",
-                                        "t\n\n2 atoms\n2 atom types\n0 4 xlo xhi\n0 4 ylo yhi\n-0.5 0.5 zlo zhi\n"
-                                        "3 0 0 xy xz yz\n\nAtoms # sphere\n\n1 1 1 1 3.5 2 0\n2 2 1.4 1 1 1 0\n");
+    const std::string path =
+        write_text("tilt.data", "t\n\n2 atoms\n2 atom types\n0 4 xlo xhi\n0 4 ylo yhi\n-0.5 0.5 zlo zhi\n"
+                                "3 0 0 xy xz yz\n\nAtoms # sphere\n\n1 1 1 1 3.5 2 0\n2 2 1.4 1 1 1 0\n");
     const System s = system_from_lammps_data(read_lammps_data(path), path, 2, 1.4);
     std::filesystem::remove(path);
     EXPECT_EQ(s.box.strain(), -0.25);
@@ -139,18 +139,18 @@ TEST(LammpsData, TiltBeyondHalfIsTheSameLattice) {
 TEST(LammpsData, RefusesWhatIsNotJamsimsMixture) {
     const FinalConfiguration c = configuration(0.1);
     // the two types overlap: a small disk written with the large diameter
-    EXPECT_NE(refusal(edited(c, "overlap.data", std::regex("\n1 1 1 1 "), "\n1 1 1.4 1 ")).find(
-                  "has diameter 1.4: type 1 is the small disk (diameter 1) and type 2 the large one "
-                  "(diameter size_ratio = 1.4); each type has one diameter and the two types do not "
-                  "overlap"),
+    EXPECT_NE(refusal(edited(c, "overlap.data", std::regex("\n1 1 1 1 "), "\n1 1 1.4 1 "))
+                  .find("has diameter 1.4: type 1 is the small disk (diameter 1) and type 2 the large one "
+                        "(diameter size_ratio = 1.4); each type has one diameter and the two types do not "
+                        "overlap"),
               std::string::npos);
     // a third type
-    EXPECT_NE(refusal(edited(c, "type3.data", std::regex("\n1 1 1 1 "), "\n1 3 1 1 ")).find(
-                  "atom 1 has type 3: types 1 (small, d = 1) and 2 (large, d = size_ratio"),
+    EXPECT_NE(refusal(edited(c, "type3.data", std::regex("\n1 1 1 1 "), "\n1 3 1 1 "))
+                  .find("atom 1 has type 3: types 1 (small, d = 1) and 2 (large, d = size_ratio"),
               std::string::npos);
     // more small than large disks
-    EXPECT_NE(refusal(edited(c, "mix.data", std::regex("\n200 2 1.4 1 "), "\n200 1 1 1 ")).find(
-                  "has 101 atoms of type 1 and 99 of type 2: jamsim's mixture is 50:50 (100 and 100)"),
+    EXPECT_NE(refusal(edited(c, "mix.data", std::regex("\n200 2 1.4 1 "), "\n200 1 1 1 "))
+                  .find("has 101 atoms of type 1 and 99 of type 2: jamsim's mixture is 50:50 (100 and 100)"),
               std::string::npos);
     // a tilt that is not a simple shear, a cell that is not square
     EXPECT_NE(refusal(edited(c, "xz.data", std::regex(" 0 0 xy xz yz"), " 0.5 0 xy xz yz"))
@@ -168,16 +168,18 @@ TEST(LammpsData, RefusesWhatIsNotJamsimsMixture) {
               std::string::npos);
     EXPECT_NE(refusal(edited(c, "dup.data", std::regex("\n2 1 1 1 "), "\n1 1 1 1 ")).find("atom id 1 appears twice"),
               std::string::npos);
-    EXPECT_NE(refusal(edited(c, "z.data", std::regex(" 0\n"), " 0.25\n")).find("has z = 0.25: a 2D configuration has z = 0"),
-              std::string::npos);
+    EXPECT_NE(
+        refusal(edited(c, "z.data", std::regex(" 0\n"), " 0.25\n")).find("has z = 0.25: a 2D configuration has z = 0"),
+        std::string::npos);
     // another atom style, a line with a wrong field count, not a data file at all
     EXPECT_NE(refusal(edited(c, "full.data", std::regex("Atoms # sphere"), "Atoms # full"))
                   .find("Atoms # full: atom_style sphere (id type diameter density x y z) or atomic (id type x y z)"),
               std::string::npos);
-    EXPECT_NE(refusal(edited(c, "fields.data", std::regex("\n1 1 1 1 ([^ ]+) "), "\n1 1 1 1 ")).find(
-                  "an Atoms line of 6 fields: atom_style sphere has id type diameter density x y z (7, or 10 with "
+    EXPECT_NE(
+        refusal(edited(c, "fields.data", std::regex("\n1 1 1 1 ([^ ]+) "), "\n1 1 1 1 "))
+            .find("an Atoms line of 6 fields: atom_style sphere has id type diameter density x y z (7, or 10 with "
                   "image flags)"),
-              std::string::npos);
+        std::string::npos);
     const std::string text = refusal(write_text("notdata.txt", "hello\nworld\n"));
     EXPECT_NE(text.find("is not a LAMMPS data file"), std::string::npos) << text;
     // every message names the file

@@ -69,6 +69,5 @@ TEST(NeighborList, RebuildAfterInvalidate) {
 TEST(NeighborList, RefusesBoxTooSmallForMinimumImage) {
     System sys = random_configuration(4, 0.8, 0.0, 1, false);
     NeighborList nl(0.3);
-    EXPECT_THROW(nl.build(sys.particles.x, sys.particles.y, sys.particles.diameter, sys.box),
-                 std::invalid_argument);
+    EXPECT_THROW(nl.build(sys.particles.x, sys.particles.y, sys.particles.diameter, sys.box), std::invalid_argument);
 }

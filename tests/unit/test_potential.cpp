@@ -17,7 +17,7 @@ double energy_of(const potential::SoftSphere& pot, double r, double d) {
 double force_of(const potential::SoftSphere& pot, double r, double d) {
     return std::visit([&](const auto& e) { return e(r * r, d).force_over_r * r; }, pot);
 }
-} // namespace
+}  // namespace
 
 // F = −dV/dr by central differences, for the dedicated kernels and the generic one.
 TEST(Potential, ForceIsMinusEnergyDerivative) {

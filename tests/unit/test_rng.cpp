@@ -17,8 +17,7 @@ TEST(Philox, KnownAnswerZero) {
 }
 
 TEST(Philox, KnownAnswerOnes) {
-    const auto r = philox4x32({0xffffffffu, 0xffffffffu, 0xffffffffu, 0xffffffffu},
-                              {0xffffffffu, 0xffffffffu});
+    const auto r = philox4x32({0xffffffffu, 0xffffffffu, 0xffffffffu, 0xffffffffu}, {0xffffffffu, 0xffffffffu});
     EXPECT_EQ(r[0], 0x408f276du);
     EXPECT_EQ(r[1], 0x41c83b0eu);
     EXPECT_EQ(r[2], 0xa20bc7c6u);

@@ -39,8 +39,8 @@ TEST(Scheduler, ChainsNumberedByTheirFirstReplica) {
     EXPECT_EQ(c.chain_of, (std::vector<std::int64_t>{0, 1, 0, 1, 1, 2}));
     // Without ladders chain k is replica k (so a shard is id % count, as before chains).
     EXPECT_EQ(chains_of({}, 3).chain_of, (std::vector<std::int64_t>{0, 1, 2}));
-    EXPECT_THROW(chains_of({1, 0}, 2), std::invalid_argument);      // a cycle
-    EXPECT_THROW(chains_of({-1, 7}, 2), std::invalid_argument);     // not a replica
+    EXPECT_THROW(chains_of({1, 0}, 2), std::invalid_argument);   // a cycle
+    EXPECT_THROW(chains_of({-1, 7}, 2), std::invalid_argument);  // not a replica
 }
 
 TEST(Scheduler, LongestRemainingChainFirstThenCostThenId) {
@@ -171,5 +171,5 @@ TEST(Scheduler, AmdahlSpeedupModel) {
     EXPECT_DOUBLE_EQ((SpeedupModel{.serial_fraction = 0.5}).speedup(1024, 2), 1.0);  // one block
 }
 
-} // namespace
-} // namespace jamsim
+}  // namespace
+}  // namespace jamsim

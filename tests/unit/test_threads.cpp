@@ -47,8 +47,8 @@ struct Evaluation {
 };
 
 /// Forces of `sys` on `threads` threads, through a fresh list (built on those threads too).
-Evaluation evaluate(const System& sys, const potential::SoftSphere& pot, int threads, Tally tally,
-                    bool record, bool offsets) {
+Evaluation evaluate(const System& sys, const potential::SoftSphere& pot, int threads, Tally tally, bool record,
+                    bool offsets) {
     const ThreadCount count(threads);
     NeighborList list(0.3);
     const Particles& p = sys.particles;
@@ -75,8 +75,8 @@ Evaluation evaluate(const System& sys, const potential::SoftSphere& pot, int thr
 
 TEST(Threads, ForceLoopGivesTheSameBitsOnAnyThreadCount) {
     const System sys = testing::random_configuration(20000, 0.86, 0.31, 5);
-    for (const potential::SoftSphere pot : {potential::SoftSphere{potential::Harmonic{}},
-                                            potential::SoftSphere{potential::Hertzian{}}})
+    for (const potential::SoftSphere pot :
+         {potential::SoftSphere{potential::Harmonic{}}, potential::SoftSphere{potential::Hertzian{}}})
         for (const Tally tally : {Tally::ForcesOnly, Tally::Full})
             for (const bool record : {false, true})
                 for (const bool offsets : {false, true}) {
@@ -119,7 +119,8 @@ TEST(Threads, ForceBlocksCoverEveryEntryOnce) {
     std::vector<int> grouped(blocks.halo_slots(), 0);
     for (std::size_t b = 0; b < blocks.count; ++b)
         for (std::size_t c = 0; c < blocks.count; ++c)
-            for (auto q = blocks.by_target_first[b * blocks.count + c]; q < blocks.by_target_first[b * blocks.count + c + 1]; ++q) {
+            for (auto q = blocks.by_target_first[b * blocks.count + c];
+                 q < blocks.by_target_first[b * blocks.count + c + 1]; ++q) {
                 const auto slot = static_cast<std::size_t>(blocks.by_target[static_cast<std::size_t>(q)]);
                 EXPECT_GE(slot, static_cast<std::size_t>(blocks.slot_first[b]));
                 EXPECT_LT(slot, static_cast<std::size_t>(blocks.slot_first[b + 1]));
@@ -129,7 +130,8 @@ TEST(Threads, ForceBlocksCoverEveryEntryOnce) {
     EXPECT_EQ(static_cast<std::size_t>(std::count(grouped.begin(), grouped.end(), 1)), grouped.size());
     for (std::size_t b = 0; b < blocks.count; ++b) {
         auto slot = static_cast<std::size_t>(blocks.slot_first[b]);
-        for (auto k = static_cast<std::size_t>(blocks.entry_first[b]); k < static_cast<std::size_t>(blocks.entry_first[b + 1]); ++k) {
+        for (auto k = static_cast<std::size_t>(blocks.entry_first[b]);
+             k < static_cast<std::size_t>(blocks.entry_first[b + 1]); ++k) {
             ASSERT_EQ(blocks.block_of(list.owner()[k]), b);
             const std::int32_t j = list.neighbor()[k];
             if (blocks.block_of(j) == b) continue;
@@ -176,8 +178,8 @@ TEST(Threads, NeighbourListIsTheSameOnAnyThreadCount) {
         NeighborList many(0.3);
         many.build(p.x, p.y, p.diameter, sys.box);
         EXPECT_TRUE(std::equal(one.first().begin(), one.first().end(), many.first().begin(), many.first().end()));
-        EXPECT_TRUE(std::equal(one.neighbor().begin(), one.neighbor().end(), many.neighbor().begin(),
-                               many.neighbor().end()));
+        EXPECT_TRUE(
+            std::equal(one.neighbor().begin(), one.neighbor().end(), many.neighbor().begin(), many.neighbor().end()));
         EXPECT_TRUE(std::equal(one.owner().begin(), one.owner().end(), many.owner().begin(), many.owner().end()));
         EXPECT_TRUE(same_bits(std::vector<double>(one.shift_x().begin(), one.shift_x().end()),
                               std::vector<double>(many.shift_x().begin(), many.shift_x().end())));
@@ -272,5 +274,5 @@ TEST(Threads, Cd0ReplicaIsTheSameOnAnyThreadCount) {
         }
 }
 
-} // namespace
-} // namespace jamsim
+}  // namespace
+}  // namespace jamsim

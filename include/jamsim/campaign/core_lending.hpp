@@ -28,4 +28,4 @@ void park_until(const std::function<bool()>& ready, std::chrono::microseconds lo
 /// park_until `request` completes, sleeping up to 10 ms. `what` names the call in an error.
 void park_until_complete(MPI_Request& request, const char* what);
 
-} // namespace jamsim
+}  // namespace jamsim

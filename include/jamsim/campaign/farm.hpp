@@ -13,8 +13,8 @@ namespace jamsim {
 
 /// How rank 0 reports progress.
 struct ProgressOptions {
-    bool terminal = false;        ///< redraw one line ('\r') instead of printing lines
-    double interval_seconds = 10; ///< between plain lines (terminal: between redraws, 0.5 s)
+    bool terminal = false;         ///< redraw one line ('\r') instead of printing lines
+    double interval_seconds = 10;  ///< between plain lines (terminal: between redraws, 0.5 s)
 };
 
 /// A slice of a campaign (Slurm array tasks, say): the chains with chain % count == index,
@@ -61,7 +61,6 @@ struct FarmSummary {
 /// replicas save their state at checkpoint steps (beside the archive, rows into it). When a
 /// StopRequest arrives on any rank, every running replica saves its state at its next
 /// checkpoint step and stops, and no new replica starts. Collective.
-FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive,
-                     const FarmOptions& options);
+FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive, const FarmOptions& options);
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -14,8 +14,8 @@ namespace jamsim {
 /// starts from its predecessor's end state; −1: none). Every replica is in one chain; a
 /// replica without predecessor (and without successor) is a chain of its own.
 struct Chains {
-    std::vector<std::int64_t> chain_of;               ///< per replica: the index of its chain
-    std::vector<std::vector<std::int64_t>> members;   ///< per chain: its replicas, first to last
+    std::vector<std::int64_t> chain_of;              ///< per replica: the index of its chain
+    std::vector<std::vector<std::int64_t>> members;  ///< per chain: its replicas, first to last
 };
 
 /// Chains numbered in the order of their first replica's id; without ladders (`predecessor`
@@ -40,8 +40,8 @@ class Scheduler {
     /// `predecessor`: as in chains_of; `queue`: the replicas this run runs; `before`: every
     /// replica's standing (a queued replica's successors wait for it whatever it says). A
     /// queued replica whose predecessor failed before (and is not queued) fails at once.
-    Scheduler(std::vector<double> cost, std::vector<std::int64_t> predecessor,
-              const std::vector<std::int64_t>& queue, const std::vector<Before>& before);
+    Scheduler(std::vector<double> cost, std::vector<std::int64_t> predecessor, const std::vector<std::int64_t>& queue,
+              const std::vector<Before>& before);
 
     /// The ready replica of highest priority, now counted as running; −1 when none is ready.
     std::int64_t take();
@@ -152,13 +152,13 @@ struct SimulatedLending {
 
 /// A simulated run of a campaign on `workers` ranks of `threads` threads each.
 struct SimulatedRun {
-    double makespan = 0;       ///< seconds until the last replica ends
-    double work = 0;           ///< total one-thread seconds (core-seconds at full efficiency)
-    double critical_path = 0;  ///< the longest chain's seconds at the run's threads
+    double makespan = 0;              ///< seconds until the last replica ends
+    double work = 0;                  ///< total one-thread seconds (core-seconds at full efficiency)
+    double critical_path = 0;         ///< the longest chain's seconds at the run's threads
     std::int64_t longest_chain = -1;  ///< its index (chains_of)
-    double bound = 0;          ///< max(work / cores, critical_path): no schedule beats it
-    double idle_core_seconds = 0;  ///< cores × makespan − Σ replica seconds × threads
-    std::int64_t chains = 0;   ///< independent chains: at most this many replicas run at once
+    double bound = 0;                 ///< max(work / cores, critical_path): no schedule beats it
+    double idle_core_seconds = 0;     ///< cores × makespan − Σ replica seconds × threads
+    std::int64_t chains = 0;          ///< independent chains: at most this many replicas run at once
 };
 
 /// A discrete-event run of the Scheduler: every free worker (lowest index first) takes the
@@ -169,4 +169,4 @@ SimulatedRun simulate_schedule(const std::vector<SimulatedReplica>& replicas,
                                const std::vector<std::int64_t>& predecessor, int workers, int threads,
                                const SimulatedLending* lending = nullptr);
 
-} // namespace jamsim
+}  // namespace jamsim

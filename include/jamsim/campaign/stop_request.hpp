@@ -18,4 +18,4 @@ class StopRequest {
     static volatile std::sig_atomic_t flag_;
 };
 
-} // namespace jamsim
+}  // namespace jamsim

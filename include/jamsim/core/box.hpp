@@ -21,8 +21,7 @@ class Box {
   public:
     /// side: L in units of the small diameter; strain: initial γ (wrapped into [−1/2, 1/2)).
     explicit Box(double side, double strain = 0.0) : side_(side), inv_side_(1.0 / side) {
-        if (!(side > 0.0) || !std::isfinite(side))
-            throw std::invalid_argument("Box: side must be positive and finite");
+        if (!(side > 0.0) || !std::isfinite(side)) throw std::invalid_argument("Box: side must be positive and finite");
         strain_ = strain;
         wrap_count_for(strain_);
     }
@@ -103,4 +102,4 @@ class Box {
     double strain_ = 0.0;
 };
 
-} // namespace jamsim
+}  // namespace jamsim

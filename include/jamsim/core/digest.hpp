@@ -44,4 +44,4 @@ class Digest {
     std::uint64_t h_ = 0xcbf29ce484222325ULL;
 };
 
-} // namespace jamsim
+}  // namespace jamsim

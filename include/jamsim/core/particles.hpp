@@ -12,10 +12,10 @@ namespace jamsim {
 /// tag is the particle's index at creation; particles may be reordered in memory
 /// (spatial sorting), tag restores the original order for output.
 struct Particles {
-    std::vector<double> x, y;          ///< sheared coordinates, shape [N]
-    std::vector<double> diameter;      ///< shape [N]
-    std::vector<double> fx, fy;        ///< elastic force on each particle, lab frame, shape [N]
-    std::vector<std::int32_t> tag;     ///< original index, shape [N]
+    std::vector<double> x, y;       ///< sheared coordinates, shape [N]
+    std::vector<double> diameter;   ///< shape [N]
+    std::vector<double> fx, fy;     ///< elastic force on each particle, lab frame, shape [N]
+    std::vector<std::int32_t> tag;  ///< original index, shape [N]
     /// Non-affine velocity u = v − γ̇ y x̂ (lab frame) for models that solve for it (CD0),
     /// kept here so that it follows the particles when they are reordered. d_s/τ, shape [N].
     std::vector<double> ux, uy;
@@ -40,4 +40,4 @@ struct Particles {
 /// Largest diameter in the system (0 for an empty one).
 double max_diameter(const Particles& p);
 
-} // namespace jamsim
+}  // namespace jamsim

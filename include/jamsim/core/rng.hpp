@@ -16,8 +16,7 @@ enum class RngPurpose : std::uint32_t {
 /// Philox4x32-10 (Salmon et al., SC'11): a counter-based generator. The output is a pure
 /// function of (key, counter), so a replica's random numbers depend only on
 /// (seed, identity, purpose, index) and never on rank count or scheduling.
-std::array<std::uint32_t, 4> philox4x32(std::array<std::uint32_t, 4> counter,
-                                        std::array<std::uint32_t, 2> key);
+std::array<std::uint32_t, 4> philox4x32(std::array<std::uint32_t, 4> counter, std::array<std::uint32_t, 2> key);
 
 /// What a replica's random numbers are keyed by: its seed and its identity, a 64-bit hash of
 /// its model and physical parameters (run/model_registry.hpp: replica_identity). Never its
@@ -34,8 +33,7 @@ struct RandomKey {
 class RngStream {
   public:
     RngStream(std::uint64_t seed, std::uint64_t identity, RngPurpose purpose);
-    RngStream(const RandomKey& key, RngPurpose purpose)
-        : RngStream(key.seed, key.identity, purpose) {}
+    RngStream(const RandomKey& key, RngPurpose purpose) : RngStream(key.seed, key.identity, purpose) {}
 
     /// Two independent uniform doubles in [0, 1) (53 random bits each) for `index`
     /// and sub-counter `sub`.
@@ -46,4 +44,4 @@ class RngStream {
     std::uint64_t stream_;
 };
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -30,7 +30,6 @@ struct System {
 /// N disks (first half small d = 1, second half large d = size_ratio) at uniformly random
 /// positions, keyed by (seed, identity) (core/rng.hpp: RandomKey): the same inputs give the
 /// same configuration bitwise on any machine. N must be even unless size_ratio == 1.
-System random_system(std::int64_t n, double phi, SizeMix mix, std::uint64_t seed,
-                     std::uint64_t identity);
+System random_system(std::int64_t n, double phi, SizeMix mix, std::uint64_t seed, std::uint64_t identity);
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -11,4 +11,4 @@ struct Vec2 {
 
 inline double norm2(Vec2 v) { return v.x * v.x + v.y * v.y; }
 
-} // namespace jamsim
+}  // namespace jamsim

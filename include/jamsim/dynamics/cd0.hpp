@@ -24,16 +24,13 @@ namespace jamsim {
 class Cd0 final : public Model {
   public:
     explicit Cd0(const ReplicaParams& params)
-        : kd_(params.kd), delta_(params.delta), heun_(params.integrator == "heun"),
-          backend_(params.solver), petsc_options_(params.petsc_options),
-          candidates_(candidate_skin(params)) {}
+        : kd_(params.kd), delta_(params.delta), heun_(params.integrator == "heun"), backend_(params.solver),
+          petsc_options_(params.petsc_options), candidates_(candidate_skin(params)) {}
     void prepare(System& sys, ForceField& forces, double rate) override;
-    void advance(System& sys, ForceField& forces, double dt, double rate,
-                 std::int64_t step) override;
+    void advance(System& sys, ForceField& forces, double dt, double rate, std::int64_t step) override;
     /// P = k_d Σ_contacts |u_i − u_j + γ̇ [y_i − y_j] x̂|² + k_0 Σ |u_i|²; the contact
     /// dissipative forces f^dis_ij = −k_d (u_i − u_j + γ̇ r_ij,y x̂) give the stress.
-    Dissipation dissipation(const System& sys, const ForceField& forces,
-                            double rate) const override;
+    Dissipation dissipation(const System& sys, const ForceField& forces, double rate) const override;
 
     /// Krylov iterations of the most recent solve (diagnostics, benchmarks).
     linalg::SolveInfo last_solve() const { return last_; }
@@ -41,16 +38,13 @@ class Cd0 final : public Model {
     /// Candidate lists so far (each a new pattern for the contact solver).
     std::size_t candidate_lists() const { return candidates_.builds(); }
 
-    double solver_iterations() const override {
-        return 0.5 * (last_.iterations_x + last_.iterations_y);
-    }
+    double solver_iterations() const override { return 0.5 * (last_.iterations_x + last_.iterations_y); }
 
   private:
     /// Solve for u at positions (x, y) with forces (fx, fy) into (ux, uy).
-    void solve(const ForceField& forces, const Box& box, std::span<const double> x,
-               std::span<const double> y, std::span<const std::int32_t> tag, std::span<const double> fx,
-               std::span<const double> fy, double rate, std::span<double> ux,
-               std::span<double> uy);
+    void solve(const ForceField& forces, const Box& box, std::span<const double> x, std::span<const double> y,
+               std::span<const std::int32_t> tag, std::span<const double> fx, std::span<const double> fy, double rate,
+               std::span<double> ux, std::span<double> uy);
 
     double kd_, delta_;
     bool heun_;
@@ -85,4 +79,4 @@ inline constexpr double kCd0StartRelaxTime = 20.0;
 /// Registration (src/run/model_registry.cpp).
 DynamicsInfo cd0_model();
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -15,9 +15,9 @@ namespace jamsim {
 
 /// Dissipation of the state whose forces and velocities are current.
 struct Dissipation {
-    double power = 0.0;         ///< total dissipated power, k_e/τ
-    double pressure = 0.0;      ///< dissipative contact-force pressure, k_e/d_s²
-    double shear_stress = 0.0;  ///< −(1/A) Σ_contacts r_ij,y f^dis_ij,x (does work with the flow)
+    double power = 0.0;                 ///< total dissipated power, k_e/τ
+    double pressure = 0.0;              ///< dissipative contact-force pressure, k_e/d_s²
+    double shear_stress = 0.0;          ///< −(1/A) Σ_contacts r_ij,y f^dis_ij,x (does work with the flow)
     double kinetic_energy = 0.0;        ///< ½ Σ m_i |u_i|² (massive models), k_e
     double pressure_kinetic = 0.0;      ///< (1/2A) Σ m_i |u_i|², k_e/d_s²
     double shear_stress_kinetic = 0.0;  ///< −(1/A) Σ m_i u_ix u_iy, k_e/d_s²
@@ -42,8 +42,7 @@ class Model {
     /// Advance positions and γ by one step of length dt (time unit τ = k_d d_s² / k_e)
     /// at shear rate `rate` (1/τ). `step` is the index of the step (0, 1, ...): models with
     /// noise key their random numbers by it, so a run is the same however it is scheduled.
-    virtual void advance(System& sys, ForceField& forces, double dt, double rate,
-                         std::int64_t step) = 0;
+    virtual void advance(System& sys, ForceField& forces, double dt, double rate, std::int64_t step) = 0;
 
     /// Make particles.ux, uy hold the non-affine velocity u = v − γ̇ y x̂ of the current state
     /// (called at samples, after prepare(); models that carry or solve for u have it already).
@@ -52,8 +51,7 @@ class Model {
     /// Dissipated power and the stress of dissipative *contact* forces (zero for drag
     /// against the reservoir, which is a one-body force), for the state after prepare() and
     /// store_velocities().
-    virtual Dissipation dissipation(const System& sys, const ForceField& forces,
-                                    double rate) const = 0;
+    virtual Dissipation dissipation(const System& sys, const ForceField& forces, double rate) const = 0;
 
     /// Krylov iterations per solve in the last prepare() (CD0 with PETSc; 0 otherwise).
     virtual double solver_iterations() const { return 0.0; }
@@ -97,4 +95,4 @@ struct DynamicsInfo {
 
 inline double no_dt_limit(const ReplicaParams&) { return std::numeric_limits<double>::infinity(); }
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -31,4 +31,4 @@ std::string contact_drag_dt_basis(const ReplicaParams& p);
 /// none. Printed once in the run log, not refused.
 std::string overdamped_dt_advisory(const ReplicaParams& p, double (*stable_dt)(const ReplicaParams&));
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -22,9 +22,9 @@ struct OverdampedScratch {
 /// the end-of-step strain γ₁ (it may evaluate forces and solve), and the step is the mean of
 /// both slopes. RD0: v = f with scale 1/k_d; CD0: v = u (solved) with scale 1.
 template <class VelocityAt>
-void overdamped_step(System& sys, ForceField& forces, double dt, double rate, bool heun,
-                     double scale, std::span<const double> vx, std::span<const double> vy,
-                     OverdampedScratch& scratch, VelocityAt&& velocity_at) {
+void overdamped_step(System& sys, ForceField& forces, double dt, double rate, bool heun, double scale,
+                     std::span<const double> vx, std::span<const double> vy, OverdampedScratch& scratch,
+                     VelocityAt&& velocity_at) {
     Particles& p = sys.particles;
     const double step = dt * scale;
     const double gamma0 = sys.box.strain();
@@ -49,4 +49,4 @@ void overdamped_step(System& sys, ForceField& forces, double dt, double rate, bo
     apply_strain(sys, forces, gamma1);
 }
 
-} // namespace jamsim
+}  // namespace jamsim

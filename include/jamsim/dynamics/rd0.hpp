@@ -12,13 +12,10 @@ namespace jamsim {
 /// Forward Euler (one force evaluation per step) or Heun (two; second order in Δt).
 class Rd0 final : public Model {
   public:
-    explicit Rd0(const ReplicaParams& params)
-        : kd_(params.kd), heun_(params.integrator == "heun") {}
-    void advance(System& sys, ForceField& forces, double dt, double rate,
-                 std::int64_t step) override;
+    explicit Rd0(const ReplicaParams& params) : kd_(params.kd), heun_(params.integrator == "heun") {}
+    void advance(System& sys, ForceField& forces, double dt, double rate, std::int64_t step) override;
     /// P = k_d Σ |u_i|² (drag against the reservoir); no contact stress.
-    Dissipation dissipation(const System& sys, const ForceField& forces,
-                            double rate) const override;
+    Dissipation dissipation(const System& sys, const ForceField& forces, double rate) const override;
     void store_velocities(System& sys) const override;
 
   private:
@@ -31,4 +28,4 @@ class Rd0 final : public Model {
 /// Registration (src/run/model_registry.cpp).
 DynamicsInfo rd0_model();
 
-} // namespace jamsim
+}  // namespace jamsim

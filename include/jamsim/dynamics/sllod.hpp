@@ -34,12 +34,9 @@ double sllod_stable_dt(Damping damping, double mass, double kd);
 ///    evaluated inside advance() for the closing kick.
 class Sllod final : public Model {
   public:
-    Sllod(const ReplicaParams& params, Damping damping)
-        : mass_(params.mass), kd_(params.kd), damping_(damping) {}
-    void advance(System& sys, ForceField& forces, double dt, double rate,
-                 std::int64_t step) override;
-    Dissipation dissipation(const System& sys, const ForceField& forces,
-                            double rate) const override;
+    Sllod(const ReplicaParams& params, Damping damping) : mass_(params.mass), kd_(params.kd), damping_(damping) {}
+    void advance(System& sys, ForceField& forces, double dt, double rate, std::int64_t step) override;
+    Dissipation dissipation(const System& sys, const ForceField& forces, double rate) const override;
 
     /// Largest stable Δt estimate for these parameters (elastic and dissipative rates of a
     /// small disk with up to 8 contacts); advance() refuses a larger Δt.
@@ -53,15 +50,13 @@ class Sllod final : public Model {
 
     /// Time derivatives (dx, dy, dux, duy) at state (x, y, ux, uy) with elastic forces
     /// (fx, fy) and strain γ, for Heun (CD, CDn, CDt; RD uses advance_split_rd).
-    void rates(const System& sys, const ForceField& forces, double gamma, double rate,
-               const std::vector<double>& x, const std::vector<double>& y,
-               const std::vector<double>& ux, const std::vector<double>& uy,
+    void rates(const System& sys, const ForceField& forces, double gamma, double rate, const std::vector<double>& x,
+               const std::vector<double>& y, const std::vector<double>& ux, const std::vector<double>& uy,
                const std::vector<double>& fx, const std::vector<double>& fy);
 
     double mass_, kd_;
     Damping damping_;
-    std::vector<double> dx_, dy_, dux_, duy_, x0_, y0_, ux0_, uy0_, fx1_, fy1_, k1x_, k1y_,
-        k1ux_, k1uy_, fdx_, fdy_;
+    std::vector<double> dx_, dy_, dux_, duy_, x0_, y0_, ux0_, uy0_, fx1_, fy1_, k1x_, k1y_, k1ux_, k1uy_, fdx_, fdy_;
     HaloScratch halo_;  ///< of the contact damping scatter
 };
 
@@ -71,4 +66,4 @@ DynamicsInfo cd_model();
 DynamicsInfo cdn_model();
 DynamicsInfo cdt_model();
 
-} // namespace jamsim
+}  // namespace jamsim

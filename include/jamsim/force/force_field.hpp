@@ -25,19 +25,18 @@ class ForceField {
     /// Forces for trial positions inside a step (e.g. a Heun predictor) at the box's current
     /// strain; rebuilds the list from the trial positions if needed but reorders nothing.
     ForceResult compute_at(const Box& box, std::span<const double> x, std::span<const double> y,
-                           std::span<const double> diameter, std::span<double> fx,
-                           std::span<double> fy, Tally tally = Tally::ForcesOnly);
+                           std::span<const double> diameter, std::span<double> fx, std::span<double> fy,
+                           Tally tally = Tally::ForcesOnly);
 
     /// Forces for positions split as base + offset (a minimiser's coordinates): the list is
     /// kept valid for the total positions (x_total = base + offset, which the caller keeps
     /// current), separations are formed as (base difference) + (offset difference).
     /// displacement_bound ≥ 0: a bound on every disk's lab displacement since the list's last
     /// build (see builds()), which lets the per-disk rebuild check be skipped.
-    ForceResult compute_split(const Box& box, std::span<const double> x_total,
-                              std::span<const double> y_total, std::span<const double> base_x,
-                              std::span<const double> base_y, std::span<const double> off_x,
-                              std::span<const double> off_y, std::span<const double> diameter,
-                              std::span<double> fx, std::span<double> fy, Tally tally,
+    ForceResult compute_split(const Box& box, std::span<const double> x_total, std::span<const double> y_total,
+                              std::span<const double> base_x, std::span<const double> base_y,
+                              std::span<const double> off_x, std::span<const double> off_y,
+                              std::span<const double> diameter, std::span<double> fx, std::span<double> fy, Tally tally,
                               double displacement_bound = -1.0);
 
     /// Forget the list (after a Lees–Edwards wrap remapped the positions).
@@ -84,11 +83,11 @@ class ForceField {
 
 /// Move sheared positions with a lab-frame non-affine velocity field (v_x, v_y) at strain γ
 /// for a time `scale`: x += scale (v_x − γ v_y), y += scale v_y (thesis eq. 4.5).
-void drift(std::span<double> x, std::span<double> y, std::span<const double> vx,
-           std::span<const double> vy, double gamma, double scale);
+void drift(std::span<double> x, std::span<double> y, std::span<const double> vx, std::span<const double> vy,
+           double gamma, double scale);
 
 /// Set γ to `strain` (it may leave [−1/2, 1/2) by at most one step's worth), then wrap it
 /// back and remap the positions if it crossed ±1/2, invalidating the neighbour list.
 void apply_strain(System& sys, ForceField& forces, double strain);
 
-} // namespace jamsim
+}  // namespace jamsim

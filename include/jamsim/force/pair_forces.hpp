@@ -15,7 +15,7 @@ namespace jamsim {
 /// virial_ab = Σ_pairs r_ij,a f_ij,b with r_ij = r_i − r_j (lab frame) and f_ij the force
 /// on i from j; units k_e (energy). For central forces it is symmetric.
 struct ForceResult {
-    double energy = 0.0;      ///< Σ_pairs V(r_ij), k_e
+    double energy = 0.0;  ///< Σ_pairs V(r_ij), k_e
     double virial_xx = 0.0;
     double virial_xy = 0.0;
     double virial_yy = 0.0;
@@ -40,19 +40,17 @@ struct BlockTally {
 
 /// Scratch space of the force loop (reused across calls; one per ForceField).
 struct PairScratch {
-    static constexpr std::size_t kChunk = 512;  ///< list entries per pass (fits in L1)
+    static constexpr std::size_t kChunk = 512;    ///< list entries per pass (fits in L1)
     std::vector<double> halo_x, halo_y, halo_ry;  ///< [halo slots] (ForceBlocks)
-    std::vector<BlockTally> tallies;             ///< [blocks]
+    std::vector<BlockTally> tallies;              ///< [blocks]
 };
 
 /// The evaluator over a block: f_over_r[k], and energy[k] unless energy is null, for
 /// contiguous r2[k], contact[k]. Branch-free, so it vectorises.
 /// Always inlined, so that the same body is compiled inside each target clone below.
 template <class Evaluator>
-[[gnu::always_inline]] inline void evaluate_block(const Evaluator& eval,
-                                                  const double* __restrict r2,
-                                                  const double* __restrict contact,
-                                                  double* __restrict f_over_r,
+[[gnu::always_inline]] inline void evaluate_block(const Evaluator& eval, const double* __restrict r2,
+                                                  const double* __restrict contact, double* __restrict f_over_r,
                                                   double* __restrict energy, std::size_t m) {
     if (energy) {
         for (std::size_t k = 0; k < m; ++k) {
@@ -68,10 +66,10 @@ template <class Evaluator>
 /// The harmonic and Hertzian blocks are compiled twice (AVX2 and baseline x86-64) and the
 /// CPU picks one at load time. Only IEEE-exact lane-wise operations are involved (sqrt,
 /// division, multiply, max; no fused multiply-add), so both give the same bits.
-void evaluate_block(const potential::Harmonic& eval, const double* r2, const double* contact,
-                    double* f_over_r, double* energy, std::size_t m);
-void evaluate_block(const potential::Hertzian& eval, const double* r2, const double* contact,
-                    double* f_over_r, double* energy, std::size_t m);
+void evaluate_block(const potential::Harmonic& eval, const double* r2, const double* contact, double* f_over_r,
+                    double* energy, std::size_t m);
+void evaluate_block(const potential::Hertzian& eval, const double* r2, const double* contact, double* f_over_r,
+                    double* energy, std::size_t m);
 
 /// What the force loop may record of the contacts it meets, for a model that needs them in
 /// the same step (CD0's contact matrix and its affine drag), so that it need not walk the
@@ -89,9 +87,9 @@ struct ContactRecord {
 /// force loop gets the same bits for it.
 template <bool kOffsets>
 [[gnu::always_inline]] inline void block_geometry(const NeighborList& list, const Box& box, const double* x,
-                                                  const double* y, const double* ox, const double* oy,
-                                                  std::size_t k0, std::size_t m, double* __restrict rx,
-                                                  double* __restrict ry, double* __restrict r2) {
+                                                  const double* y, const double* ox, const double* oy, std::size_t k0,
+                                                  std::size_t m, double* __restrict rx, double* __restrict ry,
+                                                  double* __restrict r2) {
     const std::int32_t* owner = list.owner().data() + k0;
     const std::int32_t* neighbor = list.neighbor().data() + k0;
     const double* shift_x = list.shift_x().data() + k0;
@@ -118,11 +116,11 @@ template <bool kOffsets>
 /// the neighbour when it lies in the block, else into the block's next halo slot. Returns the block's
 /// sums (Tally::Full). Uses the caller's per-thread arrays of PairScratch::kChunk doubles.
 template <Tally kTally, class Evaluator, bool kOffsets, bool kRecord>
-[[gnu::always_inline]] inline BlockTally accumulate_block(
-    const Evaluator& eval, const NeighborList& list, const Box& box, const double* x,
-    const double* y, const double* ox, const double* oy, std::size_t b, double* fx, double* fy,
-    PairScratch& scratch, ContactRecord record, double* __restrict rx, double* __restrict ry,
-    double* __restrict r2, double* __restrict fr, double* __restrict en) {
+[[gnu::always_inline]] inline BlockTally
+accumulate_block(const Evaluator& eval, const NeighborList& list, const Box& box, const double* x, const double* y,
+                 const double* ox, const double* oy, std::size_t b, double* fx, double* fy, PairScratch& scratch,
+                 ContactRecord record, double* __restrict rx, double* __restrict ry, double* __restrict r2,
+                 double* __restrict fr, double* __restrict en) {
     const ForceBlocks& blocks = list.blocks();
     const std::size_t n = list.first().size() - 1;
     const std::size_t d0 = b * blocks.size, d1 = std::min(n, d0 + blocks.size);
@@ -186,8 +184,8 @@ template <Tally kTally, class Evaluator, bool kOffsets, bool kRecord>
 /// Adds the halo slots that belong to block c's disks: those of source blocks 0, 1, ... in
 /// turn, each in list order (ForceBlocks). hr and sum_ry only when kRecord.
 template <bool kRecord>
-inline void add_halo(const ForceBlocks& blocks, std::size_t c, const double* hx, const double* hy,
-                     const double* hr, double* fx, double* fy, double* sum_ry) {
+inline void add_halo(const ForceBlocks& blocks, std::size_t c, const double* hx, const double* hy, const double* hr,
+                     double* fx, double* fy, double* sum_ry) {
     for (std::size_t b = 0; b < blocks.count; ++b) {
         const auto q0 = static_cast<std::size_t>(blocks.by_target_first[b * blocks.count + c]);
         const auto q1 = static_cast<std::size_t>(blocks.by_target_first[b * blocks.count + c + 1]);
@@ -226,11 +224,9 @@ inline void add_halo(const ForceBlocks& blocks, std::size_t c, const double* hx,
 /// With kRecord the loop also fills `record` (ContactRecord), with no branch on the contact
 /// test: a non-touching pair adds r_y · 0 to the sums, which leaves them unchanged.
 template <Tally kTally, class Evaluator, bool kOffsets = false, bool kRecord = false>
-ForceResult accumulate_pair_forces(const Evaluator& eval, const NeighborList& list,
-                                   const Box& box, std::span<const double> x,
-                                   std::span<const double> y,
-                                   std::span<double> fx, std::span<double> fy,
-                                   PairScratch& scratch, const double* ox = nullptr,
+ForceResult accumulate_pair_forces(const Evaluator& eval, const NeighborList& list, const Box& box,
+                                   std::span<const double> x, std::span<const double> y, std::span<double> fx,
+                                   std::span<double> fy, PairScratch& scratch, const double* ox = nullptr,
                                    const double* oy = nullptr, ContactRecord record = {}) {
     const ForceBlocks& blocks = list.blocks();
     const std::size_t slots = blocks.halo_slots();
@@ -248,15 +244,14 @@ ForceResult accumulate_pair_forces(const Evaluator& eval, const NeighborList& li
 #pragma omp for schedule(static)
         for (long b = 0; b < count; ++b)
             scratch.tallies[static_cast<std::size_t>(b)] = accumulate_block<kTally, Evaluator, kOffsets, kRecord>(
-                eval, list, box, x.data(), y.data(), ox, oy, static_cast<std::size_t>(b), fx.data(), fy.data(),
-                scratch, record, rx, ry, r2, fr, en);
+                eval, list, box, x.data(), y.data(), ox, oy, static_cast<std::size_t>(b), fx.data(), fy.data(), scratch,
+                record, rx, ry, r2, fr, en);
         // (the barrier at the end of the loop above: every block and halo slot is written)
         if (count > 1) {
 #pragma omp for schedule(static)
             for (long c = 0; c < count; ++c)
-                add_halo<kRecord>(blocks, static_cast<std::size_t>(c), scratch.halo_x.data(),
-                                  scratch.halo_y.data(), scratch.halo_ry.data(), fx.data(), fy.data(),
-                                  record.sum_ry);
+                add_halo<kRecord>(blocks, static_cast<std::size_t>(c), scratch.halo_x.data(), scratch.halo_y.data(),
+                                  scratch.halo_ry.data(), fx.data(), fy.data(), record.sum_ry);
         }
     }
     ForceResult out;
@@ -289,8 +284,8 @@ struct Contact {
 /// Calls f(k, i, j, r, touching) for the listed pairs k = (i, j) with k0 ≤ k < k1, in list
 /// order, at positions (x, y) in `box` (lab separation r = r_i − r_j; touching: |r| < d_ij).
 template <class List, class F>
-void for_each_pair_in(const List& list, const Box& box, std::span<const double> x,
-                      std::span<const double> y, std::size_t k0, std::size_t k1, F&& f) {
+void for_each_pair_in(const List& list, const Box& box, std::span<const double> x, std::span<const double> y,
+                      std::size_t k0, std::size_t k1, F&& f) {
     const auto owner = list.owner(), neighbor = list.neighbor();
     const auto sx = list.shift_x(), sy = list.shift_y(), contact = list.contact();
     for (std::size_t k = k0; k < k1; ++k) {
@@ -306,40 +301,35 @@ void for_each_pair_in(const List& list, const Box& box, std::span<const double> 
 /// pairs touch, in no pattern a branch predictor could learn). The one pair traversal beside
 /// the force loop. `List` is a NeighborList or a SubList (the same entry layout).
 template <class List, class F>
-void for_each_pair(const List& list, const Box& box, std::span<const double> x,
-                   std::span<const double> y, F&& f) {
+void for_each_pair(const List& list, const Box& box, std::span<const double> x, std::span<const double> y, F&& f) {
     for_each_pair_in(list, box, x, y, 0, list.size(), f);
 }
 
 /// Calls f(k, i, j, r) for every listed pair k = (i, j) that touches (for_each_pair's
 /// touching pairs): contact dissipation (CD, CDn, CDt), contact networks.
 template <class F>
-void for_each_contact(const NeighborList& list, const Box& box, std::span<const double> x,
-                      std::span<const double> y, F&& f) {
+void for_each_contact(const NeighborList& list, const Box& box, std::span<const double> x, std::span<const double> y,
+                      F&& f) {
     for_each_pair(list, box, x, y, [&](std::size_t k, std::size_t i, std::size_t j, Vec2 r, bool touching) {
         if (touching) f(k, i, j, r);
     });
 }
 
 /// The contacts among the listed pairs, in list order (deterministic).
-std::vector<Contact> find_contacts(const NeighborList& list, const Box& box,
-                                   std::span<const double> x, std::span<const double> y);
+std::vector<Contact> find_contacts(const NeighborList& list, const Box& box, std::span<const double> x,
+                                   std::span<const double> y);
 
 /// Run-time dispatch over the registered evaluators (one instantiation each). With a
 /// `record` (both pointers set) the contacts are recorded too (ContactRecord).
-ForceResult compute_pair_forces(const potential::SoftSphere& pot, const NeighborList& list,
-                                const Box& box, std::span<const double> x,
-                                std::span<const double> y,
-                                std::span<double> fx, std::span<double> fy,
-                                PairScratch& scratch, Tally tally = Tally::Full,
+ForceResult compute_pair_forces(const potential::SoftSphere& pot, const NeighborList& list, const Box& box,
+                                std::span<const double> x, std::span<const double> y, std::span<double> fx,
+                                std::span<double> fy, PairScratch& scratch, Tally tally = Tally::Full,
                                 ContactRecord record = {});
 
 /// The same with positions split as base (x, y) + offset (ox, oy); see accumulate_pair_forces.
-ForceResult compute_pair_forces_split(const potential::SoftSphere& pot, const NeighborList& list,
-                                      const Box& box, std::span<const double> x,
-                                      std::span<const double> y, std::span<const double> ox,
-                                      std::span<const double> oy, std::span<double> fx,
-                                      std::span<double> fy, PairScratch& scratch,
-                                      Tally tally = Tally::Full);
+ForceResult compute_pair_forces_split(const potential::SoftSphere& pot, const NeighborList& list, const Box& box,
+                                      std::span<const double> x, std::span<const double> y, std::span<const double> ox,
+                                      std::span<const double> oy, std::span<double> fx, std::span<double> fy,
+                                      PairScratch& scratch, Tally tally = Tally::Full);
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -21,9 +21,8 @@ struct HaloScratch {
 /// i, −v for the neighbour j. `out_x`, `out_y` (shape [N]) are overwritten. A disk's sum runs
 /// over its block's entries in list order, then its halo slots (ForceBlocks).
 template <class F>
-void scatter_pairs(const NeighborList& list, const Box& box, std::span<const double> x,
-                   std::span<const double> y, std::span<double> out_x, std::span<double> out_y,
-                   HaloScratch& halo, F&& f) {
+void scatter_pairs(const NeighborList& list, const Box& box, std::span<const double> x, std::span<const double> y,
+                   std::span<double> out_x, std::span<double> out_y, HaloScratch& halo, F&& f) {
     const ForceBlocks& blocks = list.blocks();
     const std::size_t n = out_x.size();
     halo.x.resize(blocks.halo_slots());
@@ -57,21 +56,20 @@ void scatter_pairs(const NeighborList& list, const Box& box, std::span<const dou
 /// combine(...combine(P₀, P₁)..., P_last) over the list's blocks, where block b's partial P_b
 /// starts from Partial{} and f(P_b, k, i, j, r, touching) adds entry k to it, in list order.
 template <class Partial, class F, class Combine>
-Partial reduce_pairs(const NeighborList& list, const Box& box, std::span<const double> x,
-                     std::span<const double> y, F&& f, Combine&& combine) {
+Partial reduce_pairs(const NeighborList& list, const Box& box, std::span<const double> x, std::span<const double> y,
+                     F&& f, Combine&& combine) {
     const ForceBlocks& blocks = list.blocks();
     std::vector<Partial> partial(blocks.count);
     parallel_for_blocks(blocks.count, [&](std::size_t b) {
         Partial& into = partial[b];
-        for_each_pair_in(list, box, x, y, static_cast<std::size_t>(blocks.entry_first[b]),
-                         static_cast<std::size_t>(blocks.entry_first[b + 1]),
-                         [&](std::size_t k, std::size_t i, std::size_t j, Vec2 r, bool touching) {
-                             f(into, k, i, j, r, touching);
-                         });
+        for_each_pair_in(
+            list, box, x, y, static_cast<std::size_t>(blocks.entry_first[b]),
+            static_cast<std::size_t>(blocks.entry_first[b + 1]),
+            [&](std::size_t k, std::size_t i, std::size_t j, Vec2 r, bool touching) { f(into, k, i, j, r, touching); });
     });
     Partial total = partial[0];
     for (std::size_t b = 1; b < blocks.count; ++b) total = combine(total, partial[b]);
     return total;
 }
 
-} // namespace jamsim
+}  // namespace jamsim

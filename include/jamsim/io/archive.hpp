@@ -17,15 +17,14 @@ namespace jamsim {
 enum class ReplicaStatus : std::int8_t { Pending = 0, Running = 1, Done = 2, Failed = 3 };
 const char* to_string(ReplicaStatus s);
 
-
 /// The shapes of a campaign's archive, from its spec.
 struct ArchiveLayout {
-    hsize_t samples = 1;    ///< row length of /timeseries (the most samples of any replica)
-    hsize_t bins = 1;       ///< row length of /correlation (the most g_y bins)
-    hsize_t particles = 1;  ///< length of /final/x: every replica's N (at least 1)
+    hsize_t samples = 1;                        ///< row length of /timeseries (the most samples of any replica)
+    hsize_t bins = 1;                           ///< row length of /correlation (the most g_y bins)
+    hsize_t particles = 1;                      ///< length of /final/x: every replica's N (at least 1)
     std::vector<std::int64_t> particle_offset;  ///< [R] first disk of each replica in /final
-    hsize_t frames = 0;     ///< configuration frames per replica (most of any; 0: no /frames)
-    double frame_bytes = 0.0;  ///< bytes of /frames (part of `bytes`)
+    hsize_t frames = 0;                         ///< configuration frames per replica (most of any; 0: no /frames)
+    double frame_bytes = 0.0;                   ///< bytes of /frames (part of `bytes`)
     /// Bytes the archive will take once every replica is written (data, not metadata).
     double bytes = 0.0;
     /// One replica of N disks: its row of every per-replica dataset (time series and g_y rows
@@ -96,33 +95,29 @@ class Archive {
     /// A running replica's rows so far and its progress (fraction of steps) at a checkpoint:
     /// readers see them while its status is still 1 (running), i.e. partial. Rows before
     /// `from_row` are in the archive already and are not written again.
-    void write_progress(std::int64_t replica, const TimeSeries& series, std::size_t from_row,
-                        double progress);
-    void write_failed(std::int64_t replica, const std::string& reason, double wall_seconds,
-                      int rank);
+    void write_progress(std::int64_t replica, const TimeSeries& series, std::size_t from_row, double progress);
+    void write_failed(std::int64_t replica, const std::string& reason, double wall_seconds, int rank);
     /// What the replica starts from ([run] initial): the source's fingerprint and the state's
     /// digest (InitialStates), before its status says running. Nothing in an archive made
     /// before these columns existed.
     void record_initial(std::int64_t replica, std::uint64_t source, std::uint64_t state);
     /// Configuration frame `index` of a running replica (disks in tag order, sheared
     /// coordinates in [0, L)) and its strain (time at rate 0); valid once its status is done.
-    void write_frame(std::int64_t replica, std::int64_t index, double strain,
-                     const FinalConfiguration& frame);
+    void write_frame(std::int64_t replica, std::int64_t index, double strain, const FinalConfiguration& frame);
 
     /// Copy replica `replica` (its rows, final configuration, bookkeeping and, last, its
     /// status) from another archive of the same campaign, opened serially read-only.
     void import_replica(const std::string& source_path, std::int64_t replica);
     /// The same for the replica `source_replica` of another archive that holds it (the same
     /// identity: parameters and seed) at another position, as this archive's `replica`.
-    void import_replica(const std::string& source_path, std::int64_t source_replica,
-                        std::int64_t replica);
+    void import_replica(const std::string& source_path, std::int64_t source_replica, std::int64_t replica);
 
     /// Serial, read-only: "" when replica `a_replica` of the archive `a` and `b_replica` of `b`
     /// (the same replica: the same identity) hold bitwise the same data (rows, g_y, final
     /// configuration, force evaluations; NaN padding past the shorter row), otherwise the
     /// first dataset that differs.
-    static std::string replica_difference(const std::string& a, std::int64_t a_replica,
-                                          const std::string& b, std::int64_t b_replica);
+    static std::string replica_difference(const std::string& a, std::int64_t a_replica, const std::string& b,
+                                          std::int64_t b_replica);
 
     /// Independent read of every replica's status.
     std::vector<ReplicaStatus> read_status() const;
@@ -168,7 +163,7 @@ struct ArchiveSummary {
     double wall_seconds_done = 0.0;
     double cost_done = 0.0, cost_left = 0.0;  ///< estimated costs of done / unfinished replicas
     std::int64_t ranks = 0;                   ///< ranks of the latest run (0 if never run)
-    std::vector<std::string> failures;  ///< "replica 3: reason"
+    std::vector<std::string> failures;        ///< "replica 3: reason"
     struct Progress {
         std::int64_t replica;
         double fraction;  ///< of its steps, at its last checkpoint
@@ -187,4 +182,4 @@ StoredCampaign read_stored_campaign(const std::string& path);
 /// Current UTC time as ISO 8601.
 std::string utc_now();
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -17,4 +17,4 @@ inline constexpr std::int64_t kArchiveLayoutVersion = 4;
 /// printed. Never throws for a bad file.
 std::string diagnose_archive_file(const std::string& path);
 
-} // namespace jamsim
+}  // namespace jamsim

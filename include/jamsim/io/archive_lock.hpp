@@ -55,4 +55,4 @@ class ArchiveLock {
     int archive_fd_ = -1;  ///< rank 0: the archive, flock'ed shared (-1: none)
 };
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -61,8 +61,8 @@ std::vector<std::string> campaign_warnings(const CampaignSpec& spec);
 /// rate_ladder), one "[potential] alpha: archive 2, file 2.5" per setting, joined by "; ",
 /// with `a_label` and `b_label` naming the two sides; "" when they agree (the campaigns then
 /// differ at most in their sweeps: N, phi, rate, seeds, points).
-std::string settings_difference(const CampaignSpec& a, const CampaignSpec& b,
-                                const std::string& a_label, const std::string& b_label);
+std::string settings_difference(const CampaignSpec& a, const CampaignSpec& b, const std::string& a_label,
+                                const std::string& b_label);
 
 /// A campaign file (TOML) whose replicas are `replicas` (which share their settings: those of
 /// the first), sorted by N, phi, rate and seed, as points with their own seeds; the settings
@@ -76,4 +76,4 @@ std::string campaign_text(const std::string& name, const std::string& output,
 /// archive contents.
 std::string fingerprint(const CampaignSpec& spec);
 
-} // namespace jamsim
+}  // namespace jamsim

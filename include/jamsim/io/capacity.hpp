@@ -24,8 +24,7 @@ struct CapacityEstimate {
 
 /// The estimate for `spec` written to `output` by `ranks` ranks, `ranks_per_node` of them on
 /// this node.
-CapacityEstimate estimate_capacity(const CampaignSpec& spec, const std::string& output, int ranks,
-                                   int ranks_per_node);
+CapacityEstimate estimate_capacity(const CampaignSpec& spec, const std::string& output, int ranks, int ranks_per_node);
 
 /// Limits the user can raise on the command line.
 struct CapacityLimits {
@@ -33,8 +32,8 @@ struct CapacityLimits {
 };
 
 /// "" when the campaign fits, else why not and what to change (one message).
-std::string check_capacity(const CapacityEstimate& e, const CapacityLimits& limits,
-                           const CampaignSpec& spec, const std::string& output);
+std::string check_capacity(const CapacityEstimate& e, const CapacityLimits& limits, const CampaignSpec& spec,
+                           const std::string& output);
 
 /// Free bytes for this user on the filesystem that holds (or would hold) `path`; NaN unknown.
 double free_bytes(const std::string& path);
@@ -44,4 +43,4 @@ std::string show_bytes(double bytes);
 /// "10G", "1.5T", "500M", "2e12" in bytes; negative when it does not parse.
 double parse_bytes(const std::string& text);
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -43,8 +43,7 @@ System read_state_system(const std::string& path, const ReplicaParams& p);
 /// `final` checkpoint is the last checkpoint step of a finished replica, kept so that a
 /// longer run of it (an extended campaign) continues from there; it is not fsynced (losing
 /// it costs only the recomputation).
-void write_checkpoint(const std::string& path, const ReplicaParams& p, const ReplicaState& state,
-                      bool final = false);
+void write_checkpoint(const std::string& path, const ReplicaParams& p, const ReplicaState& state, bool final = false);
 
 /// Read a checkpoint and check that it belongs to a replica with parameters `p` (up to the
 /// run length, which may have grown) written by this version's checkpoint format, at a step
@@ -53,4 +52,4 @@ void write_checkpoint(const std::string& path, const ReplicaParams& p, const Rep
 /// at writing; throws CheckpointError otherwise.
 ReplicaState read_checkpoint(const std::string& path, const ReplicaParams& p);
 
-} // namespace jamsim
+}  // namespace jamsim

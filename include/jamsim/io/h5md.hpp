@@ -18,4 +18,4 @@ namespace jamsim {
 void write_h5md(const std::string& path, const StoredReplica& r, const std::string& archive,
                 const std::string& campaign);
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -77,8 +77,8 @@ void write_attribute(hid_t obj, const std::string& name, std::int64_t value);
 void write_attribute(hid_t obj, const std::string& name, const std::string& value);
 
 /// 1-D dataset of doubles with "units" and "description" attributes.
-void write_dataset(hid_t parent, const std::string& name, std::span<const double> values,
-                   const std::string& units, const std::string& description);
+void write_dataset(hid_t parent, const std::string& name, std::span<const double> values, const std::string& units,
+                   const std::string& description);
 
 std::vector<double> read_dataset(hid_t parent, const std::string& name);
 double read_double_attribute(hid_t obj, const std::string& name);
@@ -104,15 +104,13 @@ Handle fixed_string_type(std::size_t bytes);
 /// Collective: a dataset of shape `dims`, allocated now but never filled (the file stays
 /// sparse until data is written: creating terabytes costs nothing; what was never written
 /// reads as zeros), with "units" and "description" attributes.
-void create_unfilled_dataset(hid_t file, const std::string& path, hid_t type,
-                             std::vector<hsize_t> dims, const std::string& units,
-                             const std::string& description);
+void create_unfilled_dataset(hid_t file, const std::string& path, hid_t type, std::vector<hsize_t> dims,
+                             const std::string& units, const std::string& description);
 
 /// Collective: a dataset of shape `dims`, allocated now and filled with `fill`, with "units"
 /// and "description" attributes.
-void create_filled_dataset(hid_t file, const std::string& path, hid_t type,
-                           std::vector<hsize_t> dims, const void* fill, const std::string& units,
-                           const std::string& description);
+void create_filled_dataset(hid_t file, const std::string& path, hid_t type, std::vector<hsize_t> dims, const void* fill,
+                           const std::string& units, const std::string& description);
 /// Write the block [start, start + count) of a dataset with transfer properties `dxpl`
 /// (independent_transfer() under MPI-IO; asking a file for its driver would be collective).
 void write_block(hid_t file, const std::string& path, hid_t memtype, std::vector<hsize_t> start,
@@ -126,8 +124,8 @@ std::vector<hsize_t> dataset_shape(hid_t file, const std::string& path);
 bool exists(hid_t file, const std::string& path);
 
 /// A whole dataset as a vector of T (memtype the native type of T).
-template <class T> std::vector<T> read_all(hid_t file, const std::string& path, hid_t memtype,
-                                           hid_t dxpl = H5P_DEFAULT) {
+template <class T>
+std::vector<T> read_all(hid_t file, const std::string& path, hid_t memtype, hid_t dxpl = H5P_DEFAULT) {
     Handle set(H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose, "open " + path);
     Handle space(H5Dget_space(set.get()), H5Sclose, "dataspace of " + path);
     const hssize_t n = H5Sget_simple_extent_npoints(space.get());
@@ -137,4 +135,4 @@ template <class T> std::vector<T> read_all(hid_t file, const std::string& path, 
     return out;
 }
 
-} // namespace jamsim::h5
+}  // namespace jamsim::h5

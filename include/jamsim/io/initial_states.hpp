@@ -62,4 +62,4 @@ class InitialStates {
     std::vector<double> size_ratio_;  ///< of each source replica (empty: an archive without the column)
 };
 
-} // namespace jamsim
+}  // namespace jamsim

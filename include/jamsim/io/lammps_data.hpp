@@ -31,14 +31,14 @@ void write_lammps_data(const std::string& path, const FinalConfiguration& c, con
 
 /// What a LAMMPS data file holds, as written in it (lab frame).
 struct LammpsData {
-    std::int64_t atoms = 0;           ///< header "atoms"
-    std::int64_t atom_types = 0;      ///< header "atom types"
+    std::int64_t atoms = 0;       ///< header "atoms"
+    std::int64_t atom_types = 0;  ///< header "atom types"
     double xlo = 0, xhi = 0, ylo = 0, yhi = 0, zlo = 0, zhi = 0;
-    double xy = 0, xz = 0, yz = 0;    ///< tilt factors (0 without an "xy xz yz" line)
-    std::string atom_style;           ///< "sphere" or "atomic"
-    std::vector<std::int64_t> id;     ///< per atom, in file order
+    double xy = 0, xz = 0, yz = 0;  ///< tilt factors (0 without an "xy xz yz" line)
+    std::string atom_style;         ///< "sphere" or "atomic"
+    std::vector<std::int64_t> id;   ///< per atom, in file order
     std::vector<int> type;
-    std::vector<double> diameter;     ///< sphere only (empty for atomic)
+    std::vector<double> diameter;  ///< sphere only (empty for atomic)
     std::vector<double> x, y, z;
 };
 
@@ -54,11 +54,10 @@ LammpsData read_lammps_data(const std::string& path);
 /// differ within a type or from 1 (type 1) and size_ratio (type 2), so that the two types
 /// overlap; a cell that is not square or is tilted other than by xy (not a simple shear);
 /// z ≠ 0; duplicate atom ids.
-System system_from_lammps_data(const LammpsData& data, const std::string& path, std::int64_t n,
-                               double size_ratio);
+System system_from_lammps_data(const LammpsData& data, const std::string& path, std::int64_t n, double size_ratio);
 
 /// True when the file starts with the HDF5 signature (an archive), false otherwise (a text
 /// file such as a LAMMPS data file). Throws LammpsDataError when it cannot be read.
 bool is_hdf5_file(const std::string& path);
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -12,7 +12,6 @@ namespace jamsim {
 ///   /final       x, y (sheared coordinates in [0, L)), diameter, ordered by particle tag;
 ///                attributes box_side, box_strain (γ; lab x = x + γ y)
 /// The file is written as PATH.tmp and renamed, so PATH is either complete or untouched.
-void write_replica_file(const std::string& path, const ReplicaParams& params,
-                        const ReplicaResult& result);
+void write_replica_file(const std::string& path, const ReplicaParams& params, const ReplicaResult& result);
 
-} // namespace jamsim
+}  // namespace jamsim

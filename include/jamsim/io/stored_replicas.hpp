@@ -21,7 +21,7 @@ struct StoredReplica {
     std::int64_t id = 0;
     std::string model;
     double n = 0, phi = 0, rate = 0, seed = 0, size_ratio = 0;  ///< NaN where the model reads none
-    FinalConfiguration final;  ///< by particle index, sheared coordinates in [0, L)
+    FinalConfiguration final;                                   ///< by particle index, sheared coordinates in [0, L)
     /// The last row of /timeseries: the final state's observables (k_e, k_e/d_s², 1, τ).
     double energy_per_particle = 0, pressure = 0, shear_stress = 0, strain = 0, time = 0;
 };
@@ -49,4 +49,4 @@ class StoredReplicas {
 /// Words for a status value ("pending", "running", "done", "failed").
 const char* status_word(int status);
 
-} // namespace jamsim
+}  // namespace jamsim

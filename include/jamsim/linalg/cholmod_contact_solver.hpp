@@ -28,15 +28,13 @@ namespace jamsim::linalg {
 class CholmodContactSolver final : public ContactSolver {
   public:
     enum class Ordering { metis, amd };
-    CholmodContactSolver(std::size_t n, double delta, Ordering ordering = Ordering::metis,
-                         double rtol = 1e-10);
+    CholmodContactSolver(std::size_t n, double delta, Ordering ordering = Ordering::metis, double rtol = 1e-10);
     ~CholmodContactSolver() override;
     CholmodContactSolver(const CholmodContactSolver&) = delete;
     CholmodContactSolver& operator=(const CholmodContactSolver&) = delete;
 
     SolveInfo solve(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,
-                    std::size_t pattern_version, std::span<const std::int32_t> labels,
-                    std::span<const double> b_x,
+                    std::size_t pattern_version, std::span<const std::int32_t> labels, std::span<const double> b_x,
                     std::span<const double> b_y, std::span<double> u_x, std::span<double> u_y) override;
 
   private:
@@ -44,4 +42,4 @@ class CholmodContactSolver final : public ContactSolver {
     std::unique_ptr<Impl> impl_;
 };
 
-} // namespace jamsim::linalg
+}  // namespace jamsim::linalg

@@ -17,10 +17,9 @@ struct ContactPair {
 /// Whether ‖b − A u‖ ≤ rtol ‖b‖ for both right-hand sides, with (A u)_i = δ u_i +
 /// Σ_{j in contact} (u_i − u_j): the true-residual check of the backends that update a factor.
 /// `scratch` holds the residual (resized to 2N, (x, y) per disk).
-bool contact_residual_within(std::span<const double> bx, std::span<const double> by,
-                             std::span<const double> ux, std::span<const double> uy, double delta,
-                             std::span<const ContactPair> contacts, double rtol,
-                             std::vector<double>& scratch);
+bool contact_residual_within(std::span<const double> bx, std::span<const double> by, std::span<const double> ux,
+                             std::span<const double> uy, double delta, std::span<const ContactPair> contacts,
+                             double rtol, std::vector<double>& scratch);
 
 /// Outcome of one solve, for diagnostics and failure messages.
 struct SolveInfo {
@@ -59,10 +58,10 @@ class ContactSolver {
     /// rows are renumbered when the disks are re-sorted at a neighbour-list rebuild, and a
     /// backend that keeps a factor carries it over by relabelling instead of factorising anew.
     /// Throws std::runtime_error naming the reason when a solve fails.
-    virtual SolveInfo solve(std::span<const ContactPair> pairs,
-                            std::span<const std::uint8_t> in_contact, std::size_t pattern_version,
-                            std::span<const std::int32_t> labels, std::span<const double> b_x, std::span<const double> b_y,
-                            std::span<double> u_x, std::span<double> u_y) = 0;
+    virtual SolveInfo solve(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,
+                            std::size_t pattern_version, std::span<const std::int32_t> labels,
+                            std::span<const double> b_x, std::span<const double> b_y, std::span<double> u_x,
+                            std::span<double> u_y) = 0;
 };
 
 /// The backend `solver = "auto"` picks: PETSc KSP with its default preconditioner, the
@@ -91,8 +90,7 @@ std::string petsc_options_problem(const std::string& options);
 /// The backend for `n` disks: "auto", "cholmod", "petsc" or "eigen" (the `solver` parameter;
 /// also "cholmod-amd", CHOLMOD with AMD ordering, for benchmarks); `petsc_options` go to the
 /// PETSc backend. Throws std::invalid_argument for another name.
-std::unique_ptr<ContactSolver> make_contact_solver(std::string_view backend, std::size_t n,
-                                                   double delta,
+std::unique_ptr<ContactSolver> make_contact_solver(std::string_view backend, std::size_t n, double delta,
                                                    const std::string& petsc_options);
 
-} // namespace jamsim::linalg
+}  // namespace jamsim::linalg

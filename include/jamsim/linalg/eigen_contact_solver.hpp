@@ -24,8 +24,7 @@ class EigenContactSolver final : public ContactSolver {
     EigenContactSolver& operator=(const EigenContactSolver&) = delete;
 
     SolveInfo solve(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,
-                    std::size_t pattern_version, std::span<const std::int32_t> labels,
-                    std::span<const double> b_x,
+                    std::size_t pattern_version, std::span<const std::int32_t> labels, std::span<const double> b_x,
                     std::span<const double> b_y, std::span<double> u_x, std::span<double> u_y) override;
 
   private:
@@ -33,4 +32,4 @@ class EigenContactSolver final : public ContactSolver {
     std::unique_ptr<Impl> impl_;
 };
 
-} // namespace jamsim::linalg
+}  // namespace jamsim::linalg

@@ -33,17 +33,14 @@ class PetscContactSolver final : public ContactSolver {
   public:
     /// `options`: extra PETSc options (e.g. "-cd0_ksp_rtol 1e-12"), inserted into the options
     /// database before the KSP reads it.
-    PetscContactSolver(std::size_t n, double delta, const std::string& options = "",
-                       double rtol = 1e-10);
+    PetscContactSolver(std::size_t n, double delta, const std::string& options = "", double rtol = 1e-10);
     ~PetscContactSolver() override;
     PetscContactSolver(const PetscContactSolver&) = delete;
     PetscContactSolver& operator=(const PetscContactSolver&) = delete;
 
     SolveInfo solve(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,
-                    std::size_t pattern_version, std::span<const std::int32_t> labels,
-                    std::span<const double> b_x,
-                    std::span<const double> b_y, std::span<double> u_x,
-                    std::span<double> u_y) override;
+                    std::size_t pattern_version, std::span<const std::int32_t> labels, std::span<const double> b_x,
+                    std::span<const double> b_y, std::span<double> u_x, std::span<double> u_y) override;
 
     /// With a PETSc preconditioner other than the default: iterations above which it is
     /// recomputed for the next solve.
@@ -54,4 +51,4 @@ class PetscContactSolver final : public ContactSolver {
     Impl* impl_;
 };
 
-} // namespace jamsim::linalg
+}  // namespace jamsim::linalg

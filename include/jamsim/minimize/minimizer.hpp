@@ -56,8 +56,7 @@ class Minimizer {
   public:
     virtual ~Minimizer() = default;
     virtual std::string_view name() const = 0;
-    virtual MinimizeResult minimize(System& sys, ForceField& forces,
-                                    const MinimizeCriteria& criteria) = 0;
+    virtual MinimizeResult minimize(System& sys, ForceField& forces, const MinimizeCriteria& criteria) = 0;
 };
 
 /// Registry: "cg" (hybrid HS/DY β), "cg-pr" (Polak–Ribière) or "fire" (FIRE 2.0); throws std::invalid_argument
@@ -65,4 +64,4 @@ class Minimizer {
 std::unique_ptr<Minimizer> make_minimizer(std::string_view name);
 std::vector<std::string> minimizer_names();
 
-} // namespace jamsim
+}  // namespace jamsim

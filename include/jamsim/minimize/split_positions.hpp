@@ -72,7 +72,7 @@ class SplitPositions {
     std::vector<double> base_x_, base_y_, off_x_, off_y_;
     double max_offset_ = 0.0;
     double best_force_ = -1.0;
-    double moved_ = 0.0;             // bound on lab displacements since the list's last build
+    double moved_ = 0.0;  // bound on lab displacements since the list's last build
     std::size_t builds_seen_ = static_cast<std::size_t>(-1);
     std::int64_t since_best_ = 0;
     double mean_diameter_ = 1.0;
@@ -80,8 +80,8 @@ class SplitPositions {
 };
 
 /// Fill a MinimizeResult from the last tallied evaluation.
-MinimizeResult summarize(const SplitPositions& pos, const System& sys, const ForceResult& f,
-                         MinimizeOutcome outcome, std::int64_t iterations);
+MinimizeResult summarize(const SplitPositions& pos, const System& sys, const ForceResult& f, MinimizeOutcome outcome,
+                         std::int64_t iterations);
 
 /// The stopping rule of MinimizeCriteria for a tallied evaluation whose largest force
 /// component is `max_force` (SplitPositions::max_force); NotConverged = go on.
@@ -89,10 +89,10 @@ MinimizeResult summarize(const SplitPositions& pos, const System& sys, const For
 /// evaluation and only the stopping rule needs them, so Full every 32 iterations and on
 /// every one once the rule is within reach (fmax within 100× of the force tolerance, or E/N
 /// of the last tallied evaluation within 1e4× of the energy floor); ForcesOnly otherwise.
-Tally tally_for(std::int64_t iteration, double max_force, double mean_contact_force,
-                const ForceResult& last_tallied, std::size_t disks, const MinimizeCriteria& c);
+Tally tally_for(std::int64_t iteration, double max_force, double mean_contact_force, const ForceResult& last_tallied,
+                std::size_t disks, const MinimizeCriteria& c);
 
 MinimizeOutcome check_stop(const SplitPositions& pos, const System& sys, const ForceResult& f,
                            const MinimizeCriteria& c, double max_force);
 
-} // namespace jamsim
+}  // namespace jamsim

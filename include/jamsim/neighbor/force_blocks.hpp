@@ -31,8 +31,8 @@ struct ForceBlocks {
     /// Blocks for N disks (at least 1): more threads than this gain nothing in the pair loop.
     static std::size_t block_count(std::size_t n) { return n == 0 ? 1 : (n + block_size(n) - 1) / block_size(n); }
 
-    std::size_t size = 0;   ///< disks per block (the last may hold fewer)
-    std::size_t count = 0;  ///< blocks
+    std::size_t size = 0;                   ///< disks per block (the last may hold fewer)
+    std::size_t count = 0;                  ///< blocks
     std::vector<std::int32_t> entry_first;  ///< [count + 1]: block b owns entries [entry_first[b], entry_first[b+1])
     /// [count + 1]: block b's halo slots are [slot_first[b], slot_first[b+1]), one per entry
     /// whose neighbour lies in another block, in list order (the force loop counts them as it
@@ -51,4 +51,4 @@ struct ForceBlocks {
     void build(std::span<const std::int32_t> first, std::span<const std::int32_t> neighbor);
 };
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -29,8 +29,7 @@ class NeighborList {
     double skin() const { return skin_; }
 
     /// Build from (possibly unwrapped) sheared positions at the box's current strain.
-    void build(std::span<const double> x, std::span<const double> y,
-               std::span<const double> diameter, const Box& box);
+    void build(std::span<const double> x, std::span<const double> y, std::span<const double> diameter, const Box& box);
 
     /// Cheap pre-check for callers that know a bound on every disk's lab-frame displacement
     /// since the last build: false means the list is certainly still valid.
@@ -41,8 +40,7 @@ class NeighborList {
     }
 
     /// True when the list may miss a contact for these positions and this strain.
-    bool needs_rebuild(std::span<const double> x, std::span<const double> y,
-                       const Box& box) const;
+    bool needs_rebuild(std::span<const double> x, std::span<const double> y, const Box& box) const;
 
     /// Force a rebuild at the next check (after a Lees–Edwards wrap or a reorder).
     void invalidate() { valid_ = false; }
@@ -65,13 +63,12 @@ class NeighborList {
     const ForceBlocks& blocks() const { return blocks_; }
 
   private:
-    void build_all_pairs(std::span<const double> x, std::span<const double> y,
-                         std::span<const double> diameter, const Box& box);
-    void build_with_cells(std::span<const double> x, std::span<const double> y,
-                          std::span<const double> diameter, const Box& box, int cells);
+    void build_all_pairs(std::span<const double> x, std::span<const double> y, std::span<const double> diameter,
+                         const Box& box);
+    void build_with_cells(std::span<const double> x, std::span<const double> y, std::span<const double> diameter,
+                          const Box& box, int cells);
     void finish_build(std::span<const double> diameter);
-    void remember_reference(std::span<const double> x, std::span<const double> y,
-                            const Box& box, double max_d);
+    void remember_reference(std::span<const double> x, std::span<const double> y, const Box& box, double max_d);
 
     double skin_;
     double max_diameter_ = 0.0;
@@ -88,12 +85,11 @@ class NeighborList {
 /// `strain_ref`: true when a pair left out may touch at (x, y) and `strain`, i.e. when
 /// 2 max_i |M(γ)δs_i| + |Δγ| reach > skin, `reach` bounding |s_y| of any pair that can touch
 /// (d_max + skin; see NeighborList).
-bool verlet_rule_broken(std::span<const double> x, std::span<const double> y,
-                        std::span<const double> x_ref, std::span<const double> y_ref,
-                        double strain, double strain_ref, double reach, double skin);
+bool verlet_rule_broken(std::span<const double> x, std::span<const double> y, std::span<const double> x_ref,
+                        std::span<const double> y_ref, double strain, double strain_ref, double reach, double skin);
 
 /// Order that sorts particles by their cell in sheared coordinates (cells of side ≥ cell);
 /// apply with Particles::permute to keep neighbours close in memory.
 std::vector<std::int32_t> spatial_order(const Particles& p, const Box& box, double cell);
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -26,8 +26,7 @@ class SubList {
     /// Brings the list up to date for these (sheared, unwrapped since the parent's build)
     /// positions at the box's strain: filtered afresh from `parent` when the parent was built
     /// since, or when a pair left out may touch. Returns whether it was.
-    bool update(const NeighborList& parent, const Box& box, std::span<const double> x,
-                std::span<const double> y);
+    bool update(const NeighborList& parent, const Box& box, std::span<const double> x, std::span<const double> y);
 
     /// Number of filterings so far (a new value means new pairs).
     std::size_t builds() const { return builds_; }
@@ -55,4 +54,4 @@ class SubList {
     double strain_ref_ = 0.0;
 };
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -31,4 +31,4 @@ struct ContactNetwork {
 /// Build it from the list's pairs in contact at the current positions.
 ContactNetwork contact_network(const System& sys, const NeighborList& list);
 
-} // namespace jamsim
+}  // namespace jamsim

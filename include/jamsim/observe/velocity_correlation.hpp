@@ -42,4 +42,4 @@ class VelocityCorrelation {
     double uy2_sum_ = 0.0, uy2_count_ = 0.0;
 };
 
-} // namespace jamsim
+}  // namespace jamsim

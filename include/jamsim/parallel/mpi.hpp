@@ -33,4 +33,4 @@ int ranks_on_node(MPI_Comm comm);
 void broadcast(std::string& text, int root, MPI_Comm comm);
 void broadcast(int& value, int root, MPI_Comm comm);
 
-} // namespace jamsim::mpi
+}  // namespace jamsim::mpi

@@ -22,9 +22,8 @@ Partial blocked_reduce(std::size_t n, Block&& block, Combine&& combine) {
     const std::size_t blocks = std::max<std::size_t>(1, (n + kReduceBlock - 1) / kReduceBlock);
     if (blocks == 1) return block(std::size_t{0}, n);
     std::vector<Partial> partial(blocks);
-    parallel_for_blocks(blocks, [&](std::size_t b) {
-        partial[b] = block(b * kReduceBlock, std::min(n, (b + 1) * kReduceBlock));
-    });
+    parallel_for_blocks(
+        blocks, [&](std::size_t b) { partial[b] = block(b * kReduceBlock, std::min(n, (b + 1) * kReduceBlock)); });
     Partial total = partial[0];
     for (std::size_t b = 1; b < blocks; ++b) total = combine(total, partial[b]);
     return total;
@@ -32,8 +31,7 @@ Partial blocked_reduce(std::size_t n, Block&& block, Combine&& combine) {
 
 /// The largest of f(i) ≥ 0 over [0, n) (0 when n = 0), on the kernel's threads. A maximum
 /// does not depend on the order it is taken in, so any split gives the same value.
-template <class F>
-double parallel_max(std::size_t n, F&& f) {
+template <class F> double parallel_max(std::size_t n, F&& f) {
     return blocked_reduce<double>(
         n,
         [&](std::size_t lo, std::size_t hi) {
@@ -47,8 +45,7 @@ double parallel_max(std::size_t n, F&& f) {
 /// Sorts `v` by a strict total order `less` (no two elements equivalent), so that any
 /// correct sort gives the one result: blocks of kReduceBlock sorted side by side, then merged
 /// pairwise, the pairs of each round side by side.
-template <class T, class Less>
-void parallel_sort(std::vector<T>& v, Less less) {
+template <class T, class Less> void parallel_sort(std::vector<T>& v, Less less) {
     const std::size_t n = v.size();
     const std::size_t blocks = (n + kReduceBlock - 1) / kReduceBlock;
     if (blocks <= 1 || kernel_threads() == 1) {
@@ -69,4 +66,4 @@ void parallel_sort(std::vector<T>& v, Less less) {
     }
 }
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -53,8 +53,7 @@ inline constexpr std::size_t kThreadedLoopMin = 4096;
 /// body(i) for i in [0, n), split over the kernel's threads when there are several and the
 /// loop is long enough. For loops whose iterations write disjoint elements: the result is
 /// the same whatever the split.
-template <class Body>
-void parallel_for(std::size_t n, Body&& body) {
+template <class Body> void parallel_for(std::size_t n, Body&& body) {
     if (n >= kThreadedLoopMin && kernel_threads() > 1) {
         const auto count = static_cast<long>(n);
         const TimedRegion timed;
@@ -68,8 +67,7 @@ void parallel_for(std::size_t n, Body&& body) {
 /// body(b) for each of `count` large pieces of work (blocks of a fixed decomposition),
 /// split over the kernel's threads whenever there are several of both. For pieces that write
 /// disjoint elements: the result is the same whatever the split.
-template <class Body>
-void parallel_for_blocks(std::size_t count, Body&& body) {
+template <class Body> void parallel_for_blocks(std::size_t count, Body&& body) {
     if (count > 1 && kernel_threads() > 1) {
         const auto blocks = static_cast<long>(count);
         const TimedRegion timed;
@@ -80,4 +78,4 @@ void parallel_for_blocks(std::size_t count, Body&& body) {
     }
 }
 
-} // namespace jamsim
+}  // namespace jamsim

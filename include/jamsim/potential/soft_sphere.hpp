@@ -64,11 +64,10 @@ using SoftSphere = std::variant<Harmonic, Hertzian, PowerLaw>;
 /// Registry: the evaluator for exponent α (dedicated fast kernels for 2 and 2.5).
 inline SoftSphere make_soft_sphere(double alpha, double ke = 1.0) {
     if (!(alpha > 1.0) || !std::isfinite(alpha))
-        throw std::invalid_argument("potential exponent alpha must be > 1, got " +
-                                    std::to_string(alpha));
+        throw std::invalid_argument("potential exponent alpha must be > 1, got " + std::to_string(alpha));
     if (alpha == 2.0) return Harmonic{ke};
     if (alpha == 2.5) return Hertzian{ke};
     return PowerLaw{ke, alpha};
 }
 
-} // namespace jamsim::potential
+}  // namespace jamsim::potential

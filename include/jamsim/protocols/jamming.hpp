@@ -22,18 +22,17 @@ struct StaticState {
 };
 
 /// Minimise the configuration as it is (the RAND quench when it is a random start).
-StaticState quench(System& sys, ForceField& forces, Minimizer& minimizer,
-                   const MinimizeCriteria& criteria);
+StaticState quench(System& sys, ForceField& forces, Minimizer& minimizer, const MinimizeCriteria& criteria);
 
 /// The state of a φ_J search between two minimisations: what it needs, besides the
 /// configuration, to continue bitwise (a checkpoint stores it as `pack()`).
 struct JammingSearch {
-    double phi = 0.0;           ///< packing fraction of the configuration
-    double step = 0.0;          ///< current Δφ
-    bool crossed = false;       ///< the threshold has been bracketed at least once
-    bool jammed = false;        ///< the last minimum was jammed
-    double phi_unjammed = 0.0;  ///< the last unjammed φ
-    int minimizations = 0;      ///< done so far
+    double phi = 0.0;                    ///< packing fraction of the configuration
+    double step = 0.0;                   ///< current Δφ
+    bool crossed = false;                ///< the threshold has been bracketed at least once
+    bool jammed = false;                 ///< the last minimum was jammed
+    double phi_unjammed = 0.0;           ///< the last unjammed φ
+    int minimizations = 0;               ///< done so far
     std::int64_t force_evaluations = 0;  ///< over them
     std::vector<double> pack() const;
     /// Throws std::invalid_argument when `v` is not a packed search.
@@ -53,15 +52,14 @@ struct JammingSearch {
 /// same configuration) continues bitwise, provided the caller drops the force field's caches
 /// there whether or not it stops.
 struct JammingPoint {
-    double phi_j = 0.0;        ///< the jammed end of the final bracket
-    double phi_unjammed = 0.0; ///< the unjammed end of the final bracket
-    StaticState state;         ///< the jammed state at phi_j
+    double phi_j = 0.0;         ///< the jammed end of the final bracket
+    double phi_unjammed = 0.0;  ///< the unjammed end of the final bracket
+    StaticState state;          ///< the jammed state at phi_j
     int minimizations = 0;
     std::int64_t force_evaluations = 0;  ///< over all its minimisations (before a resume too)
 };
-JammingPoint find_jamming_point(System& sys, ForceField& forces, Minimizer& minimizer,
-                                const MinimizeCriteria& criteria, double phi_step = 1e-3,
-                                double phi_tol = 1e-6, const JammingSearch* resume = nullptr,
+JammingPoint find_jamming_point(System& sys, ForceField& forces, Minimizer& minimizer, const MinimizeCriteria& criteria,
+                                double phi_step = 1e-3, double phi_tol = 1e-6, const JammingSearch* resume = nullptr,
                                 const std::function<void(const JammingSearch&)>& before_minimisation = {});
 
-} // namespace jamsim
+}  // namespace jamsim

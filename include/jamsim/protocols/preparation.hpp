@@ -30,9 +30,8 @@ struct CoolingSchedule {
 /// does not depend on the order of the disks in memory. Starts at step `first_step` (0, or
 /// the step a checkpoint was saved before) and calls `before` before every later step.
 /// Returns the force evaluations (one per step taken).
-std::int64_t cool(System& sys, ForceField& forces, const CoolingSchedule& schedule,
-                  const RngStream& noise, std::int64_t first_step = 0,
-                  const BeforeStep& before = {});
+std::int64_t cool(System& sys, ForceField& forces, const CoolingSchedule& schedule, const RngStream& noise,
+                  std::int64_t first_step = 0, const BeforeStep& before = {});
 /// Steps of a cooling schedule: ceil(duration / dt).
 std::int64_t cooling_steps(const CoolingSchedule& schedule);
 
@@ -41,10 +40,9 @@ std::int64_t cooling_steps(const CoolingSchedule& schedule);
 /// Starts at step `first_step` and calls `before` before every later step, as cool() does.
 /// Returns the force evaluations; a minimisation that does not converge throws.
 std::int64_t shear_quasistatically(System& sys, ForceField& forces, Minimizer& minimizer,
-                                   const MinimizeCriteria& criteria, double strain,
-                                   double strain_step, std::int64_t first_step = 0,
-                                   const BeforeStep& before = {});
+                                   const MinimizeCriteria& criteria, double strain, double strain_step,
+                                   std::int64_t first_step = 0, const BeforeStep& before = {});
 /// Steps of a quasistatic shear: ceil(strain / strain_step).
 std::int64_t shear_steps(double strain, double strain_step);
 
-} // namespace jamsim
+}  // namespace jamsim

@@ -126,4 +126,4 @@ std::uint64_t replica_identity(const ReplicaParams& p);
 /// (seed, replica_identity): the key of every random number of the replica.
 RandomKey random_key(const ReplicaParams& p);
 
-} // namespace jamsim
+}  // namespace jamsim

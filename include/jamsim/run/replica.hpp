@@ -36,10 +36,10 @@ struct ReplicaResult {
 /// part of it: at every checkpoint step (every `checkpoint_steps` steps) the run drops them,
 /// interrupted or not, so a resumed run and an uninterrupted one continue from the same state.
 struct ReplicaState {
-    std::int64_t step = 0;  ///< the step the run continues with (a checkpoint step)
-    std::int64_t steps = 0; ///< steps of the whole replica (progress = step / steps)
-    System system;          ///< every particle array in memory order, and the box
-    TimeSeries series = {};  ///< the rows so far
+    std::int64_t step = 0;                       ///< the step the run continues with (a checkpoint step)
+    std::int64_t steps = 0;                      ///< steps of the whole replica (progress = step / steps)
+    System system;                               ///< every particle array in memory order, and the box
+    TimeSeries series = {};                      ///< the rows so far
     VelocityCorrelation::Sums correlation = {};  ///< g_y sums so far (dynamics)
     /// A minimisation protocol's own state at this step (a φ_J search's bracket; empty else).
     std::vector<double> protocol = {};
@@ -50,9 +50,9 @@ struct ReplicaState {
 
 /// What the caller does at a replica's checkpoint steps (all callbacks optional).
 struct CheckpointPolicy {
-    std::function<bool()> due;                         ///< save the state now?
-    std::function<void(const ReplicaState&)> save;     ///< save it (a file, rows in an archive)
-    std::function<bool()> stop;                        ///< stop after this checkpoint step?
+    std::function<bool()> due;                      ///< save the state now?
+    std::function<void(const ReplicaState&)> save;  ///< save it (a file, rows in an archive)
+    std::function<bool()> stop;                     ///< stop after this checkpoint step?
 };
 
 /// Thrown by a run that stopped at a checkpoint step because CheckpointPolicy::stop asked it
@@ -72,18 +72,17 @@ FinalConfiguration final_configuration(const System& sys);
 
 /// How a replica runs besides its parameters.
 struct RunContext {
-    SampleHook after_sample = {};            ///< called after every sample
+    SampleHook after_sample = {};  ///< called after every sample
     /// Called with each configuration frame (ReplicaParams::frame_interval > 0): its index k
     /// (step k · frame_every), its strain (time at rate 0) and the configuration. A resumed
     /// run calls it again, with the same bits, for the frames from its checkpoint step on.
     std::function<void(std::int64_t index, double strain, const FinalConfiguration&)> on_frame = {};
     const CheckpointPolicy* checkpoints = nullptr;
-    const ReplicaState* resume = nullptr;    ///< continue from this state instead of the start
+    const ReplicaState* resume = nullptr;  ///< continue from this state instead of the start
     /// Start from this configuration instead of random positions (ReplicaParams::initial;
     /// the caller reads it, see io/initial_states.hpp).
     const System* initial = nullptr;
 };
-
 
 /// Random positions keyed by (seed, replica_identity).
 System initial_system(const ReplicaParams& params);
@@ -100,4 +99,4 @@ ReplicaResult run_replica(const ReplicaParams& params, const RunContext& context
 /// The run function of every dynamical model (ModelInfo::run for ModelKind::Dynamics).
 ReplicaResult run_dynamics(const ReplicaParams& params, const RunContext& context);
 
-} // namespace jamsim
+}  // namespace jamsim
