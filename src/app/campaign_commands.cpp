@@ -25,13 +25,13 @@
 #include <limits>
 
 #include "jamsim/campaign/stop_request.hpp"
-#include "jamsim/io/archive.hpp"
-#include "jamsim/io/capacity.hpp"
-#include "jamsim/io/archive_file_check.hpp"
-#include "jamsim/io/archive_lock.hpp"
+#include "jamsim/archive/archive.hpp"
+#include "jamsim/archive/capacity.hpp"
+#include "jamsim/archive/archive_file_check.hpp"
+#include "jamsim/archive/archive_lock.hpp"
 #include "jamsim/io/checkpoint_file.hpp"
 #include "jamsim/io/initial_states.hpp"
-#include "jamsim/io/campaign_spec.hpp"
+#include "jamsim/spec/campaign_spec.hpp"
 #include "jamsim/linalg/contact_solver.hpp"
 #include "jamsim/campaign/farm.hpp"
 #include "jamsim/params/parameters.hpp"

@@ -14,9 +14,9 @@
 #include <queue>
 #include <tuple>
 
-#include "jamsim/io/archive.hpp"
-#include "jamsim/io/archive_file_check.hpp"
-#include "jamsim/io/capacity.hpp"
+#include "jamsim/archive/archive.hpp"
+#include "jamsim/archive/archive_file_check.hpp"
+#include "jamsim/archive/capacity.hpp"
 #include "jamsim/parallel/threads.hpp"
 #include "jamsim/run/model_registry.hpp"
 #include "jamsim/run/replica.hpp"

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "jamsim/io/campaign_spec.hpp"
+#include "jamsim/spec/campaign_spec.hpp"
 
 namespace jamsim::app {
 

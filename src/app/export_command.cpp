@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "jamsim/core/version.hpp"
-#include "jamsim/io/archive_file_check.hpp"
+#include "jamsim/archive/archive_file_check.hpp"
 #include "jamsim/io/h5md.hpp"
 #include "jamsim/io/lammps_data.hpp"
 #include "jamsim/io/stored_replicas.hpp"

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "jamsim/campaign/scheduler.hpp"
-#include "jamsim/io/campaign_spec.hpp"
+#include "jamsim/spec/campaign_spec.hpp"
 #include "jamsim/linalg/contact_solver.hpp"
 #include "jamsim/parallel/mpi.hpp"
 

@@ -7,8 +7,8 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "jamsim/io/archive.hpp"
-#include "jamsim/io/archive_file_check.hpp"
+#include "jamsim/archive/archive.hpp"
+#include "jamsim/archive/archive_file_check.hpp"
 #include "jamsim/io/checkpoint_file.hpp"
 #include "jamsim/linalg/contact_solver.hpp"
 #include "jamsim/params/parameters.hpp"

@@ -8,7 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "jamsim/campaign/scheduler.hpp"
-#include "jamsim/io/campaign_spec.hpp"
+#include "jamsim/spec/campaign_spec.hpp"
 
 namespace jamsim::app {
 

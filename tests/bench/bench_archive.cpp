@@ -8,8 +8,8 @@
 #include <cstdlib>
 #include <string>
 
-#include "jamsim/io/archive.hpp"
-#include "jamsim/io/capacity.hpp"
+#include "jamsim/archive/archive.hpp"
+#include "jamsim/archive/capacity.hpp"
 #include "jamsim/parallel/mpi.hpp"
 
 int main(int argc, char** argv) {

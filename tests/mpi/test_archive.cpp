@@ -5,8 +5,8 @@
 #include <cmath>
 #include <filesystem>
 
-#include "jamsim/io/archive.hpp"
-#include "jamsim/io/campaign_spec.hpp"
+#include "jamsim/archive/archive.hpp"
+#include "jamsim/spec/campaign_spec.hpp"
 
 using namespace jamsim;
 

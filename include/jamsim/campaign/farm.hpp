@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "jamsim/io/archive.hpp"
-#include "jamsim/io/campaign_spec.hpp"
+#include "jamsim/archive/archive.hpp"
+#include "jamsim/spec/campaign_spec.hpp"
 #include "jamsim/io/initial_states.hpp"
 
 namespace jamsim {

@@ -1,7 +1,7 @@
 // What each replica of a campaign with [run] initial started from: the source's fingerprint
 // and the starting state's digest (/replicas/initial_source, /replicas/initial_state), so
 // that a source changed between runs of the campaign is refused instead of mixed in.
-#include "jamsim/io/archive.hpp"
+#include "jamsim/archive/archive.hpp"
 #include "archive_detail.hpp"
 
 namespace jamsim {

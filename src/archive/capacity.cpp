@@ -1,4 +1,4 @@
-#include "jamsim/io/capacity.hpp"
+#include "jamsim/archive/capacity.hpp"
 
 #include <sys/stat.h>
 #include <sys/statvfs.h>
@@ -12,7 +12,7 @@
 #include <limits>
 #include <sstream>
 
-#include "jamsim/io/archive.hpp"
+#include "jamsim/archive/archive.hpp"
 #include "jamsim/observe/time_series.hpp"
 #include "jamsim/run/model_registry.hpp"
 

@@ -1,5 +1,5 @@
 // Reading an archive serially: its stored campaign and the summary of `jamsim status`.
-#include "jamsim/io/archive.hpp"
+#include "jamsim/archive/archive.hpp"
 #include "archive_detail.hpp"
 
 #include <limits>

@@ -1,4 +1,4 @@
-#include "jamsim/io/archive.hpp"
+#include "jamsim/archive/archive.hpp"
 
 #include "archive_detail.hpp"
 

@@ -2,7 +2,7 @@
 #include <filesystem>
 #include <sstream>
 
-#include "jamsim/io/archive.hpp"
+#include "jamsim/archive/archive.hpp"
 #include "jamsim/io/checkpoint_file.hpp"
 #include "jamsim/parallel/mpi.hpp"
 #include "jamsim/run/model_registry.hpp"

@@ -1,4 +1,4 @@
-#include "jamsim/io/archive_lock.hpp"
+#include "jamsim/archive/archive_lock.hpp"
 
 #include <fcntl.h>
 #include <sys/file.h>
@@ -12,7 +12,7 @@
 #include <string>
 #include <utility>
 
-#include "jamsim/io/archive.hpp"
+#include "jamsim/archive/archive.hpp"
 #include "jamsim/parallel/mpi.hpp"
 
 namespace jamsim {

@@ -1,6 +1,6 @@
 // Diagnosis of a file given as a campaign archive, before anything opens it for real: each
 // kind of bad file gets its own sentence instead of HDF5's "open failed".
-#include "jamsim/io/archive_file_check.hpp"
+#include "jamsim/archive/archive_file_check.hpp"
 
 #include <sys/stat.h>
 
@@ -10,7 +10,7 @@
 #include <fstream>
 #include <optional>
 
-#include "jamsim/io/campaign_spec.hpp"
+#include "jamsim/spec/campaign_spec.hpp"
 #include "jamsim/io/hdf5.hpp"
 
 namespace jamsim {

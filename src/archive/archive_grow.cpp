@@ -8,7 +8,7 @@
 #include <map>
 #include <string_view>
 
-#include "jamsim/io/archive.hpp"
+#include "jamsim/archive/archive.hpp"
 #include "jamsim/io/checkpoint_file.hpp"
 #include "jamsim/parallel/mpi.hpp"
 #include "jamsim/run/model_registry.hpp"

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "jamsim/run/replica.hpp"
-#include "jamsim/io/campaign_spec.hpp"
-#include "jamsim/io/archive_file_check.hpp"
+#include "jamsim/spec/campaign_spec.hpp"
+#include "jamsim/archive/archive_file_check.hpp"
 #include "jamsim/io/hdf5.hpp"
 
 namespace jamsim {

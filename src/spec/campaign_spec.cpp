@@ -1,4 +1,4 @@
-#include "jamsim/io/campaign_spec.hpp"
+#include "jamsim/spec/campaign_spec.hpp"
 
 #include <algorithm>
 

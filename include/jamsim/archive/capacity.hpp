@@ -5,7 +5,7 @@
 // run prints the same figures.
 #include <string>
 
-#include "jamsim/io/campaign_spec.hpp"
+#include "jamsim/spec/campaign_spec.hpp"
 
 namespace jamsim {
 
