@@ -1,41 +1,22 @@
 #include "campaign_commands.hpp"
-#include "exit_status.hpp"
 #include "dry_run.hpp"
-#include "run_checks.hpp"
+#include "exit_status.hpp"
 #include "threads_option.hpp"
 #include "wall_time.hpp"
 
 #include <unistd.h>
 
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
-#include <filesystem>
-#include <iostream>
-#include <map>
-#include <optional>
 #include <memory>
-#include <set>
-#include <queue>
-#include <tuple>
-#include <algorithm>
-#include <ctime>
-#include <functional>
 #include <sstream>
-#include <limits>
 
-#include "jamsim/campaign/stop_request.hpp"
-#include "jamsim/archive/archive.hpp"
 #include "jamsim/archive/capacity.hpp"
-#include "jamsim/archive/archive_file_check.hpp"
-#include "jamsim/archive/archive_lock.hpp"
-#include "jamsim/io/checkpoint_file.hpp"
-#include "jamsim/io/initial_states.hpp"
-#include "jamsim/spec/campaign_spec.hpp"
+#include "jamsim/io/hdf5.hpp"
+#include "jamsim/campaign/lifecycle.hpp"
+#include "jamsim/campaign/stop_request.hpp"
 #include "jamsim/linalg/contact_solver.hpp"
-#include "jamsim/campaign/farm.hpp"
-#include "jamsim/params/parameters.hpp"
-#include "jamsim/run/model_registry.hpp"
 #include "jamsim/parallel/mpi.hpp"
 #include "jamsim/parallel/threads.hpp"
 
@@ -89,12 +70,6 @@ bool redraw_progress(const std::string& mode) {
            !std::getenv("SLURM_JOB_ID") && !std::getenv("CI");
 }
 
-/// The filesystem of `path` has (almost) no space left: a failed write is a full disk.
-bool disk_full(const std::string& path) {
-    const double free = free_bytes(path);
-    return std::isfinite(free) && free < 1e6;
-}
-
 void print_capacity(const CapacityEstimate& e, const std::string& output) {
     std::printf("archive %s: %s when complete (%s on disk now), checkpoints up to %s, %s free on its "
                 "filesystem; memory: about %s per rank, %d ranks on a node of %s available\n",
@@ -106,230 +81,111 @@ void print_capacity(const CapacityEstimate& e, const std::string& output) {
                     e.frames, show_bytes(e.frame_bytes).c_str());
 }
 
+/// Rank 0's findings, as the dry run or the run reports them before any work.
+void print_decision(const RunDecision& d, bool dry_run) {
+    if (dry_run && d.sized) print_capacity(d.capacity, d.output);
+    if (!d.dry_run_refusal.empty()) std::printf("the run would be refused: %s\n", d.dry_run_refusal.c_str());
+    for (const std::string& note : d.notes) std::printf("jamsim run: %s\n", note.c_str());
+    for (const std::string& warning : d.warnings) std::fprintf(stderr, "jamsim run: warning: %s\n", warning.c_str());
+}
+
+/// The dry run's listing (rank 0): what the run would do with the archive, then the plan.
+void print_dry_run_of(const CampaignSpec& spec, const RunDecision& d, const DryRunPlan& plan) {
+    const auto added = static_cast<long long>(spec.replicas.size()) - static_cast<long long>(d.grow_kept);
+    if (d.mode == OutputMode::Extend)
+        std::printf("(%s holds this campaign with shorter runs: the run would extend it, each "
+                    "replica continuing from its final checkpoint)\n",
+                    d.output.c_str());
+    if (d.mode == OutputMode::Grow)
+        std::printf("(%s holds this campaign with fewer replicas: the run would grow it, keeping "
+                    "%lld replicas and running %lld new ones)\n",
+                    d.output.c_str(), static_cast<long long>(d.grow_kept), added);
+    print_dry_run(spec, d.output, plan);
+}
+
+/// The run's closing lines (rank 0).
+int print_outcome(const CampaignSpec& spec, const RunDecision& d, const RunOutcome& o) {
+    if (o.end == RunOutcome::End::refused) {
+        std::fprintf(stderr, "jamsim run: %s\n", o.refusal.c_str());
+        return kExitRefused;
+    }
+    if (o.end == RunOutcome::End::interrupted) {
+        std::printf("campaign %s interrupted after %.3f s: %lld running replicas saved their "
+                    "state at a checkpoint step; run the same command again to continue\n",
+                    spec.name.c_str(), o.wall_seconds, static_cast<long long>(o.interrupted));
+        return kExitInterrupted;
+    }
+    std::printf("campaign %s finished in %.3f s: archive %s (%lld failed replicas; %lld "
+                "continued from checkpoints; archive writes took %.2f%% of rank time)\n",
+                spec.name.c_str(), o.wall_seconds, d.output.c_str(), static_cast<long long>(o.failed),
+                static_cast<long long>(o.resumed), 100.0 * o.io_share);
+    std::printf("%lld replicas ran in this run, %lld finished before were kept\n", static_cast<long long>(o.ran),
+                static_cast<long long>(o.skipped));
+    std::printf("inspect with: jamsim status %s\n", d.output.c_str());
+    return 0;
+}
+
+/// Rank 0's decision on every rank.
+void broadcast(RunDecision& d, MPI_Comm comm) {
+    int mode = static_cast<int>(d.mode);
+    mpi::broadcast(d.error, 0, comm);
+    mpi::broadcast(d.spec_text, 0, comm);
+    mpi::broadcast(d.output, 0, comm);
+    mpi::broadcast(mode, 0, comm);
+    d.mode = static_cast<OutputMode>(mode);
+}
+
 int run(const RunOptions& opt, int& argc, char**& argv) {
     mpi::Session session(argc, argv);
     const linalg::PetscScope petsc;  // finalised before MPI (declared after the session)
     StopRequest::install();          // PETSc is started with -no_signal_handler
     const MPI_Comm comm = MPI_COMM_WORLD;
     const int rank = mpi::rank(comm);
-    // Rank 0 reads and checks everything before any rank starts work.
-    std::string text, error, output = opt.output;
-    int extend = 0;                         // the archive holds this campaign with shorter runs: extend it
-    int grow = 0;                           // the archive holds this campaign with fewer replicas: grow it
-    std::vector<std::int64_t> grow_source;  // rank 0: the archive's id of each replica (−1: new)
-    std::int64_t grow_kept = 0;
-    const int node_ranks = opt.dry_run ? opt.plan.ranks : mpi::ranks_on_node(comm);
-    const int ranks = opt.dry_run ? opt.plan.ranks : mpi::size(comm);
     if (!opt.dry_run)  // a note when --threads overrides OMP_NUM_THREADS; more threads than cores
         if (const std::string notes = threads_notes("jamsim run", comm); rank == 0) std::fputs(notes.c_str(), stderr);
+    // Rank 0 reads and checks everything before any rank starts work.
+    const int node_ranks = opt.dry_run ? opt.plan.ranks : mpi::ranks_on_node(comm);  // collective
+    RunDecision decision;
     if (rank == 0) {
-        try {
-            const CampaignSpec spec = load_campaign(opt.spec_path, opt.max_replicas);
-            text = spec.text;
-            if (output.empty()) output = spec.output;
-            // An archive reached through a symlink is the file it names: its lock, checkpoints
-            // and growth files are those of that file, whichever path a run was given.
-            if (std::error_code ec; std::filesystem::is_symlink(output, ec)) {
-                const auto target = std::filesystem::weakly_canonical(output, ec);
-                if (!ec) output = target.string();
-            }
-            output = mpi_io_path(spec.path, output);
-            // Size and memory before anything is created (the dry run prints them).
-            const CapacityEstimate capacity = estimate_capacity(spec, output, ranks, node_ranks);
-            if (opt.dry_run) print_capacity(capacity, output);
-            error = check_capacity(capacity, opt.limits, spec, output);
-            if (!error.empty() && opt.dry_run) {
-                std::printf("the run would be refused: %s\n", error.c_str());
-                error.clear();
-            }
-            if (!error.empty()) throw SpecError(error);
-            // A growth that a kill interrupted is completed (after its rename) or undone
-            // (before it) first, unless another live run holds the archive (refused below).
-            if (!opt.dry_run) try {
-                    ArchiveLock::check_free(output);
-                    if (const std::string done = Archive::finish_growth(output); !done.empty())
-                        std::printf("jamsim run: %s\n", done.c_str());
-                } catch (const ArchiveBusy&) {
-                } catch (const h5::Error& e) { throw SpecError(spec.path + ": " + e.what()); }
-            // A dry run writes nothing, but an existing archive it names must fit the campaign.
-            OutputMode mode = OutputMode::Fresh;
-            if (!opt.dry_run || std::filesystem::exists(output))
-                error = check_output(output, spec, mode, grow_source);
-            else
-                error = check_output_folder(output, spec, false);  // what the run would refuse
-            extend = mode == OutputMode::Extend;
-            grow = mode == OutputMode::Grow;
-            for (const std::int64_t from : grow_source) grow_kept += from >= 0;
-            // The checkpoints beside the archive are keyed by its replica ids (before a growth,
-            // those of the archive's campaign).
-            if (error.empty()) error = check_checkpoints(output, grow ? read_stored_campaign(output).spec : spec);
-            if (error.empty()) error = check_petsc_options(spec);
-            if (error.empty()) print_advisories(spec);
-            if (error.empty() && !spec.replicas.front().initial.empty()) {
-                try {  // every replica must find its starting state before any work
-                    const InitialStates source(spec.replicas.front().initial);
-                    for (std::size_t id = 0; id < spec.replicas.size(); ++id)
-                        source.match(spec.replicas[id], static_cast<std::int64_t>(id));
-                    if (std::filesystem::exists(output))
-                        error = initial_source_changed(source, spec, output, grow_source);
-                } catch (const InitialStateError& e) { error = spec.path + ": " + e.what(); }
-            }
-        } catch (const SpecError& e) {
-            error = e.what();
-        } catch (const std::exception& e) {           // any other failure of rank 0's checks (an unreadable
-            error = opt.spec_path + ": " + e.what();  // file): said on every rank, never left unbroadcast
-        }
-        // An archive that another live run writes is refused for that reason, whatever it
-        // looks like now (it may be half created): the holder's name says what to do.
-        if (!opt.dry_run && !output.empty()) try {
-                ArchiveLock::check_free(output);
-            } catch (const ArchiveBusy& e) { error = e.what(); }
+        decision = check_run({.spec_path = opt.spec_path,
+                              .output = opt.output,
+                              .dry_run = opt.dry_run,
+                              .ranks = opt.dry_run ? opt.plan.ranks : mpi::size(comm),
+                              .node_ranks = node_ranks,
+                              .max_replicas = opt.max_replicas,
+                              .limits = opt.limits});
+        print_decision(decision, opt.dry_run);
     }
-    mpi::broadcast(error, 0, comm);
-    if (!error.empty()) {
-        if (rank == 0) std::fprintf(stderr, "jamsim run: %s\n", error.c_str());
-        return 2;
+    broadcast(decision, comm);
+    if (!decision.error.empty()) {
+        if (rank == 0) std::fprintf(stderr, "jamsim run: %s\n", decision.error.c_str());
+        return kExitRefused;
     }
-    mpi::broadcast(text, 0, comm);
-    mpi::broadcast(output, 0, comm);
-    mpi::broadcast(extend, 0, comm);
-    mpi::broadcast(grow, 0, comm);
-    const CampaignSpec spec = parse_campaign(text, opt.spec_path, opt.max_replicas);
+    const CampaignSpec spec = parse_campaign(decision.spec_text, opt.spec_path, opt.max_replicas);
     if (opt.dry_run) {
-        if (rank == 0) {
-            if (extend)
-                std::printf("(%s holds this campaign with shorter runs: the run would extend it, each "
-                            "replica continuing from its final checkpoint)\n",
-                            output.c_str());
-            if (grow)
-                std::printf("(%s holds this campaign with fewer replicas: the run would grow it, keeping "
-                            "%lld replicas and running %lld new ones)\n",
-                            output.c_str(), static_cast<long long>(grow_kept),
-                            static_cast<long long>(spec.replicas.size()) - static_cast<long long>(grow_kept));
-            print_dry_run(spec, output, opt.plan);
-        }
+        if (rank == 0) print_dry_run_of(spec, decision, opt.plan);
         return 0;
     }
-    // One writer per archive: from here on this run holds it (refused while another lives).
-    std::optional<ArchiveLock> lock;
-    try {
-        lock.emplace(ArchiveLock::acquire(comm, output, "jamsim run " + opt.spec_path));
-        lock->hold_archive(output);
-    } catch (const ArchiveBusy& e) {
-        if (rank == 0) std::fprintf(stderr, "jamsim run: %s\n", e.what());
-        return 2;
-    }
-    try {
-        if (extend) {
-            if (rank == 0)
-                std::printf("extending %s to the longer runs of %s: finished replicas continue from "
-                            "their final checkpoints%s\n",
-                            output.c_str(), opt.spec_path.c_str(),
-                            spec.predecessor.empty() ? ""
-                                                     : "; a rate ladder's later replicas run again from their "
-                                                       "predecessors' new end states");
-            Archive::extend(comm, output, spec);
-            lock->hold_archive(output);  // the file was replaced
-        }
-        if (grow) {
-            if (rank == 0)
-                std::printf("growing archive %s: %lld replicas kept, %lld new\n", output.c_str(),
-                            static_cast<long long>(grow_kept),
-                            static_cast<long long>(spec.replicas.size()) - static_cast<long long>(grow_kept));
-            Archive::grow(comm, output, spec, grow_source);
-            lock->hold_archive(output);
-        }
-        int exists = rank == 0 ? std::filesystem::exists(output) : 0;
-        mpi::broadcast(exists, 0, comm);
-        std::optional<Archive> created;
-        if (!exists) {
-            // A creation that fails (a filesystem filled since the check) leaves no partial
-            // file behind and says why in words, on every rank together (it is collective).
-            std::string why;
-            try {
-                created.emplace(Archive::create(comm, output, spec));
-            } catch (const h5::Error& e) { why = e.what(); }
-            int failed = !why.empty(), any = 0;
-            mpi::check(MPI_Allreduce(&failed, &any, 1, MPI_INT, MPI_MAX, comm), "MPI_Allreduce");
-            if (any) {
-                created.reset();
-                if (rank == 0) {
-                    std::error_code ignored;
-                    std::filesystem::remove(output, ignored);
-                    std::fprintf(stderr, "jamsim run: %s: creating the archive '%s' failed%s; nothing was kept (%s)\n",
-                                 opt.spec_path.c_str(), output.c_str(),
-                                 disk_full(output) ? ": no space left on device" : "", why.c_str());
-                }
-                lock->release();
-                return 2;
-            }
-        }
-        Archive archive = exists ? Archive::open(comm, output) : std::move(*created);
-        if (!exists) lock->hold_archive(output);
-        archive.stamp("run_started");
-        std::optional<InitialStates> initial;
-        if (!spec.replicas.front().initial.empty()) initial.emplace(spec.replicas.front().initial);
-        const FarmOptions farm{.progress = {redraw_progress(opt.progress), opt.progress_interval},
+    const RunSettings settings{.spec_path = opt.spec_path,
+                               .progress = {redraw_progress(opt.progress), opt.progress_interval},
                                .shard = parse_shard(opt.shard),
                                .retry_failed = opt.retry_failed,
-                               .archive_path = output,
                                .checkpoint_seconds = opt.checkpoint_seconds,
-                               .initial_states = initial ? &*initial : nullptr};
-        if (rank == 0)
-            std::printf("campaign %s: %zu replicas on %d rank%s x %d thread%s -> %s%s\n", spec.name.c_str(),
-                        spec.replicas.size(), mpi::size(comm), mpi::size(comm) == 1 ? "" : "s", kernel_threads(),
-                        kernel_threads() == 1 ? "" : "s", output.c_str(),
-                        !exists            ? ""
-                        : opt.retry_failed ? " (resuming: done replicas are skipped, failed ones run again)"
-                                           : " (resuming: finished replicas are skipped)");
-        const FarmSummary s = run_farm(comm, spec, archive, farm);
-        double io = 0, wall = 0, local_io = s.io_seconds, local_wall = s.wall_seconds;
-        // Interrupted (a signal, or a replica stopped at a checkpoint step) on any rank?
-        int stopped = 0, local_stopped = StopRequest::requested() || s.interrupted > 0;
-        mpi::check(MPI_Allreduce(&local_stopped, &stopped, 1, MPI_INT, MPI_MAX, comm), "MPI_Allreduce");
-        long long interrupted = 0, local_interrupted = s.interrupted;
-        mpi::check(MPI_Reduce(&local_interrupted, &interrupted, 1, MPI_LONG_LONG, MPI_SUM, 0, comm), "MPI_Reduce");
-        if (stopped) {
-            archive.close();
-            lock->release();
-            if (rank == 0)
-                std::printf("campaign %s interrupted after %.3f s: %lld running replicas saved their "
-                            "state at a checkpoint step; run the same command again to continue\n",
-                            spec.name.c_str(), s.wall_seconds, interrupted);
-            return kExitInterrupted;
-        }
-        archive.stamp("run_finished");
-        archive.close();
-        lock->release();
-        if (rank == 0) {  // the checkpoint folder, once every replica has removed its own
-            std::error_code ignored;
-            std::filesystem::remove(checkpoint_folder(output), ignored);  // only if empty
-        }
-        long long resumed = 0, local_resumed = s.resumed;
-        mpi::check(MPI_Reduce(&local_resumed, &resumed, 1, MPI_LONG_LONG, MPI_SUM, 0, comm), "MPI_Reduce");
-        long long ran = 0, local_ran = s.ran;
-        mpi::check(MPI_Reduce(&local_ran, &ran, 1, MPI_LONG_LONG, MPI_SUM, 0, comm), "MPI_Reduce");
-        long long failed = 0, local_failed = s.failed;
-        mpi::check(MPI_Reduce(&local_io, &io, 1, MPI_DOUBLE, MPI_SUM, 0, comm), "MPI_Reduce");
-        mpi::check(MPI_Reduce(&local_wall, &wall, 1, MPI_DOUBLE, MPI_SUM, 0, comm), "MPI_Reduce");
-        mpi::check(MPI_Reduce(&local_failed, &failed, 1, MPI_LONG_LONG, MPI_SUM, 0, comm), "MPI_Reduce");
-        if (rank == 0) {
-            std::printf("campaign %s finished in %.3f s: archive %s (%lld failed replicas; %lld "
-                        "continued from checkpoints; archive writes took %.2f%% of rank time)\n",
-                        spec.name.c_str(), s.wall_seconds, output.c_str(), failed, resumed,
-                        wall > 0 ? 100.0 * io / wall : 0.0);
-            std::printf("%lld replicas ran in this run, %lld finished before were kept\n", ran,
-                        static_cast<long long>(s.skipped));
-            std::printf("inspect with: jamsim status %s\n", output.c_str());
-        }
+                               .say = [](const std::string& line) { std::printf("%s\n", line.c_str()); }};
+    try {
+        const RunOutcome outcome = run_campaign(comm, spec, decision, settings);
+        const int status = rank == 0 ? print_outcome(spec, decision, outcome) : 0;
+        return outcome.end == RunOutcome::End::finished      ? status
+               : outcome.end == RunOutcome::End::interrupted ? kExitInterrupted
+                                                             : kExitRefused;
     } catch (const std::exception& e) {
         // One rank cannot leave the others waiting in a collective call: abort the job.
-        if (dynamic_cast<const h5::Error*>(&e) && disk_full(output))
+        if (dynamic_cast<const h5::Error*>(&e) && disk_full(decision.output))
             std::fprintf(stderr,
                          "jamsim run (rank %d): no space left on device: writing the archive '%s' "
                          "failed (%s); the replicas finished before are safe in it (jamsim status "
                          "%s): free space and run the same command again to continue\n",
-                         rank, output.c_str(), e.what(), output.c_str());
+                         rank, decision.output.c_str(), e.what(), decision.output.c_str());
         else
             std::fprintf(stderr, "jamsim run (rank %d): error: %s\n", rank, e.what());
         MPI_Abort(comm, 1);

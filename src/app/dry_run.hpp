@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "jamsim/campaign/costs.hpp"
 #include "jamsim/spec/campaign_spec.hpp"
 
 namespace jamsim::app {
@@ -18,20 +19,6 @@ struct DryRunPlan {
     double serial_fraction = -1;  ///< the speed-up model's (campaign/scheduler.hpp; < 0: its table)
     bool summary = false;         ///< one line per (model, N) instead of one per replica (--summary)
 };
-
-/// Every replica's estimated seconds on one thread of this machine, and where the
-/// throughput comes from (in words).
-struct ReplicaSeconds {
-    std::vector<double> seconds;
-    std::vector<double> serial;  ///< the part of `seconds` in samples (serial: threads leave it)
-    std::string source;
-};
-
-/// The seconds of each replica of `spec`: its estimated cost at the throughput calibrated on
-/// this machine (the finished replicas of `archive`, else short probes on one thread), or
-/// nominal without plan.calibrate, plus its samples' seconds (probed: a run of the probe's
-/// steps with 10 samples against one with 1).
-ReplicaSeconds replica_seconds(const CampaignSpec& spec, const std::string& archive, const DryRunPlan& plan);
 
 /// The dry run's table and totals on stdout.
 void print_dry_run(const CampaignSpec& spec, const std::string& output, const DryRunPlan& plan);

@@ -82,7 +82,7 @@ int plan(const PlanOptions& opt, int& argc, char**& argv) {
     if (!opt.costs.empty()) {
         estimate = seconds_from_listing(opt.costs, spec);
     } else {
-        estimate = replica_seconds(spec, opt.output.empty() ? spec.output : opt.output, opt.estimate);
+        estimate = replica_seconds(spec, opt.output.empty() ? spec.output : opt.output, opt.estimate.calibrate);
     }
     const Chains chains = chains_of(spec.predecessor, spec.replicas.size());
     const SpeedupModel model{.serial_fraction = opt.estimate.serial_fraction};

@@ -39,6 +39,11 @@ double free_bytes(const std::string& output) {
     return static_cast<double>(s.f_bavail) * static_cast<double>(s.f_frsize);
 }
 
+bool disk_full(const std::string& path) {
+    const double free = free_bytes(path);
+    return std::isfinite(free) && free < 1e6;
+}
+
 namespace {
 
 double occupied(const std::string& path) {

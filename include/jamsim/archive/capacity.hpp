@@ -37,6 +37,9 @@ std::string check_capacity(const CapacityEstimate& e, const CapacityLimits& limi
 
 /// Free bytes for this user on the filesystem that holds (or would hold) `path`; NaN unknown.
 double free_bytes(const std::string& path);
+/// The filesystem of `path` has (almost) no space left (under 1 MB): a failed write there is
+/// a full disk.
+bool disk_full(const std::string& path);
 
 /// "1.5 GB", "830 kB" (decimal units).
 std::string show_bytes(double bytes);

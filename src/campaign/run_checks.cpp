@@ -1,5 +1,5 @@
 // The checks `jamsim run` makes on rank 0 before any work (run_checks.hpp).
-#include "run_checks.hpp"
+#include "jamsim/campaign/run_checks.hpp"
 
 #include <unistd.h>
 
@@ -14,7 +14,7 @@
 #include "jamsim/params/parameters.hpp"
 #include "jamsim/run/model_registry.hpp"
 
-namespace jamsim::app {
+namespace jamsim {
 
 /// "" when the run may write `path`; `mode` says how (a new or resumed archive, one extended
 /// to longer runs, one grown by more replicas: then `source` maps spec's replicas to the
@@ -164,14 +164,14 @@ std::string check_petsc_options(const CampaignSpec& spec) {
     return "";
 }
 
-/// Advisory warnings (limits not refused), each kind once in the run log; the archive keeps
-/// them too (its root attribute `warnings`).
-void print_advisories(const CampaignSpec& spec) {
-    for (const std::string& line : campaign_warnings(spec))
-        std::fprintf(stderr, "jamsim run: warning: %s: %s\n", spec.path.c_str(), line.c_str());
+/// Advisory warnings (limits not refused), each kind once; the archive keeps them too (its
+/// root attribute `warnings`).
+std::vector<std::string> advisories(const CampaignSpec& spec) {
+    std::vector<std::string> lines;
+    for (const std::string& line : campaign_warnings(spec)) lines.push_back(spec.path + ": " + line);
     // A file without [run] is allowed, but the length and sampling of a dynamics run are
     // then the defaults: say which, so that an omission is not mistaken for a choice.
-    if (spec.run_table || spec.replicas.empty()) return;
+    if (spec.run_table || spec.replicas.empty()) return lines;
     std::string defaults;
     for (const auto& info : parameters()) {
         if (info.table != "run" ||
@@ -186,10 +186,9 @@ void print_advisories(const CampaignSpec& spec) {
             .append(show_value(get_value(*used, info)));
     }
     if (!defaults.empty())
-        std::fprintf(stderr,
-                     "jamsim run: warning: %s: no [run] table: the run takes the defaults %s "
-                     "(campaigns/TEMPLATE.toml lists every key)\n",
-                     spec.path.c_str(), defaults.c_str());
+        lines.push_back(spec.path + ": no [run] table: the run takes the defaults " + defaults +
+                        " (campaigns/TEMPLATE.toml lists every key)");
+    return lines;
 }
 
-}  // namespace jamsim::app
+}  // namespace jamsim

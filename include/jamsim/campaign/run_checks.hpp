@@ -8,7 +8,7 @@
 #include "jamsim/spec/campaign_spec.hpp"
 #include "jamsim/io/initial_states.hpp"
 
-namespace jamsim::app {
+namespace jamsim {
 
 /// What a run does with an existing archive of its campaign.
 enum class OutputMode : int { Fresh = 0, Extend = 1, Grow = 2 };
@@ -33,7 +33,8 @@ std::string initial_source_changed(const InitialStates& source, const CampaignSp
 std::string mpi_io_path(const std::string& spec_path, const std::string& path);
 /// PETSc options PETSc does not recognise or the CD0 solver does not use ("" when none).
 std::string check_petsc_options(const CampaignSpec& spec);
-/// Advisory warnings on stderr, each kind once.
-void print_advisories(const CampaignSpec& spec);
+/// Advisory warnings ("FILE: what"), each kind once: limits that are not refused, and the
+/// defaults a file without [run] takes.
+std::vector<std::string> advisories(const CampaignSpec& spec);
 
-}  // namespace jamsim::app
+}  // namespace jamsim

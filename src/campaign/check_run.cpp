@@ -1,0 +1,94 @@
+// Rank 0's checks before a run (lifecycle.hpp, check_run): every refusal of `jamsim run`
+// that does not need the other ranks.
+#include <filesystem>
+
+#include "jamsim/archive/archive.hpp"
+#include "jamsim/archive/archive_lock.hpp"
+#include "jamsim/campaign/lifecycle.hpp"
+
+namespace jamsim {
+
+namespace {
+
+/// The archive path the run writes: -o or [campaign] output, through a symlink to the file
+/// it names (its lock, checkpoints and growth files are that file's, whichever path a run was
+/// given), as MPI-IO is given it.
+std::string archive_path(const CampaignSpec& spec, const std::string& override_output) {
+    std::string output = override_output.empty() ? spec.output : override_output;
+    if (std::error_code ec; std::filesystem::is_symlink(output, ec)) {
+        const auto target = std::filesystem::weakly_canonical(output, ec);
+        if (!ec) output = target.string();
+    }
+    return mpi_io_path(spec.path, output);
+}
+
+/// A growth that a kill interrupted is completed (after its rename) or undone (before it),
+/// unless another live run holds the archive (refused later for that reason).
+void finish_interrupted_growth(const CampaignSpec& spec, RunDecision& d) {
+    try {
+        ArchiveLock::check_free(d.output);
+        if (const std::string done = Archive::finish_growth(d.output); !done.empty()) d.notes.push_back(done);
+    } catch (const ArchiveBusy&) {
+    } catch (const h5::Error& e) { throw SpecError(spec.path + ": " + e.what()); }
+}
+
+/// Every replica must find its starting state ([run] initial) before any work, and the
+/// replicas already in the archive must start from the same states as when they ran.
+std::string check_initial_states(const CampaignSpec& spec, const RunDecision& d) {
+    if (spec.replicas.front().initial.empty()) return "";
+    try {
+        const InitialStates source(spec.replicas.front().initial);
+        for (std::size_t id = 0; id < spec.replicas.size(); ++id)
+            source.match(spec.replicas[id], static_cast<std::int64_t>(id));
+        if (std::filesystem::exists(d.output)) return initial_source_changed(source, spec, d.output, d.grow_source);
+    } catch (const InitialStateError& e) { return spec.path + ": " + e.what(); }
+    return "";
+}
+
+/// The checks on a read campaign, in order; the first refusal is `d.error`.
+void check_campaign(const RunRequest& request, const CampaignSpec& spec, RunDecision& d) {
+    d.spec_text = spec.text;
+    d.output = archive_path(spec, request.output);
+    // Size and memory before anything is created.
+    d.capacity = estimate_capacity(spec, d.output, request.ranks, request.node_ranks);
+    d.sized = true;
+    if (std::string too_large = check_capacity(d.capacity, request.limits, spec, d.output); !too_large.empty()) {
+        if (!request.dry_run) throw SpecError(too_large);
+        d.dry_run_refusal = std::move(too_large);
+    }
+    if (!request.dry_run) finish_interrupted_growth(spec, d);
+    // A dry run writes nothing, but an existing archive it names must fit the campaign.
+    if (!request.dry_run || std::filesystem::exists(d.output))
+        d.error = check_output(d.output, spec, d.mode, d.grow_source);
+    else
+        d.error = check_output_folder(d.output, spec, false);  // what the run would refuse
+    for (const std::int64_t from : d.grow_source) d.grow_kept += from >= 0;
+    // The checkpoints beside the archive are keyed by its replica ids (before a growth, those
+    // of the archive's campaign).
+    if (d.error.empty())
+        d.error = check_checkpoints(d.output, d.mode == OutputMode::Grow ? read_stored_campaign(d.output).spec : spec);
+    if (d.error.empty()) d.error = check_petsc_options(spec);
+    if (d.error.empty()) d.warnings = advisories(spec);
+    if (d.error.empty()) d.error = check_initial_states(spec, d);
+}
+
+}  // namespace
+
+RunDecision check_run(const RunRequest& request) {
+    RunDecision d;
+    try {
+        check_campaign(request, load_campaign(request.spec_path, request.max_replicas), d);
+    } catch (const SpecError& e) {
+        d.error = e.what();
+    } catch (const std::exception& e) {  // any other failure (an unreadable file): said in words
+        d.error = request.spec_path + ": " + e.what();
+    }
+    // An archive that another live run writes is refused for that reason, whatever it looks
+    // like now (it may be half created): the holder's name says what to do.
+    if (!request.dry_run && !d.output.empty()) try {
+            ArchiveLock::check_free(d.output);
+        } catch (const ArchiveBusy& e) { d.error = e.what(); }
+    return d;
+}
+
+}  // namespace jamsim

@@ -1,0 +1,226 @@
+// A campaign's cost on this machine (costs.hpp): the throughput of each (model, N, phi) group
+// calibrated from an earlier run's archive or from short probes, and each replica's seconds.
+#include "jamsim/campaign/costs.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <ctime>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <tuple>
+
+#include "jamsim/archive/archive.hpp"
+#include "jamsim/archive/archive_file_check.hpp"
+#include "jamsim/parallel/threads.hpp"
+#include "jamsim/run/model_registry.hpp"
+#include "jamsim/run/replica.hpp"
+
+namespace jamsim {
+
+namespace {
+
+/// Replicas that run at one throughput (seconds per estimated cost unit): model, N and phi.
+using CostGroup = std::tuple<std::string, std::int64_t, double>;
+CostGroup cost_group(const ReplicaParams& p) { return {p.model, p.n, p.phi}; }
+
+/// Seconds per estimated cost unit on this machine, per group, and where they come from.
+struct Calibration {
+    std::map<CostGroup, double> measured;  ///< groups measured (recorded or probed)
+    /// Probed groups: seconds of one sample per disk (the sampled observables, g_y: serial
+    /// work that threads do not shorten, and that the kernel's probe leaves out).
+    std::map<CostGroup, double> per_sample;
+    int recorded = 0, probed = 0;  ///< groups from an earlier run's archive, from probes
+
+    /// Seconds of p's samples: its group's probe, else the mean per disk of its model's
+    /// probed groups, else 0 (nominal; and groups recorded from an archive, whose wall times
+    /// hold their samples).
+    double sample_seconds(const ReplicaParams& p) const {
+        double rate = 0;
+        if (const auto it = per_sample.find(cost_group(p)); it != per_sample.end()) {
+            rate = it->second;
+        } else if (!measured.count(cost_group(p))) {
+            int count = 0;
+            for (const auto& [group, r] : per_sample)
+                if (std::get<0>(group) == p.model) {
+                    rate += r;
+                    ++count;
+                }
+            rate = count > 0 ? rate / count : 0.0;
+        }
+        return rate * static_cast<double>(sample_count(p)) * static_cast<double>(p.n);
+    }
+
+    /// A group measured, else the model's measured groups (the same N first), else nominal.
+    double seconds_per_cost(const ReplicaParams& p) const {
+        if (const auto it = measured.find(cost_group(p)); it != measured.end()) return it->second;
+        double same_n = 0, same_model = 0;
+        int n_count = 0, model_count = 0;
+        for (const auto& [group, rate] : measured) {
+            if (std::get<0>(group) != p.model) continue;
+            same_model += rate;
+            ++model_count;
+            if (std::get<1>(group) == p.n) {
+                same_n += rate;
+                ++n_count;
+            }
+        }
+        if (n_count > 0) return same_n / n_count;
+        if (model_count > 0) return same_model / model_count;
+        return 1.0 / kNominalEvaluationsPerSecond;
+    }
+};
+
+/// CPU seconds this process has used.
+double process_cpu_seconds() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+/// Seconds of probes a dry run may spend calibrating (the groups left use measured neighbours).
+constexpr double kProbeBudgetSeconds = 30.0;
+
+/// The throughput of each group of a campaign on this machine: from the replicas an earlier
+/// run finished in the campaign's archive (wall time over estimated cost), else from a probe
+/// of the group's first replica (process CPU time): dynamics run it for about 1e7 and 3e7
+/// particle force evaluations and take the difference (at least 20 steps; the replica whole
+/// when shorter), a minimisation protocol up to three of
+/// its replicas whole, each when it takes under 10 s by the best estimate so far (a
+/// minimisation's cost depends on N, phi and the seed in ways its estimate counts only
+/// roughly). Probes stop after kProbeBudgetSeconds.
+Calibration calibrate(const CampaignSpec& spec, const std::string& archive) {
+    Calibration out;
+    // Rates recorded by earlier runs of this campaign (or of the archive's campaign, grown).
+    std::map<CostGroup, std::pair<double, double>> recorded;  // group -> (seconds, cost)
+    std::error_code ec;
+    if (!archive.empty() && std::filesystem::exists(archive, ec) && diagnose_archive_file(archive).empty()) try {
+            const StoredCampaign stored = read_stored_campaign(archive);
+            const h5::Handle file = h5::open_unlocked_readonly(archive);
+            const auto wall = h5::read_all<double>(file.get(), "/replicas/wall_seconds", H5T_NATIVE_DOUBLE);
+            for (std::size_t r = 0; r < stored.status.size() && r < wall.size(); ++r) {
+                const ReplicaParams& p = stored.spec.replicas[r];
+                if (stored.status[r] != ReplicaStatus::Done || !(wall[r] > 0) || !(estimated_cost(p) > 0)) continue;
+                auto& [seconds, cost] = recorded[cost_group(p)];
+                seconds += wall[r];
+                cost += estimated_cost(p);
+            }
+        } catch (const std::exception&) {
+            recorded.clear();  // an archive that cannot be read: probes instead
+        }
+    for (const auto& [group, sums] : recorded) {
+        out.measured[group] = sums.first / sums.second;
+        ++out.recorded;
+    }
+    double spent = 0;
+    // Minimisations: up to kMinimisationProbes replicas (seeds) per group, their mean, since
+    // a minimisation's cost varies from seed to seed (near phi_J by an order of magnitude).
+    constexpr int kMinimisationProbes = 3;
+    std::map<CostGroup, std::pair<double, double>> probed;  // group -> (seconds, cost)
+    std::map<CostGroup, int> probes;
+    for (const ReplicaParams& p : spec.replicas) {
+        const CostGroup key = cost_group(p);
+        const bool minimisation = model_of(p).kind != ModelKind::Dynamics;
+        if (recorded.count(key) || spent >= kProbeBudgetSeconds ||
+            probes[key] >= (minimisation ? kMinimisationProbes : 1))
+            continue;
+        const bool dynamics = model_of(p).kind == ModelKind::Dynamics;
+        // A dynamics probe runs the replica for `steps` and for 3 × `steps` and takes the
+        // difference, so that the set-up (initial state, first list, first factorisation)
+        // is not spread over a few hundred steps; a replica shorter than that runs whole.
+        // A third run of `steps` with kSampleProbe samples gives the seconds of a sample.
+        constexpr double kSampleProbe = 10;
+        auto shortened = [&](double steps, double samples = 1) {
+            ReplicaParams probe = p;
+            (p.rate > 0 ? probe.strain : probe.time) = steps * p.dt * (p.rate > 0 ? p.rate : 1.0);
+            probe.sample_interval = (probe.rate > 0 ? probe.strain : probe.time) / samples;
+            probe.transient = 0.0;  // the probe is shorter than the replica's transient may be
+            probe.checkpoint_steps = 1'000'000'000;
+            return probe;
+        };
+        std::vector<ReplicaParams> runs{p};
+        if (dynamics) {
+            const double steps = std::max(20.0, 1e7 / (static_cast<double>(p.n) * evaluations_per_step(p)));
+            if (3 * steps < static_cast<double>(schedule_of(p).steps))
+                runs = {shortened(steps), shortened(3 * steps), shortened(steps, kSampleProbe)};
+        } else if (estimated_cost(p) * out.seconds_per_cost(p) > std::min(10.0, kProbeBudgetSeconds - spent)) {
+            continue;
+        }
+        try {
+            // Process CPU time, not wall time: other jobs on a shared machine (a login node,
+            // a laptop) would otherwise inflate the estimate for the cluster node it is for.
+            std::vector<std::pair<double, double>> measured;  // (CPU seconds, cost) per run
+            for (const ReplicaParams& run : runs) {
+                const double t0 = process_cpu_seconds();
+                const ReplicaResult r = run_replica(run);
+                const double seconds = process_cpu_seconds() - t0;
+                spent += r.wall_seconds;
+                const double cost =
+                    dynamics ? static_cast<double>(r.force_evaluations) * static_cast<double>(p.n) : estimated_cost(p);
+                measured.emplace_back(seconds, cost);
+            }
+            double seconds = measured.back().first, cost = measured.back().second;
+            if (measured.size() == 3 && measured[1].first > measured[0].first &&
+                measured[1].second > measured[0].second) {
+                seconds = measured[1].first - measured[0].first;
+                cost = measured[1].second - measured[0].second;
+                const double extra = static_cast<double>(sample_count(runs[2]) - sample_count(runs[0]));
+                if (extra > 0 && measured[2].first > measured[0].first)
+                    out.per_sample[key] = (measured[2].first - measured[0].first) / (extra * static_cast<double>(p.n));
+            }
+            if (cost > 0 && seconds > 0) {
+                auto& [sum_seconds, sum_costs] = probed[key];
+                sum_seconds += seconds;
+                sum_costs += cost;
+                out.measured[key] = sum_seconds / sum_costs;
+                ++probes[key];
+            }
+        } catch (const std::exception&) {
+            // a probe that fails (a replica that would fail) leaves its group to the others
+        }
+    }
+    out.probed = static_cast<int>(probed.size());
+    return out;
+}
+
+/// The probes on one thread (the dry run's seconds are one thread's; the speed-up model
+/// scales them), the kernel's threads restored after.
+Calibration calibrate_on_one_thread(const CampaignSpec& spec, const std::string& archive) {
+    const int threads = kernel_threads();
+    set_kernel_threads(1);
+    try {
+        Calibration c = calibrate(spec, archive);
+        set_kernel_threads(threads);
+        return c;
+    } catch (...) {
+        set_kernel_threads(threads);
+        throw;
+    }
+}
+
+std::string describe_source(bool calibrate, const Calibration& rates, const CampaignSpec& spec) {
+    if (!calibrate) return "nominal 7e7 particle force evaluations/s";
+    std::set<CostGroup> groups;
+    for (const ReplicaParams& p : spec.replicas) groups.insert(cost_group(p));
+    std::size_t measured = 0;
+    for (const CostGroup& g : groups) measured += rates.measured.count(g);
+    return "throughput measured on this machine per model, N and phi: " + std::to_string(rates.recorded) +
+           " groups from the archive's finished replicas, " + std::to_string(rates.probed) + " by a short probe; " +
+           std::to_string(groups.size() - measured) + " of the " + std::to_string(groups.size()) +
+           " groups not measured (past the probes' 30 s budget) take the mean of the measured groups "
+           "of their model and N, else of their model";
+}
+
+}  // namespace
+
+ReplicaSeconds replica_seconds(const CampaignSpec& spec, const std::string& archive, bool calibrate) {
+    const Calibration rates = calibrate ? calibrate_on_one_thread(spec, archive) : Calibration{};
+    ReplicaSeconds out{.seconds = {}, .serial = {}, .source = describe_source(calibrate, rates, spec)};
+    for (const ReplicaParams& p : spec.replicas) {
+        out.serial.push_back(rates.sample_seconds(p));
+        out.seconds.push_back(estimated_cost(p) * rates.seconds_per_cost(p) + out.serial.back());
+    }
+    return out;
+}
+
+}  // namespace jamsim

@@ -1,0 +1,168 @@
+// Merging archives (lifecycle.hpp, merge_archives): shards of one campaign, or campaigns that
+// differ only in their sweeps, into one archive whose campaign holds them all.
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <optional>
+#include <set>
+
+#include "jamsim/archive/archive.hpp"
+#include "jamsim/archive/archive_file_check.hpp"
+#include "jamsim/archive/archive_lock.hpp"
+#include "jamsim/campaign/lifecycle.hpp"
+#include "jamsim/params/parameters.hpp"
+
+namespace jamsim {
+
+namespace {
+
+/// "N = 64, phi = 0.84, rate = 0.003, seed = 2": a replica for a person (sweep parameters).
+std::string replica_label(const ReplicaParams& p) {
+    return "N = " + std::to_string(p.n) + ", phi = " + show_value(p.phi) + ", rate = " + show_value(p.rate) +
+           ", seed = " + std::to_string(p.seed);
+}
+
+/// Each input's campaign, checked: readable, of this version, and differing from the first
+/// input's only in its sweeps.
+std::vector<StoredCampaign> read_inputs(const std::string& output, const std::vector<std::string>& inputs) {
+    std::vector<StoredCampaign> stored;
+    for (const auto& path : inputs) {
+        if (path == output) throw CampaignRefused("'" + path + "' is both the output and an input: name a new output");
+        if (const std::string bad = diagnose_archive_file(path); !bad.empty()) throw CampaignRefused("shard " + bad);
+        try {
+            stored.push_back(read_stored_campaign(path));
+        } catch (const std::exception& e) { throw CampaignRefused("shard '" + path + "': " + e.what()); }
+        // The stored fingerprint must be this version's: a shard written by a version whose
+        // results mean something else (an older fingerprint) is not merged with new ones.
+        if (const std::string why = Archive::check_existing(path, stored.back().spec); !why.empty())
+            throw CampaignRefused("shard '" + path + "': " + why);
+        if (const std::string differs = settings_difference(stored.front().spec, stored.back().spec,
+                                                            "'" + inputs.front() + "'", "'" + path + "'");
+            !differs.empty())
+            throw CampaignRefused("'" + path + "' belongs to a different campaign than '" + inputs.front() +
+                                  "': " + differs + " (archives merge when they differ only in their sweeps)");
+    }
+    return stored;
+}
+
+/// The output's campaign: an input's own when it holds every replica (shards of one campaign),
+/// else one written for the union of their replicas (points with their own seeds).
+CampaignSpec merged_campaign(const std::string& output, const std::vector<std::string>& inputs,
+                             const std::vector<StoredCampaign>& stored) {
+    std::map<std::string, std::size_t> in_union;  // each replica once, by its identity
+    std::vector<ReplicaParams> all;
+    for (const auto& s : stored)
+        for (const ReplicaParams& p : s.spec.replicas)
+            if (in_union.emplace(describe(p), all.size()).second) all.push_back(p);
+    for (const auto& s : stored) {
+        std::set<std::string> own;
+        for (const ReplicaParams& p : s.spec.replicas) own.insert(describe(p));
+        if (own.size() == all.size() && s.spec.replicas.size() == all.size()) return s.spec;
+    }
+    std::string from;
+    for (const auto& path : inputs) from += (from.empty() ? "" : ", ") + path;
+    std::optional<CampaignSpec> merged;
+    try {
+        merged = parse_campaign(campaign_text(stored.front().spec.name, output, all,
+                                              "The campaign of jamsim merge " + from +
+                                                  ":\nthe union of their replicas, points with their own seeds."),
+                                output + " (merged campaign)", std::numeric_limits<std::int64_t>::max());
+    } catch (const SpecError& e) {
+        throw CampaignRefused(std::string("cannot describe the merged campaign: ") + e.what());
+    }
+    bool same = merged->replicas.size() == all.size();
+    for (const ReplicaParams& p : merged->replicas) same = same && in_union.count(describe(p));
+    if (!same)
+        throw CampaignRefused("the merged campaign does not hold the replicas of its inputs (a rate ladder whose "
+                              "chains differ between them?): refusing");
+    return *merged;
+}
+
+/// Each input replica's id in the output (the same id for shards of the output's campaign).
+std::vector<std::vector<std::int64_t>> output_ids(const CampaignSpec& spec, const std::vector<StoredCampaign>& stored) {
+    const std::string merged_fingerprint = fingerprint(spec);
+    std::map<std::string, std::int64_t> position;
+    for (std::size_t id = spec.replicas.size(); id-- > 0;)
+        position[describe(spec.replicas[id])] = static_cast<std::int64_t>(id);
+    std::vector<std::vector<std::int64_t>> target(stored.size());
+    for (std::size_t k = 0; k < stored.size(); ++k) {
+        const bool same_campaign = fingerprint(stored[k].spec) == merged_fingerprint;
+        for (std::size_t r = 0; r < stored[k].spec.replicas.size(); ++r)
+            target[k].push_back(same_campaign ? static_cast<std::int64_t>(r)
+                                              : position.at(describe(stored[k].spec.replicas[r])));
+    }
+    return target;
+}
+
+/// A replica finished in two inputs must be the same, bitwise.
+void check_duplicates_agree(const std::vector<std::string>& inputs, const std::vector<StoredCampaign>& stored,
+                            const std::vector<std::vector<std::int64_t>>& target) {
+    std::map<std::int64_t, std::pair<std::size_t, std::size_t>> first_done;  // output id -> (input, id)
+    for (std::size_t k = 0; k < stored.size(); ++k)
+        for (std::size_t r = 0; r < stored[k].status.size(); ++r) {
+            if (stored[k].status[r] != ReplicaStatus::Done) continue;
+            const auto [it, fresh] = first_done.emplace(target[k][r], std::pair{k, r});
+            if (fresh) continue;
+            const auto [j, q] = it->second;
+            std::string differs;
+            try {
+                differs = Archive::replica_difference(inputs[j], static_cast<std::int64_t>(q), inputs[k],
+                                                      static_cast<std::int64_t>(r));
+            } catch (const std::exception& e) { differs = std::string("cannot be compared: ") + e.what(); }
+            if (!differs.empty())
+                throw CampaignRefused("the replica " + replica_label(stored[k].spec.replicas[r]) + " is in '" +
+                                      inputs[j] + "' (replica " + std::to_string(q) + ") and '" + inputs[k] +
+                                      "' (replica " + std::to_string(r) + ") with different data (" + differs +
+                                      "): refusing to merge them");
+        }
+}
+
+/// The existing output must be an archive of the merged campaign.
+void check_existing_output(const std::string& output, const CampaignSpec& spec) {
+    if (const std::string bad = diagnose_archive_file(output); !bad.empty())
+        throw CampaignRefused("refusing the output: " + bad);
+    if (const std::string why = Archive::check_existing(output, spec); !why.empty())
+        throw CampaignRefused("refusing: " + why);
+}
+
+}  // namespace
+
+MergeOutcome merge_archives(const std::string& output, const std::vector<std::string>& inputs) {
+    if (inputs.empty()) throw CampaignRefused("no archives to merge (jamsim merge -o OUT A.h5 B.h5 ...)");
+    const std::vector<StoredCampaign> stored = read_inputs(output, inputs);
+    const CampaignSpec spec = merged_campaign(output, inputs, stored);
+    const auto target = output_ids(spec, stored);
+    check_duplicates_agree(inputs, stored, target);
+    const bool exists = std::filesystem::exists(output);
+    if (const std::string too_large = check_capacity(estimate_capacity(spec, output, 1, 1), {}, spec, output);
+        !too_large.empty())
+        throw CampaignRefused(too_large);
+    // The output is written by this process alone, and no input may still be written.
+    std::optional<ArchiveLock> lock;
+    try {
+        for (const auto& path : inputs) ArchiveLock::check_free(path);
+        lock.emplace(ArchiveLock::acquire(MPI_COMM_SELF, output, "jamsim merge"));
+    } catch (const ArchiveBusy& e) { throw CampaignRefused(e.what()); }
+    if (exists) check_existing_output(output, spec);
+    Archive out = exists ? Archive::open(MPI_COMM_SELF, output) : Archive::create(MPI_COMM_SELF, output, spec);
+    std::vector<ReplicaStatus> have = out.read_status();
+    MergeOutcome result{.replicas = spec.replicas.size(),
+                        .union_campaign = fingerprint(spec) != fingerprint(stored.front().spec)};
+    for (std::size_t k = 0; k < inputs.size(); ++k)
+        for (std::size_t r = 0; r < stored[k].status.size(); ++r) {
+            const ReplicaStatus s = stored[k].status[r];
+            const auto t = static_cast<std::size_t>(target[k][r]);
+            const bool finished = s == ReplicaStatus::Done || s == ReplicaStatus::Failed;
+            if (!finished || have[t] == ReplicaStatus::Done) continue;
+            if (have[t] == ReplicaStatus::Failed && s == ReplicaStatus::Failed) continue;
+            out.import_replica(inputs[k], static_cast<std::int64_t>(r), static_cast<std::int64_t>(t));
+            have[t] = s;
+            ++result.copied;
+        }
+    out.stamp("merged");
+    out.close();
+    lock->release();
+    return result;
+}
+
+}  // namespace jamsim

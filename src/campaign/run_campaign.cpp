@@ -1,0 +1,148 @@
+// The run of a checked campaign over MPI ranks (lifecycle.hpp, run_campaign): the archive's
+// lock, extending or growing the archive, creating or opening it, the farm, the totals.
+#include <filesystem>
+#include <optional>
+
+#include "jamsim/archive/archive.hpp"
+#include "jamsim/archive/archive_lock.hpp"
+#include "jamsim/campaign/lifecycle.hpp"
+#include "jamsim/campaign/stop_request.hpp"
+#include "jamsim/io/checkpoint_file.hpp"
+#include "jamsim/parallel/mpi.hpp"
+#include "jamsim/parallel/threads.hpp"
+
+namespace jamsim {
+
+namespace {
+
+void say(const RunSettings& settings, int rank, const std::string& line) {
+    if (rank == 0 && settings.say) settings.say(line);
+}
+
+std::string count(std::int64_t n) { return std::to_string(static_cast<long long>(n)); }
+
+/// Extends or grows the archive in place when check_run decided so (collective).
+void reshape_archive(MPI_Comm comm, const CampaignSpec& spec, const RunDecision& d, const RunSettings& settings,
+                     ArchiveLock& lock) {
+    const int rank = mpi::rank(comm);
+    if (d.mode == OutputMode::Extend) {
+        say(settings, rank,
+            "extending " + d.output + " to the longer runs of " + settings.spec_path +
+                ": finished replicas continue from their final checkpoints" +
+                (spec.predecessor.empty()
+                     ? ""
+                     : "; a rate ladder's later replicas run again from their predecessors' new end states"));
+        Archive::extend(comm, d.output, spec);
+        lock.hold_archive(d.output);  // the file was replaced
+    }
+    if (d.mode == OutputMode::Grow) {
+        const auto added = static_cast<std::int64_t>(spec.replicas.size()) - d.grow_kept;
+        say(settings, rank,
+            "growing archive " + d.output + ": " + count(d.grow_kept) + " replicas kept, " + count(added) + " new");
+        Archive::grow(comm, d.output, spec, d.grow_source);
+        lock.hold_archive(d.output);
+    }
+}
+
+/// A new archive, created by every rank together; "" or why the creation failed (then no
+/// partial file is left, on every rank alike).
+std::string create_archive(MPI_Comm comm, const CampaignSpec& spec, const std::string& output,
+                           std::optional<Archive>& created) {
+    std::string why;
+    try {
+        created.emplace(Archive::create(comm, output, spec));
+    } catch (const h5::Error& e) { why = e.what(); }
+    int failed = !why.empty(), any = 0;
+    mpi::check(MPI_Allreduce(&failed, &any, 1, MPI_INT, MPI_MAX, comm), "MPI_Allreduce");
+    if (!any) return "";
+    created.reset();
+    std::error_code ignored;
+    if (mpi::rank(comm) == 0) std::filesystem::remove(output, ignored);
+    return spec.path + ": creating the archive '" + output + "' failed" +
+           (disk_full(output) ? ": no space left on device" : "") + "; nothing was kept (" +
+           (why.empty() ? "on another rank" : why) + ")";
+}
+
+/// The farm's counts summed over the ranks onto rank 0.
+void add_up(MPI_Comm comm, const FarmSummary& s, RunOutcome& out) {
+    long long local[5] = {s.ran, s.failed, s.resumed, s.interrupted, s.skipped}, total[5] = {};
+    mpi::check(MPI_Reduce(local, total, 5, MPI_LONG_LONG, MPI_SUM, 0, comm), "MPI_Reduce");
+    double times[2] = {s.io_seconds, s.wall_seconds}, sums[2] = {};
+    mpi::check(MPI_Reduce(times, sums, 2, MPI_DOUBLE, MPI_SUM, 0, comm), "MPI_Reduce");
+    out.ran = total[0];
+    out.failed = total[1];
+    out.resumed = total[2];
+    out.interrupted = total[3];
+    out.skipped = s.skipped;  // rank 0 decides what is skipped
+    out.wall_seconds = s.wall_seconds;
+    out.io_share = sums[1] > 0 ? sums[0] / sums[1] : 0.0;
+}
+
+}  // namespace
+
+RunOutcome run_campaign(MPI_Comm comm, const CampaignSpec& spec, const RunDecision& d, const RunSettings& settings) {
+    const int rank = mpi::rank(comm);
+    RunOutcome out;
+    // One writer per archive: from here on this run holds it (refused while another lives).
+    std::optional<ArchiveLock> lock;
+    try {
+        lock.emplace(ArchiveLock::acquire(comm, d.output, "jamsim run " + settings.spec_path));
+        lock->hold_archive(d.output);
+    } catch (const ArchiveBusy& e) {
+        out.end = RunOutcome::End::refused;
+        out.refusal = e.what();
+        return out;
+    }
+    reshape_archive(comm, spec, d, settings, *lock);
+    int exists = rank == 0 ? std::filesystem::exists(d.output) : 0;
+    mpi::broadcast(exists, 0, comm);
+    std::optional<Archive> created;
+    if (!exists) {
+        if (std::string why = create_archive(comm, spec, d.output, created); !why.empty()) {
+            lock->release();
+            out.end = RunOutcome::End::refused;
+            out.refusal = std::move(why);
+            return out;
+        }
+    }
+    Archive archive = exists ? Archive::open(comm, d.output) : std::move(*created);
+    if (!exists) lock->hold_archive(d.output);
+    archive.stamp("run_started");
+    std::optional<InitialStates> initial;
+    if (!spec.replicas.front().initial.empty()) initial.emplace(spec.replicas.front().initial);
+    const FarmOptions farm{.progress = settings.progress,
+                           .shard = settings.shard,
+                           .retry_failed = settings.retry_failed,
+                           .archive_path = d.output,
+                           .checkpoint_seconds = settings.checkpoint_seconds,
+                           .initial_states = initial ? &*initial : nullptr};
+    const int ranks = mpi::size(comm), threads = kernel_threads();
+    say(settings, rank,
+        "campaign " + spec.name + ": " + std::to_string(spec.replicas.size()) + " replicas on " +
+            std::to_string(ranks) + (ranks == 1 ? " rank" : " ranks") + " x " + std::to_string(threads) +
+            (threads == 1 ? " thread" : " threads") + " -> " + d.output +
+            (!exists                 ? ""
+             : settings.retry_failed ? " (resuming: done replicas are skipped, failed ones run again)"
+                                     : " (resuming: finished replicas are skipped)"));
+    const FarmSummary summary = run_farm(comm, spec, archive, farm);
+    add_up(comm, summary, out);
+    // Interrupted (a signal, or a replica stopped at a checkpoint step) on any rank?
+    int stopped = 0, local_stopped = StopRequest::requested() || summary.interrupted > 0;
+    mpi::check(MPI_Allreduce(&local_stopped, &stopped, 1, MPI_INT, MPI_MAX, comm), "MPI_Allreduce");
+    if (stopped) {
+        archive.close();
+        lock->release();
+        out.end = RunOutcome::End::interrupted;
+        return out;
+    }
+    archive.stamp("run_finished");
+    archive.close();
+    lock->release();
+    if (rank == 0) {  // the checkpoint folder, once every replica has removed its own
+        std::error_code ignored;
+        std::filesystem::remove(checkpoint_folder(d.output), ignored);  // only if empty
+    }
+    return out;
+}
+
+}  // namespace jamsim
