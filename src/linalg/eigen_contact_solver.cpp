@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "updated_factor_solve.hpp"
+
 namespace jamsim::linalg {
 
 namespace {
@@ -175,10 +177,31 @@ struct EigenContactSolver::Impl {
         have_factor = true;
     }
 
-    /// Whether ‖b − A u‖ ≤ rtol ‖b‖ for both right-hand sides and the current contacts:
-    /// (A u)_i = δ u_i + Σ_{j in contact} (u_i − u_j).
-    bool converged(std::span<const double> bx, std::span<const double> by, std::span<const double> ux,
-                   std::span<const double> uy) {
+    // The factor's steps as solve_with_updated_factor calls them.
+    bool adopt(std::span<const ContactPair> pairs, std::span<const std::int32_t> /*labels*/) {
+        build_pattern(pairs);  // the Eigen factor is rebuilt with the pattern
+        return false;
+    }
+    bool has_factor() const { return have_factor; }
+    /// Rank-one changes for the contacts that formed or broke since the factor's contact set.
+    int follow(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact) {
+        int changes = 0;
+        contacts.clear();
+        for (std::size_t k = 0; k < pairs.size(); ++k) {
+            if (in_contact[k]) contacts.push_back(pairs[k]);
+            if (in_contact[k] == factored[k]) continue;
+            factor.modify(pairs[k].i, pairs[k].j, in_contact[k] ? 1.0 : -1.0);
+            factored[k] = in_contact[k];
+            ++changes;
+        }
+        return changes;
+    }
+    void apply(std::span<const double> bx, std::span<const double> by, std::span<double> ux, std::span<double> uy) {
+        factor.solve(bx.data(), by.data(), ux.data(), uy.data());
+    }
+    /// Whether ‖b − A u‖ ≤ rtol ‖b‖ for both right-hand sides and the current contacts.
+    bool residual_within(std::span<const double> bx, std::span<const double> by, std::span<const double> ux,
+                         std::span<const double> uy) {
         return contact_residual_within(bx, by, ux, uy, delta, contacts, rtol, residual);
     }
 };
@@ -196,30 +219,7 @@ SolveInfo EigenContactSolver::solve(std::span<const ContactPair> pairs, std::spa
                                     std::span<const double> b_x, std::span<const double> b_y, std::span<double> u_x,
                                     std::span<double> u_y) {
     Impl& m = *impl_;
-    (void)labels;  // the Eigen factor is rebuilt with the pattern
-    if (pattern_version != m.version) {
-        m.build_pattern(pairs);
-        m.version = pattern_version;
-    }
-    if (m.have_factor) {  // bring the factor to the current contacts by rank-one changes
-        int changes = 0;
-        m.contacts.clear();
-        for (std::size_t k = 0; k < pairs.size(); ++k) {
-            if (in_contact[k]) m.contacts.push_back(pairs[k]);
-            if (in_contact[k] == m.factored[k]) continue;
-            m.factor.modify(pairs[k].i, pairs[k].j, in_contact[k] ? 1.0 : -1.0);
-            m.factored[k] = in_contact[k];
-            ++changes;
-        }
-        m.factor.solve(b_x.data(), b_y.data(), u_x.data(), u_y.data());
-        if (changes == 0) return {0, 0, false, 0};
-        // Accumulated updates and downdates lose accuracy slowly: check the true residual,
-        // and refactorise from scratch if it misses the tolerance.
-        if (m.converged(b_x, b_y, u_x, u_y)) return {0, 0, false, changes};
-    }
-    m.factorize(pairs, in_contact);
-    m.factor.solve(b_x.data(), b_y.data(), u_x.data(), u_y.data());
-    return {0, 0, true, 0};
+    return solve_with_updated_factor(m, m.version, pairs, in_contact, pattern_version, labels, b_x, b_y, u_x, u_y);
 }
 
 }  // namespace jamsim::linalg

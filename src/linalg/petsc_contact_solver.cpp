@@ -226,6 +226,11 @@ struct PetscContactSolver::Impl {
         return reason < 0 ? -1 : its;
     }
     /// The backend's solve (PetscContactSolver::solve adds the factor's timings).
+    /// Brings the preconditioner to the current contacts: the updated CHOLMOD factor (carried
+    /// over a new candidate list, updated by the contacts' changes, or factorised afresh when
+    /// `refresh` asks), or PETSc's own, recomputed when the pattern or `refresh` asks.
+    SolveInfo update_preconditioner(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,
+                                    std::size_t pattern_version, std::span<const std::int32_t> labels);
     SolveInfo run(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,
                   std::size_t pattern_version, std::span<const std::int32_t> labels, std::span<const double> b_x,
                   std::span<const double> b_y, std::span<double> u_x, std::span<double> u_y);
@@ -273,12 +278,11 @@ SolveInfo PetscContactSolver::solve(std::span<const ContactPair> pairs, std::spa
                                [&] { return m.run(pairs, in_contact, pattern_version, labels, b_x, b_y, u_x, u_y); });
 }
 
-SolveInfo PetscContactSolver::Impl::run(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,
-                                        std::size_t pattern_version, std::span<const std::int32_t> labels,
-                                        std::span<const double> b_x, std::span<const double> b_y, std::span<double> u_x,
-                                        std::span<double> u_y) {
+SolveInfo PetscContactSolver::Impl::update_preconditioner(std::span<const ContactPair> pairs,
+                                                          std::span<const std::uint8_t> in_contact,
+                                                          std::size_t pattern_version,
+                                                          std::span<const std::int32_t> labels) {
     Impl& m = *this;
-    const auto nn = static_cast<std::size_t>(m.n);
     SolveInfo info;
     if (m.shell) {
         if (!m.A) m.make_shell_operator();
@@ -308,6 +312,16 @@ SolveInfo PetscContactSolver::Impl::run(std::span<const ContactPair> pairs, std:
             m.refresh = false;
         }
     }
+    return info;
+}
+
+SolveInfo PetscContactSolver::Impl::run(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,
+                                        std::size_t pattern_version, std::span<const std::int32_t> labels,
+                                        std::span<const double> b_x, std::span<const double> b_y, std::span<double> u_x,
+                                        std::span<double> u_y) {
+    Impl& m = *this;
+    const auto nn = static_cast<std::size_t>(m.n);
+    SolveInfo info = m.update_preconditioner(pairs, in_contact, pattern_version, labels);
     // The default PC after contact changes: one application of the updated factor, whose
     // true residual is checked here for each half in one pass (as the cholmod backend does);
     // only when it misses the tolerance does the KSP refine, from that solution.
