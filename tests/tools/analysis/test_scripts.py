@@ -19,6 +19,7 @@ from conftest import CAMPAIGNS, ROOT, run_campaign
 PYTHON = "/usr/bin/python3"
 TOOLS = os.path.join(ROOT, "tools")
 SCRIPTS = sorted(glob.glob(os.path.join(TOOLS, "*.py")) + glob.glob(os.path.join(TOOLS, "*.sh"))
+                 + glob.glob(os.path.join(TOOLS, "bench", "*.sh"))
                  + glob.glob(os.path.join(ROOT, "slurm", "*.sh")) + glob.glob(os.path.join(ROOT, "slurm", "*.sbatch")))
 
 
@@ -52,7 +53,8 @@ def test_every_script_answers_help(path, tmp_path):
 def test_scripts_are_all_covered():
     names = {os.path.basename(p) for p in SCRIPTS}
     assert {"plot_campaign.py", "plot_replica.py", "analyze_jamming.py", "jamsim_analyze.py", "jamsim_report.py",
-            "transient_length.py", "quickstart.sh", "submit_campaign.sh", "merge.sbatch"} <= names
+            "transient_length.py", "quickstart.sh", "submit_campaign.sh", "merge.sbatch", "bench_farm.sh",
+            "cost_accuracy.sh"} <= names
 
 
 def test_analyze_jamming_help_defines_its_columns():
