@@ -61,7 +61,7 @@ done < commands.txt
 ln -s "$prefix/bin/jamsim-report" "$work/elsewhere/report"
 "${clean_env[@]}" "$work/elsewhere/report" --help | grep -q "^usage: jamsim-report " || fail "jamsim-report through a symbolic link"
 
-# The package from the prefix, with the documented PYTHONPATH and without it.
+# The package from the prefix, with the PYTHONPATH that tools/README.md gives.
 "${clean_env[@]}" PYTHONPATH="$pydir" "$python" - "$pydir" "$src/tools/jamsim_analysis" <<'EOF' || fail "import from $pydir"
 import os, sys
 import jamsim_analysis, jamsim_analysis.cli, jamsim_analysis.scripts.plot_campaign
