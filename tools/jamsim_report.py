@@ -1,11 +1,9 @@
 #!/usr/bin/python3
-"""Thin command over the jamsim_analysis package (tools/jamsim_analysis/cli.py); --help
-says what it computes."""
-import os
+"""tools/jamsim_report.py: the command jamsim_analysis.cli.report_main (installed as jamsim-report);
+--help says what it computes. Run from a checkout, this folder is on sys.path first."""
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from jamsim_analysis import cli  # noqa: E402
+from jamsim_analysis import cli
 
 if __name__ == "__main__":
     sys.exit(cli.report_main())

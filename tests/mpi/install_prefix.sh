@@ -2,8 +2,9 @@
 # `cmake --install` into a temporary prefix, then use only what it installed, from a working
 # directory outside the source tree, with no checkout on PATH:
 #   - jamsim --version equals the build tree's; --help lists every subcommand;
-#   - a small campaign on 2 ranks (mpiexec), its status, a Python tool (bin/jamsim-analyze,
-#     also through a symbolic link elsewhere), an export of a final configuration;
+#   - a small campaign on 2 ranks (mpiexec), its status, the Python commands (bin/jamsim-analyze,
+#     also through a symbolic link elsewhere, jamsim-plot-campaign, jamsim-transient-length),
+#     the package imported from PREFIX/lib/python3/dist-packages, an export of a final configuration;
 #   - every installed campaign passes the dry run;
 #   - the installed Slurm script hands the installed jamsim to its jobs (a stand-in sbatch
 #     records what it was given), with no jamsim on PATH and no JAMSIM set;
@@ -58,6 +59,16 @@ grep -q "RD0" summary.txt || { cat summary.txt; fail "jamsim-analyze summary pri
 mkdir "$work/elsewhere"
 ln -s "$prefix/bin/jamsim-analyze" "$work/elsewhere/ja"
 "${clean_env[@]}" "$work/elsewhere/ja" summary tiny.h5 > /dev/null || fail "jamsim-analyze through a link"
+# The other installed commands of the package on the same archive, and the package itself
+# from the documented PYTHONPATH (tools/README.md, "Installing the package").
+"${clean_env[@]}" jamsim-plot-campaign tiny.h5 figs > /dev/null || fail "jamsim-plot-campaign"
+[[ -s figs/flow_curves.png ]] || fail "jamsim-plot-campaign drew no figs/flow_curves.png"
+"${clean_env[@]}" jamsim-transient-length tiny.h5 | grep -q "0.860" || fail "jamsim-transient-length"
+"${clean_env[@]}" PYTHONPATH="$prefix/lib/python3/dist-packages" /usr/bin/python3 -c \
+  "import jamsim_analysis as ja; print(ja.__file__); print(len(ja.open_archives('tiny.h5').replicas))" > import.txt ||
+  fail "import jamsim_analysis with PYTHONPATH=$prefix/lib/python3/dist-packages"
+[[ $(sed -n 1p import.txt) == "$prefix/lib/python3/dist-packages/jamsim_analysis/__init__.py" && $(sed -n 2p import.txt) == 2 ]] ||
+  { cat import.txt; fail "jamsim_analysis was not imported from the prefix or did not read tiny.h5"; }
 "${clean_env[@]}" jamsim export tiny.h5 --replica 1 -o replica_1.data > /dev/null || fail "jamsim export"
 grep -q "^64 atoms" replica_1.data || fail "the exported data file has no '64 atoms'"
 

@@ -1,5 +1,5 @@
-# `cmake --install BUILD --prefix P`: the jamsim executable, the Python tools (bin/jamsim-*
-# wrappers, the scripts and their package under share/jamsim/python), the campaigns, the
+# `cmake --install BUILD --prefix P`: the jamsim executable, the Python package
+# (lib/python3/dist-packages/jamsim_analysis) and its commands (bin/jamsim-*), the campaigns, the
 # Slurm scripts and modulefile templates (Lmod and Tcl). Installed scripts name the installed
 # jamsim: the prefix is written into them when they are installed (tools/install/
 # configure_installed.cmake), so `--prefix` at install time is the one they use.
@@ -13,37 +13,57 @@ set(JAMSIM_PYTHON "${_py_default}" CACHE STRING
     "Python interpreter of the installed jamsim-* tools (environment JAMSIM_PYTHON overrides)")
 
 set(JAMSIM_INSTALL_DATA ${CMAKE_INSTALL_DATADIR}/jamsim)
-set(JAMSIM_INSTALL_PYDIR ${JAMSIM_INSTALL_DATA}/python)
-# bin/ to share/jamsim/python, relative, so that the wrappers work from a moved tree.
-if(IS_ABSOLUTE "${CMAKE_INSTALL_BINDIR}" OR IS_ABSOLUTE "${CMAKE_INSTALL_DATADIR}")
-  message(FATAL_ERROR "jamsim installs with relative CMAKE_INSTALL_BINDIR and CMAKE_INSTALL_DATADIR "
-                      "(got '${CMAKE_INSTALL_BINDIR}', '${CMAKE_INSTALL_DATADIR}'): set CMAKE_INSTALL_PREFIX instead")
+# The analysis package: Debian's layout for pure-Python packages, version-independent. Under
+# the prefix /usr it is on Python's path as it is; under any other prefix put
+# PREFIX/lib/python3/dist-packages on PYTHONPATH (the modulefiles do) to import it; the bin/
+# commands find it themselves. -DJAMSIM_INSTALL_PYTHONDIR=lib/python3.11/dist-packages suits
+# the prefix /usr/local of Debian's python3.
+set(JAMSIM_INSTALL_PYTHONDIR lib/python3/dist-packages CACHE STRING
+    "Folder under the install prefix that receives the Python package jamsim_analysis")
+set(JAMSIM_INSTALL_PYDIR ${JAMSIM_INSTALL_PYTHONDIR})
+if(IS_ABSOLUTE "${CMAKE_INSTALL_BINDIR}" OR IS_ABSOLUTE "${CMAKE_INSTALL_DATADIR}" OR IS_ABSOLUTE "${JAMSIM_INSTALL_PYDIR}")
+  message(FATAL_ERROR "jamsim installs with relative CMAKE_INSTALL_BINDIR, CMAKE_INSTALL_DATADIR and "
+                      "JAMSIM_INSTALL_PYTHONDIR (got '${CMAKE_INSTALL_BINDIR}', '${CMAKE_INSTALL_DATADIR}', "
+                      "'${JAMSIM_INSTALL_PYDIR}'): set CMAKE_INSTALL_PREFIX instead")
 endif()
+# bin/ to the package's folder, relative, so that the commands work from a moved tree.
 file(RELATIVE_PATH _bin_to_py /prefix/${CMAKE_INSTALL_BINDIR} /prefix/${JAMSIM_INSTALL_PYDIR})
 
 install(TARGETS jamsim RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 
-# The analysis package and the scripts that use it, side by side (the scripts put their own
-# folder on sys.path), and one bin/ wrapper per script.
-install(DIRECTORY ${PROJECT_SOURCE_DIR}/tools/jamsim_analysis DESTINATION ${JAMSIM_INSTALL_PYDIR}
+# The package (tools/jamsim_analysis, described by tools/pyproject.toml) and one bin/ wrapper
+# per command of pyproject.toml's [project.scripts] (NAME = "module:function"), which runs
+# the function with the package's folder on PYTHONPATH. No pip is needed.
+# Component `python` (also installed alone: cmake --install BUILD --component python).
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/tools/jamsim_analysis DESTINATION ${JAMSIM_INSTALL_PYDIR} COMPONENT python
         PATTERN __pycache__ EXCLUDE PATTERN "*.pyc" EXCLUDE)
-set(JAMSIM_PYTHON_TOOLS
-  jamsim-analyze=jamsim_analyze.py
-  jamsim-report=jamsim_report.py
-  jamsim-plot-campaign=plot_campaign.py
-  jamsim-plot-replica=plot_replica.py
-  jamsim-analyze-scaling=analyze_scaling.py
-  jamsim-analyze-jamming=analyze_jamming.py
-  jamsim-transient-length=transient_length.py)
-foreach(_entry IN LISTS JAMSIM_PYTHON_TOOLS)
-  string(REPLACE "=" ";" _pair "${_entry}")
-  list(GET _pair 0 TOOL_NAME)
-  list(GET _pair 1 TOOL_SCRIPT)
-  set(TOOL_PYDIR ${_bin_to_py})
-  configure_file(${CMAKE_CURRENT_LIST_DIR}/python_tool.sh.in ${PROJECT_BINARY_DIR}/install/bin/${TOOL_NAME} @ONLY)
-  install(PROGRAMS ${PROJECT_SOURCE_DIR}/tools/${TOOL_SCRIPT} DESTINATION ${JAMSIM_INSTALL_PYDIR})
-  install(PROGRAMS ${PROJECT_BINARY_DIR}/install/bin/${TOOL_NAME} DESTINATION ${CMAKE_INSTALL_BINDIR})
+set(_pyproject ${PROJECT_SOURCE_DIR}/tools/pyproject.toml)
+set_property(DIRECTORY ${PROJECT_SOURCE_DIR} APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${_pyproject})
+file(STRINGS ${_pyproject} _lines)
+set(_in_scripts FALSE)
+set(JAMSIM_PYTHON_TOOLS)
+foreach(_line IN LISTS _lines)
+  if(_line MATCHES "^\\[")
+    set(_in_scripts FALSE)
+    if(_line STREQUAL "[project.scripts]")
+      set(_in_scripts TRUE)
+    endif()
+  elseif(_in_scripts AND _line MATCHES "^([a-z][a-z0-9-]*) *= *\"([a-z_][a-z0-9_.]*):([a-z_][a-z0-9_]*)\"$")
+    set(TOOL_NAME ${CMAKE_MATCH_1})
+    set(TOOL_MODULE ${CMAKE_MATCH_2})
+    set(TOOL_FUNCTION ${CMAKE_MATCH_3})
+    set(TOOL_PYDIR ${_bin_to_py})
+    list(APPEND JAMSIM_PYTHON_TOOLS ${TOOL_NAME})
+    configure_file(${CMAKE_CURRENT_LIST_DIR}/python_tool.sh.in ${PROJECT_BINARY_DIR}/install/bin/${TOOL_NAME} @ONLY)
+    install(PROGRAMS ${PROJECT_BINARY_DIR}/install/bin/${TOOL_NAME} DESTINATION ${CMAKE_INSTALL_BINDIR}
+            COMPONENT python)
+  elseif(_in_scripts AND _line MATCHES "^[^#]")
+    message(FATAL_ERROR "${_pyproject}: [project.scripts] line '${_line}' is not NAME = \"module:function\"")
+  endif()
 endforeach()
+if(NOT JAMSIM_PYTHON_TOOLS)
+  message(FATAL_ERROR "${_pyproject} names no commands under [project.scripts]")
+endif()
 
 # Campaigns (every file and folder under campaigns/, papers included when present).
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/campaigns/ DESTINATION ${JAMSIM_INSTALL_DATA}/campaigns)

@@ -3,8 +3,7 @@ of the thesis (scaling collapse, Newtonian and Bagnold divergences, finite-size 
 jamming, velocity correlations, configuration pictures, psi6 and animations of configuration
 frames) and one report per archive.
 
-    import sys; sys.path.insert(0, "tools")
-    import jamsim_analysis as ja
+    import jamsim_analysis as ja     # installed (tools/README.md), or run from tools/
     run = ja.open_archives("out/quickstart.h5")
     run.replicas                     # one row per replica (pandas)
     table = ja.replica_averages(run, ["pressure"])

@@ -1,5 +1,6 @@
-"""Command lines of the package: `jamsim_analyze.py COMMAND ...` (one analysis) and
-`jamsim_report.py ARCHIVE... OUTDIR` (every analysis that fits). Bad input: one message on
+"""Command lines of the package: `jamsim-analyze COMMAND ...` (one analysis) and
+`jamsim-report ARCHIVE... OUTDIR` (every analysis that fits); in a checkout
+tools/jamsim_analyze.py and tools/jamsim_report.py. Bad input: one message on
 stderr naming what is missing, exit status 2, no traceback."""
 import argparse
 import os
@@ -99,7 +100,9 @@ def cmd_collapse(a):
     output_directory(a.outdir)
     figures.collapse_figure(fit, os.path.join(a.outdir, f"collapse_{a.observable}.png"))
     pd.DataFrame([dict(parameter=k, value=v, error=fit.errors[k]) for k, v in fit.values.items()]
-                 + [dict(parameter="chi2_per_dof", value=fit.chi2_per_dof, error=np.nan)]).to_csv(
+                 + [dict(parameter="chi2_per_dof", value=fit.chi2_per_dof, error=np.nan),
+                    dict(parameter="points", value=len(fit.points), error=np.nan),
+                    dict(parameter="dof", value=fit.dof, error=np.nan)]).to_csv(
         os.path.join(a.outdir, f"collapse_{a.observable}.tsv"), sep="\t", index=False)
 
 
@@ -196,7 +199,7 @@ def _common(p, observable=True):
 
 
 def analyze_parser():
-    ap = argparse.ArgumentParser(prog="jamsim_analyze.py", description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(prog=prog_name("jamsim_analyze.py"), description=__doc__.splitlines()[0])
     sub = ap.add_subparsers(dest="command", required=True)
     p = sub.add_parser("summary", help=cmd_summary.__doc__, description=cmd_summary.__doc__)
     p.add_argument("archives", nargs="+")
@@ -262,11 +265,11 @@ def analyze_main(argv=None):
     a = parser.parse_args(argv)
     if a.command == "collapse":
         _check_window_options(parser, a)
-    return _run(globals()[f"cmd_{a.command}"], a, "jamsim_analyze.py")
+    return _run(globals()[f"cmd_{a.command}"], a, parser.prog)
 
 
 def report_main(argv=None):
-    ap = argparse.ArgumentParser(prog="jamsim_report.py", description=report.__doc__,
+    ap = argparse.ArgumentParser(prog=prog_name("jamsim_report.py"), description=report.__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("paths", nargs="+", metavar="ARCHIVE... OUTDIR",
                     help="campaign archives, shards or replica files, then the report directory")
@@ -295,10 +298,17 @@ def report_main(argv=None):
         if not rep.fits:
             raise AnalysisError("no analysis could fit this archive (reasons above and in the report)")
 
-    return _run(run, a, "jamsim_report.py")
+    return _run(run, a, ap.prog)
 
 
-# -- helpers of the scripts in tools/ (plot_campaign.py, plot_replica.py, analyze_*.py, ...) --
+# -- helpers of the commands (scripts/: plot_campaign, plot_replica, analyze_jamming, ...) --
+def prog_name(default):
+    """The command's name as the user ran it (bin/jamsim-NAME, tools/NAME.py: sys.argv[0]);
+    `default` when it runs otherwise (python3 -m pytest, an interpreter)."""
+    name = os.path.basename(sys.argv[0]) if sys.argv and sys.argv[0] else ""
+    return name if name.startswith("jamsim") or (name.endswith(".py") and name != "__main__.py") else default
+
+
 def output_directory(path, what="OUTDIR", create=True):
     """Create the output directory `path` (if needed; with create=False only check that it
     is not a file); refused with a message naming it."""

@@ -1,15 +1,14 @@
-"""Fixtures of the jamsim_analysis tests: the package on sys.path, the jamsim executable
+"""Fixtures of the jamsim_analysis tests (the package is found through pytest.ini's
+pythonpath, tools/ of this checkout): the jamsim executable
 (environment variable JAMSIM, as CTest passes it; else build/release/jamsim) and small real
 archives made by it from tests/data/campaigns."""
 import os
 import shutil
 import subprocess
-import sys
 
 import pytest
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", "..", ".."))
-sys.path.insert(0, os.path.join(ROOT, "tools"))
 CAMPAIGNS = os.path.join(ROOT, "tests", "data", "campaigns")
 
 

@@ -19,6 +19,7 @@ from conftest import CAMPAIGNS, ROOT, run_campaign
 PYTHON = "/usr/bin/python3"
 TOOLS = os.path.join(ROOT, "tools")
 SCRIPTS = sorted(glob.glob(os.path.join(TOOLS, "*.py")) + glob.glob(os.path.join(TOOLS, "*.sh"))
+                 + glob.glob(os.path.join(TOOLS, "bench", "*.sh"))
                  + glob.glob(os.path.join(ROOT, "slurm", "*.sh")) + glob.glob(os.path.join(ROOT, "slurm", "*.sbatch")))
 
 
@@ -51,8 +52,9 @@ def test_every_script_answers_help(path, tmp_path):
 
 def test_scripts_are_all_covered():
     names = {os.path.basename(p) for p in SCRIPTS}
-    assert {"plot_campaign.py", "plot_replica.py", "analyze_jamming.py", "analyze_scaling.py",
-            "transient_length.py", "quickstart.sh", "submit_campaign.sh", "merge.sbatch"} <= names
+    assert {"plot_campaign.py", "plot_replica.py", "analyze_jamming.py", "jamsim_analyze.py", "jamsim_report.py",
+            "transient_length.py", "quickstart.sh", "submit_campaign.sh", "merge.sbatch", "bench_farm.sh",
+            "cost_accuracy.sh"} <= names
 
 
 def test_analyze_jamming_help_defines_its_columns():
@@ -168,17 +170,18 @@ def test_analyze_jamming_of_two_archives_equals_the_whole(compress_split, tmp_pa
     assert open(tmp_path / "all" / "phi_j.tsv").read().split("\n")[1].startswith("32\t3\t")
 
 
-def test_analyze_scaling_of_two_archives_equals_the_whole(flow_split, tmp_path):
+def test_collapse_of_two_archives_equals_the_whole(flow_split, tmp_path):
     low, high, whole = flow_split
-    tool = script("analyze_scaling.py")
-    together = run(tool, low, high, tmp_path / "two", "--degree", "1")
-    alone = run(tool, whole, tmp_path / "one", "--degree", "1")
+    tool = script("jamsim_analyze.py")
+    together = run(tool, "collapse", low, high, tmp_path / "two", "--degree", "1")
+    alone = run(tool, "collapse", whole, tmp_path / "one", "--degree", "1")
     assert together.returncode == 0 and alone.returncode == 0, together.stderr + alone.stderr
-    x, y = (dict(line.split("\t") for line in open(tmp_path / d / "scaling_pressure.tsv").read().split("\n") if line)
+    x, y = ({row[0]: row[1] for row in (line.split("\t") for line in open(tmp_path / d / "collapse_pressure.tsv"))}
             for d in ("two", "one"))
-    assert x.keys() == y.keys() and int(x["points"]) == 12
+    assert x.keys() == y.keys() and int(float(x["points"])) == 12
     for k in x:
-        assert np.isclose(float(x[k]), float(y[k]), rtol=1e-9), (k, x[k], y[k])
+        if k != "parameter":
+            assert np.isclose(float(x[k]), float(y[k]), rtol=1e-9), (k, x[k], y[k])
 
 
 def test_plot_replica_of_a_campaign(seeds_split, jamsim, tmp_path):
@@ -212,7 +215,6 @@ TOOL_ARGS = {
     "plot_replica.py": ["ARCHIVE", "OUT/r.png", "--replica", "0"],
     "transient_length.py": ["ARCHIVE"],
     "analyze_jamming.py": ["ARCHIVE", "OUT"],
-    "analyze_scaling.py": ["ARCHIVE", "OUT"],
     "jamsim_analyze.py": ["summary", "ARCHIVE"],
     "jamsim_report.py": ["ARCHIVE", "OUT"],
 }
@@ -221,7 +223,6 @@ WRONG_KIND = {  # (which archive, the message)
     "plot_replica.py": ("rand", None),
     "transient_length.py": ("rand", "no finished replica with rate > 0"),
     "analyze_jamming.py": ("flow", "model 'RD0' is not allowed: RAND, COOL, COMPRESS"),
-    "analyze_scaling.py": ("rand", "model RAND has no flow curves"),
     "jamsim_analyze.py": ("rand", None),
     "jamsim_report.py": ("rand", None),
 }

@@ -7,7 +7,7 @@
 # Prints per configuration: iterations, force evaluations, force floor reached and time, then
 # per N the ratio of total times LAMMPS best / jamsim best.
 #
-#   tools/bench_min_vs_lammps.sh [N ...]       default: 1024 16384; SEEDS (default "1 2 3")
+#   tools/bench/bench_min_vs_lammps.sh [N ...]       default: 1024 16384; SEEDS (default "1 2 3")
 # FIRE runs only for N <= ${FIRE_MAX_N:-4096} in both codes: at N = 16384 it needs minutes per
 # configuration (seed 1: jamsim 227 s, LAMMPS 757 s, both ~6.8e5 iterations); set
 # FIRE_MAX_N=16384 to run it.
@@ -16,7 +16,7 @@ if [[ ${1:-} == -h || ${1:-} == --help ]]; then  # the header above, on stdout
   awk 'NR > 1 { if ($0 !~ /^#( |$)/) exit; sub(/^# ?/, ""); print }' "$0"
   exit 0
 fi
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 tools/install-deps.sh --bench >/dev/null
 tools/build.sh >/dev/null
 sizes=("$@")

@@ -4,7 +4,7 @@
 #  (b) 3 replicas of cost 10 and 20 of cost 1 on 2 ranks: makespan against the lower bound
 #      max(total cost / P, largest replica), costs taken from the replicas' own wall times
 #      in the archive (target: within 10%).
-#   tools/bench_farm.sh       no arguments; builds first (JAMSIM_PRESET picks the preset),
+#   tools/bench/bench_farm.sh       no arguments; builds first (JAMSIM_PRESET picks the preset),
 #                             works in build/bench-farm
 set -euo pipefail
 if [[ ${1:-} == -h || ${1:-} == --help ]]; then  # the header above, on stdout
@@ -12,7 +12,7 @@ if [[ ${1:-} == -h || ${1:-} == --help ]]; then  # the header above, on stdout
   exit 0
 fi
 [[ $# -eq 0 ]] || { echo "bench_farm.sh: argument '$1' is not allowed: it takes none; --help says what it does" >&2; exit 2; }
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 tools/build.sh >/dev/null
 [[ $(id -u) -ne 0 ]] || export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 jamsim=build/${JAMSIM_PRESET:-release}/jamsim

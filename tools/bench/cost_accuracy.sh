@@ -4,9 +4,9 @@
 # estimate of `jamsim run --dry-run` (throughput calibrated on this machine), then the campaign
 # run on one rank; measured = the sum of its replicas' wall times (core-seconds). Prints a
 # Markdown table. Not a test: timings depend on the machine and its load.
-#   tools/cost_accuracy.sh [JAMSIM] [CAMPAIGN.toml ...]
+#   tools/bench/cost_accuracy.sh [JAMSIM] [CAMPAIGN.toml ...]
 set -euo pipefail
-root=$(cd "$(dirname "$0")/.." && pwd)
+root=$(cd "$(dirname "$0")/../.." && pwd)
 if [[ ${1:-} == -h || ${1:-} == --help ]]; then
   sed -n '2,7p' "$0" | sed 's/^# \{0,1\}//'
   exit 0

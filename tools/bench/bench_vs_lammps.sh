@@ -12,13 +12,13 @@
 #       m = 1, k_d = 1, against LAMMPS fix nve + fix langevin 0 0 1.0 with a temp/deform
 #       bias (drag on the velocity relative to the shear profile), dt 0.1; per step.
 #
-#   tools/bench_vs_lammps.sh [--model RD0|RD] [N ...]   default sizes: 1024 16384 65536
+#   tools/bench/bench_vs_lammps.sh [--model RD0|RD] [N ...]   default sizes: 1024 16384 65536
 set -euo pipefail
 if [[ ${1:-} == -h || ${1:-} == --help ]]; then  # the header above, on stdout
   awk 'NR > 1 { if ($0 !~ /^#( |$)/) exit; sub(/^# ?/, ""); print }' "$0"
   exit 0
 fi
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 tools/install-deps.sh --bench >/dev/null
 tools/build.sh >/dev/null
 model=RD0

@@ -7,13 +7,13 @@
 # "vs none" is the wall-time difference (run-to-run noise on a shared VM is a few per cent);
 # "writes (io)" is the time the rank spent in archive and checkpoint writes, measured inside
 # jamsim, the overhead of saving itself.
-#   tools/bench_checkpoint.sh [N STEPS ...]     default: 1024 1000000 65536 30000
+#   tools/bench/bench_checkpoint.sh [N STEPS ...]     default: 1024 1000000 65536 30000
 set -euo pipefail
 if [[ ${1:-} == -h || ${1:-} == --help ]]; then  # the header above, on stdout
   awk 'NR > 1 { if ($0 !~ /^#( |$)/) exit; sub(/^# ?/, ""); print }' "$0"
   exit 0
 fi
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 jamsim=${JAMSIM:-build/release/jamsim}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
