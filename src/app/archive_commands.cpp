@@ -1,6 +1,7 @@
 #include "campaign_commands.hpp"
 #include "exit_status.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <memory>
 
@@ -48,9 +49,19 @@ int status(const std::string& path) {
         std::printf("remaining: about %.0f s on %lld ranks (%.0f core-seconds)\n", per_cost * s.cost_left / ranks,
                     static_cast<long long>(ranks), per_cost * s.cost_left);
     }
-    for (const auto& r : s.in_progress)
-        std::printf("%s replica %lld: %.1f%% of its steps at its last checkpoint\n", live ? "running" : "interrupted",
-                    static_cast<long long>(r.replica), 100.0 * r.fraction);
+    for (const auto& r : s.in_progress) {
+        const auto id = static_cast<long long>(r.replica);
+        if (!std::isfinite(r.noted))
+            std::printf("%s replica %lld: %.1f%% of its steps at its last checkpoint\n",
+                        live ? "running" : "interrupted", id, 100.0 * r.fraction);
+        else if (live)
+            std::printf("running replica %lld: %.1f%% of its steps (%.0f s ago), %.1f%% at its last checkpoint\n", id,
+                        100.0 * r.noted, r.note_age, 100.0 * r.fraction);
+        else
+            std::printf("interrupted replica %lld: stopped at %.1f%% of its steps; %.1f%% at its last checkpoint, "
+                        "where it continues\n",
+                        id, 100.0 * r.noted, 100.0 * r.fraction);
+    }
     for (const auto& f : s.failures) std::printf("failed %s\n", f.c_str());
     return 0;
 }

@@ -1,6 +1,7 @@
 // Reading an archive serially: its stored campaign and the summary of `jamsim status`.
 #include "jamsim/archive/archive.hpp"
 #include "archive_detail.hpp"
+#include "jamsim/io/checkpoint_file.hpp"
 
 #include <limits>
 
@@ -54,6 +55,10 @@ ArchiveSummary summarize_archive(const std::string& path) {
             ++s.running;
             s.cost_left += cost[r] * (1.0 - progress[r]);
             s.in_progress.push_back({static_cast<std::int64_t>(r), progress[r]});
+            if (const auto note = read_progress_note(progress_note_path(path, static_cast<std::int64_t>(r)))) {
+                s.in_progress.back().noted = note->fraction;
+                s.in_progress.back().note_age = note->age_seconds;
+            }
             break;
         case ReplicaStatus::Done:
             ++s.done;

@@ -1,6 +1,7 @@
 #include "run_one.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -13,6 +14,9 @@ namespace jamsim {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+/// Seconds between a running replica's progress notes (each a rename of a one-line file).
+constexpr double kProgressNoteSeconds = 2.0;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 /// The checkpoint of replica `id` when it can be used; a damaged one (unreadable, arrays that
@@ -87,10 +91,20 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, A
                                           last_save = Clock::now();
                                       },
                                   .stop = stop};
+    // Between samples: the farm's messages, and every kProgressNoteSeconds a note of how far
+    // the replica has got (jamsim status reads it between checkpoints).
+    const std::string note = progress_note_path(options.archive_path, id);
+    auto last_note = Clock::now() - std::chrono::hours(1);
+    const SampleHook after_sample = [&](double done) {
+        between();
+        if (!std::isfinite(done) || seconds_since(last_note) < kProgressNoteSeconds) return;
+        timed([&] { write_progress_note(note, done); });
+        last_note = Clock::now();
+    };
     std::shared_ptr<const ReplicaState> last_checkpoint;
     try {
         const ReplicaResult result =
-            run_replica(params, RunContext{.after_sample = between,
+            run_replica(params, RunContext{.after_sample = after_sample,
                                            // Each frame straight into its place in the archive: frames
                                            // before a checkpoint are there before the checkpoint is saved.
                                            .on_frame =
@@ -125,6 +139,8 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, A
         std::error_code ignored;            // kill during a write) is stale now
         fs::remove(checkpoint, ignored);
         fs::remove(checkpoint + ".tmp", ignored);
+        fs::remove(note, ignored);
+        fs::remove(note + ".tmp", ignored);
     }
     if (outcome == Outcome::Done && last_checkpoint &&
         model_of(params).extendable)  // kept: a longer run continues from it

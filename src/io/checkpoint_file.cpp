@@ -1,5 +1,9 @@
 #include "jamsim/io/checkpoint_file.hpp"
 
+#include <algorithm>
+#include <cstdio>
+#include <ctime>
+
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -74,6 +78,34 @@ std::string checkpoint_folder(const std::string& archive_path) { return archive_
 
 std::string checkpoint_path(const std::string& archive_path, std::int64_t id) {
     return checkpoint_folder(archive_path) + "/replica_" + std::to_string(id) + ".h5";
+}
+
+std::string progress_note_path(const std::string& archive_path, std::int64_t id) {
+    return checkpoint_folder(archive_path) + "/replica_" + std::to_string(id) + ".progress";
+}
+
+void write_progress_note(const std::string& path, double fraction) {
+    const std::string tmp = path + ".tmp";
+    std::FILE* f = std::fopen(tmp.c_str(), "w");
+    if (!f) {  // the first note of a run: the folder may not be there yet
+        std::error_code ignored;
+        std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ignored);
+        f = std::fopen(tmp.c_str(), "w");
+    }
+    if (!f) return;
+    const double now = static_cast<double>(std::time(nullptr));
+    const bool written = std::fprintf(f, "%.6f %.0f\n", fraction, now) > 0;
+    if (std::fclose(f) == 0 && written) std::rename(tmp.c_str(), path.c_str());
+}
+
+std::optional<ProgressNote> read_progress_note(const std::string& path) {
+    std::FILE* f = std::fopen(path.c_str(), "r");
+    if (!f) return std::nullopt;
+    double fraction = 0, when = 0;
+    const int read = std::fscanf(f, "%lf %lf", &fraction, &when);
+    std::fclose(f);
+    if (read != 2 || !(fraction >= 0 && fraction <= 1)) return std::nullopt;
+    return ProgressNote{fraction, std::max(0.0, static_cast<double>(std::time(nullptr)) - when)};
 }
 
 std::string end_state_path(const std::string& archive_path, std::int64_t id) {

@@ -99,7 +99,8 @@ ReplicaResult run_dynamics(const ReplicaParams& p, const RunContext& context) {
             result.series.push(s);
             const bool steady = p.rate > 0.0 ? s.strain >= p.transient : s.time >= p.transient;
             if (steady) correlation.accumulate(sys);
-            if (after_sample) after_sample();
+            if (after_sample)
+                after_sample(static_cast<double>(step) / static_cast<double>(std::max<std::int64_t>(plan.steps, 1)));
         }
         if (plan.frame_every > 0 && step % plan.frame_every == 0 && context.on_frame) {
             const double t = static_cast<double>(step) * p.dt;

@@ -4,6 +4,7 @@
 // contact_number_nonrattler, rattler_fraction, excess_contacts, jammed, max_force) filled in
 // and solver_iterations holding the minimiser's iterations. `time` is NaN: a quasistatic
 // state has no time; QS rows carry their strain.
+#include <limits>
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -74,7 +75,7 @@ struct Protocol : ReplicaRun {
     }
     void record(const StaticState& st, double strain) {
         result.series.push(sample_of(st, system(), strain));
-        if (after_sample) after_sample();
+        if (after_sample) after_sample(std::numeric_limits<double>::quiet_NaN());
     }
     /// Where a preparation stage resumes: its first step, or `stage` when the run resumes
     /// later (in the φ_J search), which skips the stage.

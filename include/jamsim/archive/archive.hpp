@@ -1,6 +1,8 @@
 #pragma once
 #include <mpi.h>
 
+#include <limits>
+
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -167,6 +169,11 @@ struct ArchiveSummary {
     struct Progress {
         std::int64_t replica;
         double fraction;  ///< of its steps, at its last checkpoint
+        /// Of its steps at its latest progress note (io/checkpoint_file.hpp, every few seconds
+        /// while it runs; where an interrupted one stopped) and the note's age in seconds;
+        /// NaN without a note.
+        double noted = std::numeric_limits<double>::quiet_NaN();
+        double note_age = std::numeric_limits<double>::quiet_NaN();
     };
     std::vector<Progress> in_progress;  ///< running (or interrupted) replicas
 };

@@ -3,6 +3,7 @@
 // campaign archive (ARCHIVE.checkpoints/replica_<id>.h5), written by the replica's rank as
 // PATH.tmp, fsynced and renamed over the previous one, so a kill at any moment leaves either
 // the old or the new checkpoint whole. Removed when the replica finishes.
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -29,6 +30,20 @@ std::string checkpoint_path(const std::string& archive_path, std::int64_t id);
 /// scanning many checkpoints before a run; throws CheckpointError (CheckpointUnreadable for a
 /// file HDF5 cannot open or read).
 void check_checkpoint_header(const std::string& path, const ReplicaParams& p);
+
+/// How far a running replica has got, between its checkpoints: a one-line text file beside
+/// its checkpoint (ARCHIVE.checkpoints/replica_<id>.progress: "FRACTION UNIX_SECONDS"),
+/// replaced by a rename every few seconds (jamsim status reads it; the farm removes it when
+/// the replica finishes, and an interrupted replica's note says where it stopped).
+std::string progress_note_path(const std::string& archive_path, std::int64_t id);
+/// Writes the note (a failure to write is ignored: the note only informs).
+void write_progress_note(const std::string& path, double fraction);
+/// The note's fraction of the replica's steps and its age in seconds; nullopt when there is
+/// none or it does not parse.
+struct ProgressNote {
+    double fraction = 0, age_seconds = 0;
+};
+std::optional<ProgressNote> read_progress_note(const std::string& path);
 
 /// The end state of a replica of a rate ladder, which its successor starts from.
 std::string end_state_path(const std::string& archive_path, std::int64_t id);

@@ -19,9 +19,10 @@ namespace jamsim {
 struct ReplicaResult;
 struct RunContext;
 
-/// Called after every sample (the campaign farm answers work requests from it); it must not
-/// touch the replica.
-using SampleHook = std::function<void()>;
+/// Called after every sample with the fraction of the replica's steps done (NaN where a
+/// protocol cannot tell: the minimisations); the campaign farm answers work requests from it
+/// and notes the progress. It must not touch the replica.
+using SampleHook = std::function<void(double done)>;
 
 /// Steps a replica takes and steps between its samples (both ends are sampled).
 struct Schedule {
