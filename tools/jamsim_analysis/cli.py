@@ -168,9 +168,14 @@ def cmd_picture(a):
         raise AnalysisError(f"replica {a.replica} is not a finished replica (done: {len(done)})")
     rep = run.replicas.iloc[a.replica]
     alpha = float(rep["alpha"]) if "alpha" in rep and np.isfinite(rep["alpha"]) else 2.0
-    net, ratt = pictures.draw_configuration(run.final(a.replica), output_file(a.output, "--output"), alpha)
-    p, s = net.stress(run.final(a.replica).box_side)
-    print(f"{len(net.force)} contacts, {int(ratt.sum())} rattlers, network p = {p:.6g}, sigma = {s:.6g}; {a.output}")
+    final, strain = run.final(a.replica), run.final_strain(a.replica)
+    params = f"{rep['model']} N = {int(rep['N'])}, phi = {rep['phi']:g}" + (
+        f", rate = {rep['rate']:g}" if "rate" in rep and np.isfinite(rep["rate"]) and rep["rate"] > 0 else "")
+    net, ratt = pictures.draw_configuration(final, output_file(a.output, "--output"), alpha, strain=strain,
+                                            caption=f"replica {a.replica}: {params}")
+    p, s = net.stress(final.box_side)
+    print(f"{pictures.strain_text(strain, final.box_strain)}: {len(net.force)} contacts, {int(ratt.sum())} "
+          f"rattlers, network p = {p:.6g}, sigma = {s:.6g}; {a.output}")
 
 
 def cmd_frames(a):
@@ -277,8 +282,12 @@ def report_main(argv=None):
     ap.add_argument("--phi-min", type=float, default=-np.inf, help="collapse window: smallest phi (default: all)")
     ap.add_argument("--phi-max", type=float, default=np.inf, help="collapse window: largest phi (default: all)")
     ap.add_argument("--rate-max", type=float, default=np.inf, help="collapse window: largest rate (default: all)")
-    ap.add_argument("--auto-window", action="store_true",
-                    help="choose each collapse's window from the data (the largest whose fit is acceptable)")
+    window = ap.add_mutually_exclusive_group()
+    window.add_argument("--auto-window", action="store_true",
+                        help="choose each collapse's window from the data (the largest whose fit is acceptable; "
+                        "the default when no window is given), shown first, then the fit to every point")
+    window.add_argument("--full-window", action="store_true",
+                        help="fit every point only (no window chosen from the data)")
     a = ap.parse_args(argv)
     if len(a.paths) < 2:
         ap.error("give at least one archive and the output directory")
@@ -287,7 +296,7 @@ def report_main(argv=None):
     def run(a):
         output_directory(a.paths[-1], create=False)
         opts = report.ReportOptions(a.degree, a.correction, a.bootstrap, a.N, a.phi_min, a.phi_max, a.rate_max,
-                                    a.auto_window)
+                                    not a.full_window)
         rep = report.build_report(a.paths[:-1], a.paths[-1], opts)
         for s in rep.skipped:
             print(f"not run: {s['analysis']}: {s['reason']}")
