@@ -274,3 +274,70 @@ def order_figure(series, path):
         ax.set_ylim(0, 1)
     axes[0].legend(fontsize=8)
     _save(fig, path)
+
+
+def comparison_figure(comparison, path, replicas=None, label="model"):
+    """Steady-state averages of several groups (comparison.AveragesComparison). Per observable
+    a column: on top each group's seed average with its 1-sigma error at every shared state
+    point (groups side by side, one colour each; the replica means as small dots when
+    `replicas` is given); below, each pair's difference in units of its error (filled:
+    significant after Holm's adjustment; dashed lines at +-1.96). With one state point the
+    title carries the difference, its sigmas and the test's p."""
+    from .comparison import point_label
+
+    obs, labels, d = comparison.observables, comparison.labels, comparison.differences
+    keys = [k for k in ("N", "phi", "rate") if k in comparison.averages]
+    points = comparison.averages[keys].drop_duplicates().sort_values(keys).reset_index(drop=True)
+    names = [point_label(r, keys) for _, r in points.iterrows()]
+    colours = dict(zip(labels, plt.rcParams["axes.prop_cycle"].by_key()["color"] * 3))
+    width = max(4.0, 0.5 * len(points) * len(labels) + 2)
+    fig, axes = plt.subplots(2, len(obs), figsize=(width * len(obs), 6.5), squeeze=False,
+                             gridspec_kw=dict(height_ratios=(3, 2)), sharex="col")
+    offsets = (np.arange(len(labels)) - (len(labels) - 1) / 2) * 0.6 / max(len(labels), 1)
+    pairs = list(dict.fromkeys(zip(d["group_a"], d["group_b"])))
+    for col, o in enumerate(obs):
+        ax, bx = axes[0, col], axes[1, col]
+        for k, g in enumerate(labels):
+            part = comparison.averages[comparison.averages[label] == g].merge(points.reset_index(), on=keys)
+            ax.errorbar(part["index"] + offsets[k], part[o], part[f"{o}_error"], marker="o", ls="none", capsize=3,
+                        color=colours[g], label=f"{g}")
+            if replicas is not None:
+                r = replicas[(replicas[label] == g) & (replicas["left_out"] == "")].merge(points.reset_index(), on=keys)
+                ax.plot(r["index"] + offsets[k] + 0.08, r[o], ".", ms=3, color=colours[g], alpha=0.6)
+        values = comparison.averages[o].to_numpy(float)
+        if np.all(values > 0) and values.max() / values.min() > 20:
+            ax.set_yscale("log")
+        ax.set_ylabel(f"${LABELS.get(o, o)}$ (steady average)" if o in LABELS else o)
+        ax.legend(fontsize=7, title=f"{label} (dots: replicas)" if replicas is not None else label, title_fontsize=7)
+        rows = d[d["observable"] == o]
+        for j, (a, b) in enumerate(pairs):
+            pr = rows[(rows["group_a"] == a) & (rows["group_b"] == b)].merge(points.reset_index(), on=keys)
+            z = pr["difference"] / pr["difference_error"]
+            shift = (j - (len(pairs) - 1) / 2) * 0.1
+            for sig in (True, False):
+                s = pr["significant"] == sig
+                if not s.any():
+                    continue
+                bx.plot(pr.loc[s, "index"] + shift, z[s], "o", color=f"C{j}", mfc=f"C{j}" if sig else "white",
+                        label=f"{a} - {b}" + (" (significant)" if sig else ""))
+        for y in (-1.96, 1.96):
+            bx.axhline(y, color="0.5", ls="--", lw=0.8)
+        bx.axhline(0, color="k", lw=0.5)
+        bx.set_ylabel("difference / error")
+        top = max(3.0, float(np.nanmax(np.abs(rows["sigmas"]))) * 1.3) if len(rows) else 3.0
+        bx.set_ylim(-top, top)
+        bx.legend(fontsize=6, loc="lower left", ncol=2)
+        bx.set_xticks(range(len(points)))
+        bx.set_xticklabels(names, rotation=30 if len(points) > 2 else 0, ha="right" if len(points) > 2 else "center",
+                           fontsize=7)
+        bx.set_xlim(-0.6, len(points) - 0.4)
+        title = LABELS.get(o, o)
+        title = f"${title}$" if o in LABELS else title
+        if len(rows) == 1:
+            r = rows.iloc[0]
+            title += (f": {r['group_a']} $-$ {r['group_b']} = "
+                      f"{value_with_error(r['difference'], r['difference_error'])}"
+                      f"\n({r['sigmas']:.1f}$\\sigma$; {r['test']}, p = {r['p_value']:.2g}"
+                      f"{': significant' if r['significant'] else ': not significant'})")
+        ax.set_title(title, fontsize=9)
+    return _save(fig, path)

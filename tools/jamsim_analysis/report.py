@@ -2,15 +2,19 @@
 as PNG figures plus report.md and report.html in an output directory.
 
 Dynamics (RD0, CD0, RD0T, RD, CD, CDn, CDt): steady averages per (model, N, phi, rate),
-replicas left out and why, flow curves; per model with >= 3 rates the collapse of p and
-sigma (bootstrap over seeds when every point has >= 3 seeds); the Newtonian divergence
-(overdamped models) or the Bagnold analysis (massive models); RD0 against CD0 when both
-are present; g_y(x) and its minimum; a picture of a final configuration; with
+replicas left out and why, flow curves; with two or more models, their averages compared at
+the state points they share (any number of rates: a difference, its error in sigmas and a
+Welch t or z test); per model with >= 3 rates the collapse of p and sigma in the window
+chosen from the data (bootstrap over seeds when every point has >= 3 seeds), then the fit
+to every point, marked when its chi2 rejects it; the Newtonian divergence (overdamped
+models) or the Bagnold analysis (massive models); the joint collapse of RD0 and CD0 when
+both are present; g_y(x) and its minimum; a picture of a final configuration; with
 configuration frames ([run] frame_interval), psi6 over strain and an animation.
 Static (RAND, COOL, COMPRESS, COOL_COMPRESS, SHEARED): P_J(phi, N), thresholds per N,
 finite-size scaling with >= 3 sizes, pressure distributions, a picture of a jammed state.
 QS: averages per (N, phi) and a picture.
-An analysis that cannot run is listed with its reason; no analysis at all is an error.
+An analysis that cannot run is listed with its reason; the report is an error (exit 2) only
+when no analysis at all could run (no finished replica, every replica left out).
 """
 import dataclasses
 import os
@@ -18,7 +22,7 @@ import os
 import numpy as np
 import pandas as pd
 
-from . import correlations, figures, jamming, order, pictures, rheology, scaling, stats
+from . import comparison, correlations, figures, jamming, order, pictures, rheology, scaling, stats
 from .archive import open_archives
 from .document import Document
 from .errors import AnalysisError
@@ -101,6 +105,7 @@ class Report:
         self.outdir = outdir
         self.fits = []
         self.skipped = []
+        self.ran = []  # the analyses that produced a section
         self.windows = {}  # (model, observable) -> (phi_min, phi_max, rate_max) chosen from the data
         os.makedirs(outdir, exist_ok=True)
 
@@ -109,8 +114,10 @@ class Report:
 
     def attempt(self, name, func):
         """Run one analysis; an AnalysisError becomes a skipped entry."""
+        place = len(self.ran)  # before the analyses it runs itself
         try:
             func()
+            self.ran.insert(place, name)
         except AnalysisError as e:
             self.skipped.append(dict(analysis=name, reason=str(e)))
         except Exception as e:  # noqa: BLE001 - one failed analysis must not stop the report
@@ -118,6 +125,9 @@ class Report:
 
     def write(self):
         d = self.doc
+        body = len(d.blocks)
+        d.heading("Analyses run")
+        d.paragraph("; ".join(self.ran) if self.ran else "none")
         d.heading("Fitted values")
         if self.fits:
             table = pd.DataFrame(self.fits)
@@ -135,8 +145,9 @@ class Report:
             d.paragraph("No fit could run on this archive.")
         d.heading("Analyses not run")
         d.table(pd.DataFrame(self.skipped or [dict(analysis="-", reason="every analysis ran")]))
-        # the summary first: move the two sections just added to the top
-        d.blocks = d.blocks[-5:] + d.blocks[:-5]
+        # the summary first: move the sections just added after the first paragraph (files)
+        head = 1 if body and d.blocks[0][0] == "p" else 0
+        d.blocks = d.blocks[:head] + d.blocks[body:] + d.blocks[head:body]
         with open(self.path("report.md"), "w") as f:
             f.write(d.markdown())
         with open(self.path("report.html"), "w") as f:
@@ -167,6 +178,10 @@ def _dynamics(rep, archive, opts):
     for o in OBSERVABLES:
         figures.flow_curves(groups, o, rep.path(f"flow_{o}.png"))
         d.figure(f"flow_{o}.png", f"{o}/rate against phi")
+    rep.ran.append("steady-state averages")
+    if groups["model"].nunique() >= 2:
+        rep.attempt("steady-state averages compared between models",
+                    lambda: _compare_averages(rep, table, groups))
     phi_j = {}
     for model in sorted(groups["model"].unique()):
         for o in OBSERVABLES:
@@ -303,13 +318,38 @@ def _compare(rep, groups, opts):
                                              phi_range=(phi_min, phi_max), rate_max=rate_max)
                      for m in ("RD0", "CD0")])
     cmp = scaling.compare_collapses(pts, opts.degree, 0 if opts.correction else -1)
-    rep.doc.heading("RD0 against CD0")
+    rep.doc.heading("RD0 against CD0: joint collapse")
     rep.doc.paragraph(cmp.statement())
     rep.fits += fit_rows("joint collapse RD0+CD0 pressure", cmp.joint.values, cmp.joint.errors,
                          cmp.joint.chi2, cmp.joint.dof, f"F = {cmp.f_statistic:.2f}, p = {cmp.p_value:.3g}",
                          scaled="residuals")
     figures.collapse_figure(cmp.joint, rep.path("collapse_joint.png"))
     rep.doc.figure("collapse_joint.png", "joint collapse of RD0 and CD0")
+
+
+def _compare_averages(rep, table, groups, label="model"):
+    """The steady averages of the models at the state points they share (comparison.py)."""
+    cmp = comparison.compare_averages(groups, list(OBSERVABLES), label=label, replica_table=table)
+    d = rep.doc
+    d.heading(f"Steady-state averages compared: {' against '.join(map(str, cmp.labels))}")
+    d.paragraph("At each state point (N, phi, rate) that two or more models share, each pair's difference of "
+                "seed averages, its error sqrt(error_a^2 + error_b^2) from the 1-sigma errors of the table above "
+                "and the difference in those errors (sigmas). " + TEST_TEXT)
+    d.table(cmp.averages)
+    d.table(cmp.differences[[c for c in DIFFERENCE_COLUMNS if c in cmp.differences]])
+    d.paragraph(cmp.statement())
+    comparison.write_tables(cmp, rep.outdir)
+    figures.comparison_figure(cmp, rep.path("compare.png"), replicas=table, label=label)
+    d.figure("compare.png", "seed averages with 1-sigma errors per group (dots: replica means) and each "
+             "difference in units of its error (filled: significant)")
+
+
+TEST_TEXT = ("Test of equal means, two-sided: Welch's t over the replica means when both groups have 2 or "
+             "more seeds, else a z test with the time errors; Holm's adjustment over every test of the "
+             "comparison. Tables: compare_averages.tsv, compare.tsv.")
+DIFFERENCE_COLUMNS = ("N", "phi", "rate", "observable", "group_a", "group_b", "difference", "difference_error",
+                      "relative_difference", "sigmas", "test", "statistic", "dof", "p_value", "p_adjusted",
+                      "significant")
 
 
 def _correlations(rep, archive, table):
@@ -401,6 +441,7 @@ def _static(rep, archive, opts):
     figures.jamming_figure(pj, thr if len(thr) else None, rep.path("pj.png"))
     d.figure("pj.png", "jamming probability P_J(phi) per N")
     jammed = states[states["jammed"] == 1]
+    rep.ran.append("jamming probability")
     rep.attempt("pressure distributions", lambda: _pressure_distributions(rep, states))
     for model in sorted(states["model"].unique()):
         rep.attempt(f"finite-size scaling {model}", lambda m=model: _fss(rep, thr, m, opts))
@@ -429,6 +470,7 @@ def _quasistatic(rep, archive):
     groups = stats.group_averages(table, list(OBSERVABLES), keys=("model", "N", "phi"))
     rep.doc.heading("Quasistatic shear averages")
     rep.doc.table(groups)
+    rep.ran.append("quasistatic shear averages")
     kept = table[table["left_out"] == ""]
     rep.attempt("configuration picture", lambda: _picture(rep, archive, kept))
 
