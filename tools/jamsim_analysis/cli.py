@@ -97,7 +97,11 @@ def cmd_collapse(a):
     for k, v in fit.values.items():
         print(f"  {k:6s} = {v:.5g} +- {fit.errors[k]:.2g}")
     output_directory(a.outdir)
-    figures.collapse_figure(fit, os.path.join(a.outdir, f"collapse_{a.observable}.png"))
+    pts = fit.points
+    label = (f"{a.observable}, {'window chosen from the data' if a.auto_window else 'window'}: phi "
+             f"{pts['phi'].min():g}..{pts['phi'].max():g}, rate {pts['rate'].min():g}..{pts['rate'].max():g}, "
+             f"{len(pts)} points")
+    figures.collapse_figure(fit, os.path.join(a.outdir, f"collapse_{a.observable}.png"), label=label)
     pd.DataFrame([dict(parameter=k, value=v, error=fit.errors[k]) for k, v in fit.values.items()]
                  + [dict(parameter="chi2_per_dof", value=fit.chi2_per_dof, error=np.nan)]).to_csv(
         os.path.join(a.outdir, f"collapse_{a.observable}.tsv"), sep="\t", index=False)
