@@ -128,6 +128,11 @@ def compare_averages(groups, observables, label="model", alpha=ALPHA, replica_ta
         here = [g for g in labels if g in set(part[label])]
         if len(here) < 2:
             continue
+        twice = part[label].duplicated()
+        if twice.any():
+            raise AnalysisError(f"group {part[label][twice].iloc[0]} has two rows at "
+                                + ", ".join(f"{k} = {v:g}" for k, v in zip(keys, point))
+                                + ": each group holds one model (choose one with --model)")
         shared.append(part)
         by = {g: part[part[label] == g].iloc[0] for g in here}
         for a, b in itertools.combinations(here, 2):

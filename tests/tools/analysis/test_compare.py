@@ -183,3 +183,14 @@ def test_two_real_models_at_one_rate(jamsim, tmp_path_factory, flow_archive):
     assert "configuration.png" in md and "correlation.png" in md
     out = call(ANALYZE, "compare", "--collapse", flow_archive)
     assert out.returncode == 2 and "a joint collapse needs two models" in out.stderr, out.stderr
+
+
+def test_a_group_with_two_rows_at_a_point_is_refused():
+    rng = np.random.default_rng(5)
+    table = replica_table(rng, ("A", "B"), 2, 3, 0.0, 0.01)
+    table.loc[table["model"] == "A", "label"] = "one"
+    table.loc[table["model"] == "B", "label"] = "one"
+    groups = ja.group_averages(pd.concat([table, table.assign(label="two", model="A")]), ["pressure"],
+                               keys=("label",) + ja.stats.KEYS)
+    with pytest.raises(ja.AnalysisError, match="group one has two rows at N = 64"):
+        comparison.compare_averages(groups, ["pressure"], label="label")
