@@ -1,7 +1,8 @@
 """Analysis of jamsim archives: load campaigns into pandas, honest error bars, the analyses
 of the thesis (scaling collapse, Newtonian and Bagnold divergences, finite-size scaling of
-jamming, velocity correlations, configuration pictures, psi6 and animations of configuration
-frames) and one report per archive.
+jamming, velocity correlations, steady averages compared between models or archives,
+configuration pictures, psi6 and animations of configuration frames) and one report per
+archive.
 
     import jamsim_analysis as ja     # installed (tools/README.md), or run from tools/
     run = ja.open_archives("out/quickstart.h5")
@@ -9,6 +10,7 @@ frames) and one report per archive.
     table = ja.replica_averages(run, ["pressure"])
     groups = ja.group_averages(table, ["pressure"])
     fit = ja.fit_collapse(ja.collapse_points(groups, "pressure"))
+    cmp = ja.compare_averages(groups, ["pressure"])   # models at the state points they share
     ds = ja.replica_dataset(run, ["pressure"])    # xarray over (N, phi, rate, seed)
 
 Every raw read of an HDF5 file happens in archive.py; everything else takes DataFrames and
@@ -22,6 +24,7 @@ from .scaling import fit_collapse, collapse_points, bootstrap_collapse, compare_
 from .rheology import fit_divergence, newtonian_divergence, bagnold_analysis, local_slopes
 from .jamming import jamming_probability, phi_j_samples, finite_size_scaling
 from .correlations import correlation_minima, fit_minimum_growth
+from .comparison import compare_averages
 from .pictures import contact_network, rattlers, animate_frames
 from . import order
 from .order import psi6, psi6_over_strain

@@ -32,6 +32,10 @@ BOOKKEEPING = {"identity", "status", "failure_reason", "rank", "wall_seconds", "
 # Numeric root attributes of a replica file that are results, not parameters.
 REPLICA_FILE_RESULTS = {"mean_pressure", "mean_shear_stress", "force_evaluations",
                         "neighbor_list_builds", "wall_seconds", "layout_version"}
+# Models sheared quasistatically (rate 0 in the table, `strain` their total strain).
+QUASISTATIC = ("QS", "SHEARED")
+# Models whose states are never sheared (no accumulated strain).
+UNSHEARED = ("RAND", "COOL", "COMPRESS", "COOL_COMPRESS")
 # Largest dataset read whole and kept in memory (elements); larger ones are read by rows.
 WHOLE_READ_LIMIT = 20_000_000
 
@@ -300,6 +304,35 @@ class Archive:
         src, row = self._sources[replica], self._rows[replica]
         n = int(self.replicas["N"].iat[replica])
         return _read_final(src, row, n)
+
+    def final_strain(self, replica):
+        """Accumulated strain of the final configuration of `replica` (not the wrapped
+        Lees-Edwards offset box_strain in [-1/2, 1/2)): the run's `strain` parameter for a
+        sheared run (rate > 0; QS and SHEARED, whose rate is 0), moved to the whole step the
+        run ended on (the value congruent to box_strain modulo 1 within two steps of the
+        parameter), else the last `strain` sample when it is finite; 0 for dynamics at rate 0;
+        NaN for models that do not shear
+        (RAND, COMPRESS, ...)."""
+        rep = self.replicas.iloc[replica]
+        rate = float(rep["rate"]) if "rate" in rep and pd.notna(rep["rate"]) else np.nan
+        total = float(rep["strain"]) if "strain" in rep and pd.notna(rep["strain"]) else np.nan
+        if np.isfinite(total) and (rate > 0 or rep["model"] in QUASISTATIC):
+            # the run ends on a whole step: the strain congruent to the box offset nearest
+            # the parameter, when that is within two steps of it
+            step = rate * float(rep["dt"]) if rate > 0 and "dt" in rep and pd.notna(rep["dt"]) else \
+                float(rep["strain_step"]) if "strain_step" in rep and pd.notna(rep["strain_step"]) else 0.0
+            box = self.final(replica).box_strain
+            shift = (box - total + 0.5) % 1.0 - 0.5
+            return total + shift if abs(shift) <= 2 * step + 1e-12 else total
+        if rep["model"] in UNSHEARED:
+            return float("nan")
+        if rate == 0 and rep["model"] not in QUASISTATIC:
+            return 0.0
+        try:
+            samples = self.series(replica, "strain")
+        except AnalysisError:
+            return float("nan")
+        return float(samples[-1]) if len(samples) and np.isfinite(samples[-1]) else float("nan")
 
     def has_frames(self, replica):
         """Whether the file of `replica` keeps configuration frames ([run] frame_interval)."""

@@ -9,7 +9,7 @@ import sys
 import numpy as np
 import pandas as pd
 
-from . import correlations, figures, jamming, order, pictures, report, rheology, scaling, stats, tables
+from . import comparison, correlations, figures, jamming, order, pictures, report, rheology, scaling, stats, tables
 from .archive import open_archives
 from .errors import AnalysisError
 
@@ -98,7 +98,11 @@ def cmd_collapse(a):
     for k, v in fit.values.items():
         print(f"  {k:6s} = {v:.5g} +- {fit.errors[k]:.2g}")
     output_directory(a.outdir)
-    figures.collapse_figure(fit, os.path.join(a.outdir, f"collapse_{a.observable}.png"))
+    pts = fit.points
+    label = (f"{a.observable}, {'window chosen from the data' if a.auto_window else 'window'}: phi "
+             f"{pts['phi'].min():g}..{pts['phi'].max():g}, rate {pts['rate'].min():g}..{pts['rate'].max():g}, "
+             f"{len(pts)} points")
+    figures.collapse_figure(fit, os.path.join(a.outdir, f"collapse_{a.observable}.png"), label=label)
     pd.DataFrame([dict(parameter=k, value=v, error=fit.errors[k]) for k, v in fit.values.items()]
                  + [dict(parameter="chi2_per_dof", value=fit.chi2_per_dof, error=np.nan),
                     dict(parameter="points", value=len(fit.points), error=np.nan),
@@ -107,11 +111,64 @@ def cmd_collapse(a):
 
 
 def cmd_compare(a):
+    """Steady-state averages of several groups (models; archives with --by file) compared at
+    the state points (N, phi, rate) they share, one rate or many: each group's seed averages
+    with errors, each difference with its error in sigmas and a two-sided test of equal means
+    (Welch t over the replica means, z with the time errors for one seed; Holm's adjustment),
+    a table (compare_averages.tsv, compare.tsv) and a figure (compare.png) in --outdir.
+    --collapse: instead, the joint collapse of two models (shared phi_J, q, znu) against
+    separate ones, with an F test (needs >= 3 rates)."""
+    if a.collapse:
+        return _compare_collapses(a)
+    if a.by == "file":
+        tables = []
+        names = [os.path.splitext(os.path.basename(p))[0] for p in a.archives]
+        if len(set(names)) < len(names):
+            names = list(a.archives)
+        if len(set(names)) < len(names):
+            raise AnalysisError("--by file: an archive is given twice")
+        for path, name in zip(a.archives, names):
+            t = stats.replica_averages(open_archives([path]), a.observable)
+            t.insert(0, "file", name)
+            tables.append(t)
+        table = pd.concat(tables, ignore_index=True)
+        keys = ("file",) + stats.KEYS
+    else:
+        table = stats.replica_averages(open_archives(a.archives), a.observable)
+        keys = stats.KEYS
+    for column, wanted in (("model", a.model), ("N", a.N), ("phi", a.phi), ("rate", a.rate)):
+        if wanted is None:
+            continue
+        if column == "model":
+            keep = table["model"] == wanted
+        else:
+            keep = np.isclose(table[column].astype(float), float(wanted), rtol=1e-9, atol=0)
+        if not keep.any():
+            values = ", ".join(f"{v:g}" if isinstance(v, float) else str(v)
+                               for v in sorted(table[column].dropna().unique()))
+            raise AnalysisError(f"--{column} {wanted}: not in the data ({column}: {values})")
+        table = table[keep]
+    groups = stats.group_averages(table, a.observable, keys=keys)
+    cmp = comparison.compare_averages(groups, a.observable, label=a.by, alpha=a.alpha, replica_table=table)
+    print(cmp.averages.to_string(index=False))
+    print()
+    print(cmp.differences[[c for c in report.DIFFERENCE_COLUMNS if c in cmp.differences]].to_string(index=False))
+    print()
+    print(cmp.statement())
+    if a.outdir:
+        output_directory(a.outdir, "--outdir")
+        comparison.write_tables(cmp, a.outdir)
+        figures.comparison_figure(cmp, os.path.join(a.outdir, "compare.png"), replicas=table, label=a.by)
+        print(f"tables and figure: {os.path.join(a.outdir, 'compare.tsv')}, compare_averages.tsv, compare.png")
+
+
+def _compare_collapses(a):
     """RD0 against CD0 (or any two models): joint collapse with shared phi_J, q, znu against separate ones."""
-    _, groups = _averages(_flow_archive(a.archives), [a.observable])
+    observable = a.observable[0]
+    _, groups = _averages(_flow_archive(a.archives), [observable])
     models = sorted(groups.loc[groups["rate"] > 0, "model"].unique())
-    pts = pd.concat([scaling.collapse_points(groups, a.observable, a.N, model=m) for m in models])
-    cmp = scaling.compare_collapses(pts, a.degree, observable=a.observable)
+    pts = pd.concat([scaling.collapse_points(groups, observable, a.N, model=m) for m in models])
+    cmp = scaling.compare_collapses(pts, a.degree, observable=observable)
     for name, f in list(cmp.separate.items()) + [("joint", cmp.joint)]:
         print(f"{name:6s}: " + ", ".join(f"{k} = {f.values[k]:.4g} +- {f.errors[k]:.2g}" for k in ("phi_J", "q", "znu"))
               + f", chi2/dof = {f.chi2_per_dof:.2f}")
@@ -171,9 +228,14 @@ def cmd_picture(a):
         raise AnalysisError(f"replica {a.replica} is not a finished replica (done: {len(done)})")
     rep = run.replicas.iloc[a.replica]
     alpha = float(rep["alpha"]) if "alpha" in rep and np.isfinite(rep["alpha"]) else 2.0
-    net, ratt = pictures.draw_configuration(run.final(a.replica), output_file(a.output, "--output"), alpha)
-    p, s = net.stress(run.final(a.replica).box_side)
-    print(f"{len(net.force)} contacts, {int(ratt.sum())} rattlers, network p = {p:.6g}, sigma = {s:.6g}; {a.output}")
+    final, strain = run.final(a.replica), run.final_strain(a.replica)
+    params = f"{rep['model']} N = {int(rep['N'])}, phi = {rep['phi']:g}" + (
+        f", rate = {rep['rate']:g}" if "rate" in rep and np.isfinite(rep["rate"]) and rep["rate"] > 0 else "")
+    net, ratt = pictures.draw_configuration(final, output_file(a.output, "--output"), alpha, strain=strain,
+                                            caption=f"replica {a.replica}: {params}")
+    p, s = net.stress(final.box_side)
+    print(f"{pictures.strain_text(strain, final.box_strain)}: {len(net.force)} contacts, {int(ratt.sum())} "
+          f"rattlers, network p = {p:.6g}, sigma = {s:.6g}; {a.output}")
 
 
 def cmd_frames(a):
@@ -213,7 +275,24 @@ def analyze_parser():
     p.add_argument("-o", "--output", required=True, help="CSV file to write (must not exist)")
     p.add_argument("--observable", nargs="+", help="time-series columns (default: pressure, shear_stress, "
                    "energy_per_particle, contact_number, packing_fraction where present)")
-    for name, func in (("collapse", cmd_collapse), ("compare", cmd_compare)):
+    p = sub.add_parser("compare", help=cmd_compare.__doc__, description=cmd_compare.__doc__ + "\n\n"
+                       + comparison.__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("archives", nargs="+", help="campaign archives, shards or replica files")
+    p.add_argument("--observable", nargs="+", default=["pressure", "shear_stress"],
+                   help="time-series columns compared (default: pressure shear_stress; --collapse: the first)")
+    p.add_argument("--by", choices=["model", "file"], default="model",
+                   help="what a group is: a model (archives read together) or an archive file (each read on its "
+                   "own: the same campaign run twice, other settings or code versions)")
+    p.add_argument("--model", help="only this model")
+    p.add_argument("--N", type=int, help="only this system size (--collapse: the size fitted, default the largest)")
+    p.add_argument("--phi", type=float, help="only this packing fraction")
+    p.add_argument("--rate", type=float, help="only this shear rate")
+    p.add_argument("--alpha", type=float, default=comparison.ALPHA, help="level of the tests (default 0.05)")
+    p.add_argument("--outdir", help="write compare.tsv, compare_averages.tsv and compare.png here")
+    p.add_argument("--collapse", action="store_true",
+                   help="the joint collapse (shared phi_J, q, znu) against separate ones, F test (>= 3 rates)")
+    p.add_argument("--degree", type=int, default=3, help="--collapse: degree of ln F(x) (default 3)")
+    for name, func in (("collapse", cmd_collapse),):
         p = sub.add_parser(name, help=func.__doc__, description=func.__doc__ + " " + scaling.__doc__)
         _common(p)
         p.add_argument("--degree", type=int, default=3, help="degree of ln F(x) (default 3)")
@@ -280,8 +359,12 @@ def report_main(argv=None):
     ap.add_argument("--phi-min", type=float, default=-np.inf, help="collapse window: smallest phi (default: all)")
     ap.add_argument("--phi-max", type=float, default=np.inf, help="collapse window: largest phi (default: all)")
     ap.add_argument("--rate-max", type=float, default=np.inf, help="collapse window: largest rate (default: all)")
-    ap.add_argument("--auto-window", action="store_true",
-                    help="choose each collapse's window from the data (the largest whose fit is acceptable)")
+    window = ap.add_mutually_exclusive_group()
+    window.add_argument("--auto-window", action="store_true",
+                        help="choose each collapse's window from the data (the largest whose fit is acceptable; "
+                        "the default when no window is given), shown first, then the fit to every point")
+    window.add_argument("--full-window", action="store_true",
+                        help="fit every point only (no window chosen from the data)")
     a = ap.parse_args(argv)
     if len(a.paths) < 2:
         ap.error("give at least one archive and the output directory")
@@ -290,13 +373,14 @@ def report_main(argv=None):
     def run(a):
         output_directory(a.paths[-1], create=False)
         opts = report.ReportOptions(a.degree, a.correction, a.bootstrap, a.N, a.phi_min, a.phi_max, a.rate_max,
-                                    a.auto_window)
+                                    not a.full_window)
         rep = report.build_report(a.paths[:-1], a.paths[-1], opts)
+        print(f"ran: {'; '.join(rep.ran) or 'none'}")
         for s in rep.skipped:
             print(f"not run: {s['analysis']}: {s['reason']}")
         print(f"{len(rep.fits)} fitted values; report: {os.path.join(a.paths[-1], 'report.html')} and report.md")
-        if not rep.fits:
-            raise AnalysisError("no analysis could fit this archive (reasons above and in the report)")
+        if not rep.ran:
+            raise AnalysisError("no analysis could run on this archive (reasons above and in the report)")
 
     return _run(run, a, ap.prog)
 

@@ -85,11 +85,25 @@ def rattlers(n, network, min_contacts=MIN_CONTACTS):
         active &= ~remove
 
 
-def draw_configuration(final, path, alpha=2.0, title="", max_width=4.0):
+def strain_text(strain, box_strain):
+    """'strain 2, Lees-Edwards offset +0.000' (the accumulated strain and the wrapped box
+    offset gamma in [-1/2, 1/2) the picture is drawn with), or only the offset when the
+    accumulated strain is unknown (NaN, None)."""
+    offset = f"Lees-Edwards offset {box_strain:+.3f}"
+    if strain is None or not np.isfinite(strain):
+        return offset
+    return f"strain {strain:.4g}, {offset}"
+
+
+def draw_configuration(final, path, alpha=2.0, title="", max_width=4.0, strain=None, caption=""):
     """PNG of a configuration in the lab frame of the sheared cell: disks to scale (small
     blue, large orange), images of disks crossing the parallelogram's edges, contact
     forces as black lines of width proportional to the force (max_width points for the
-    largest), rattlers grey with a cross. Returns (network, rattler mask)."""
+    largest), rattlers grey with a red cross, the cell's parallelogram in green; a legend
+    below the cell says so. strain: the accumulated strain of the configuration (the
+    archive's, Archive.final_strain; the box offset final.box_strain is only its wrapped
+    part); the default title names it, N, the contacts and rattlers; caption: a first
+    title line (e.g. the replica's parameters). Returns (network, rattler mask)."""
     L, gamma = final.box_side, final.box_strain
     net = contact_network(final, alpha)
     rattler = rattlers(len(final.x), net)
@@ -110,7 +124,7 @@ def draw_configuration(final, path, alpha=2.0, title="", max_width=4.0):
         end = start - np.column_stack([net.dx, net.dy])
         widths = max_width * net.force / net.force.max()
         ax.add_collection(LineCollection(np.stack([start, end], axis=1), linewidths=widths, colors="k"))
-    ax.plot(lab_x[rattler], y[rattler], "x", color="r", ms=4, label="rattler")
+    ax.plot(lab_x[rattler], y[rattler], "x", color="r", ms=4)
     corners = [(0, 0), (L, 0), (L + gamma * L, L), (gamma * L, L)]
     ax.add_patch(Polygon(corners, closed=True, fill=False, ec="g", lw=1))
     ax.set_aspect("equal")
@@ -118,12 +132,39 @@ def draw_configuration(final, path, alpha=2.0, title="", max_width=4.0):
     ax.set_ylim(-1, L + 1)
     ax.set_xlabel(r"lab $x$ ($d_s$)")
     ax.set_ylabel(r"$y$ ($d_s$)")
-    ax.set_title(title or f"N = {len(d)}, strain {gamma:+.3f}, {len(net.force)} contacts, "
-                 f"{int(rattler.sum())} rattlers", fontsize=9)
+    ax.set_title(title or ((caption + "\n") if caption else "") + f"N = {len(d)}, {strain_text(strain, gamma)}, "
+                 f"{len(net.force)} contacts, {int(rattler.sum())} rattlers", fontsize=9)
+    ax.legend(handles=legend_handles(d, small, net, max_width), loc="upper center", bbox_to_anchor=(0.5, -0.1),
+              ncol=3, fontsize=7, frameon=False)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
     return net, rattler
+
+
+def legend_handles(diameter, small, network, max_width):
+    """Proxy artists of the picture's legend: the disk colours (with their diameters), the
+    rattler mark, the force lines (width of the largest force) and the cell."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    d = np.asarray(diameter, float)
+    sizes = sorted(set(np.round(d, 6)))
+    if len(sizes) <= 2:
+        names = ([f"small disk (d = {d[small].min():g})", f"large disk (d = {d[~small].max():g})"]
+                 if (~small).any() else [f"disk (d = {d.min():g})", None])
+    else:
+        names = [f"smaller half (d <= {np.median(d):.3g})", f"larger half (d > {np.median(d):.3g})"]
+    handles = [Patch(fc="tab:blue", ec="k", lw=0.3, alpha=0.8, label=names[0])]
+    if names[1]:
+        handles.append(Patch(fc="tab:orange", ec="k", lw=0.3, alpha=0.8, label=names[1]))
+    handles.append(Line2D([], [], marker="x", color="r", mfc="0.75", ls="none", ms=5,
+                          label=f"rattler (< {MIN_CONTACTS} contacts, grey disk)"))
+    if len(network.force):
+        handles.append(Line2D([], [], color="k", lw=max_width,
+                              label=f"contact force (width ∝ f, max {network.force.max():.3g})"))
+    handles.append(Patch(fill=False, ec="g", lw=1, label="sheared cell"))
+    return handles
 
 
 def animate_frames(archive, replica, path, alpha=2.0, max_frames=120, seconds_per_frame=0.2):
@@ -143,8 +184,8 @@ def animate_frames(archive, replica, path, alpha=2.0, max_frames=120, seconds_pe
         names = []
         for k in chosen:
             name = os.path.join(tmp, f"frame_{k:05d}.png")
-            draw_configuration(configurations[k], name, alpha=alpha,
-                               title=f"replica {replica}, strain {strains[k]:.4g}")
+            draw_configuration(configurations[k], name, alpha=alpha, strain=strains[k],
+                               caption=f"replica {replica}")
             names.append(name)
         images = [Image.open(n).convert("P", palette=Image.ADAPTIVE) for n in names]
         images[0].save(path, save_all=True, append_images=images[1:], loop=0,

@@ -2,15 +2,19 @@
 as PNG figures plus report.md and report.html in an output directory.
 
 Dynamics (RD0, CD0, RD0T, RD, CD, CDn, CDt): steady averages per (model, N, phi, rate),
-replicas left out and why, flow curves; per model with >= 3 rates the collapse of p and
-sigma (bootstrap over seeds when every point has >= 3 seeds); the Newtonian divergence
-(overdamped models) or the Bagnold analysis (massive models); RD0 against CD0 when both
-are present; g_y(x) and its minimum; a picture of a final configuration; with
+replicas left out and why, flow curves; with two or more models, their averages compared at
+the state points they share (any number of rates: a difference, its error in sigmas and a
+Welch t or z test); per model with >= 3 rates the collapse of p and sigma in the window
+chosen from the data (bootstrap over seeds when every point has >= 3 seeds), then the fit
+to every point, marked when its chi2 rejects it; the Newtonian divergence (overdamped
+models) or the Bagnold analysis (massive models); the joint collapse of RD0 and CD0 when
+both are present; g_y(x) and its minimum; a picture of a final configuration; with
 configuration frames ([run] frame_interval), psi6 over strain and an animation.
 Static (RAND, COOL, COMPRESS, COOL_COMPRESS, SHEARED): P_J(phi, N), thresholds per N,
 finite-size scaling with >= 3 sizes, pressure distributions, a picture of a jammed state.
 QS: averages per (N, phi) and a picture.
-An analysis that cannot run is listed with its reason; no analysis at all is an error.
+An analysis that cannot run is listed with its reason; the report is an error (exit 2) only
+when no analysis at all could run (no finished replica, every replica left out).
 """
 import dataclasses
 import os
@@ -18,7 +22,7 @@ import os
 import numpy as np
 import pandas as pd
 
-from . import correlations, figures, jamming, order, pictures, rheology, scaling, stats
+from . import comparison, correlations, figures, jamming, order, pictures, rheology, scaling, stats
 from .archive import open_archives
 from .document import Document
 from .errors import AnalysisError
@@ -35,9 +39,10 @@ class ReportOptions:
     """degree: of ln F; correction: leading correction to scaling in the collapse;
     n_boot: bootstrap resamples (0: none); N: system size for fits (default: the largest);
     phi_min, phi_max, rate_max: the collapse's window (default: every point), for fits
-    restricted to the critical region; auto_window: choose the window of each collapse from
-    the data instead (scaling.choose_window; the RD0/CD0 comparison uses RD0's pressure
-    window)."""
+    restricted to the critical region; auto_window (the default when no window is given):
+    choose the window of each collapse from the data (scaling.choose_window; the RD0/CD0
+    joint collapse uses RD0's pressure window), shown first, and the fit to every point
+    after it, marked when its chi2 rejects it."""
     degree: int = 3
     correction: bool = False
     n_boot: int = 100
@@ -45,7 +50,7 @@ class ReportOptions:
     phi_min: float = -np.inf
     phi_max: float = np.inf
     rate_max: float = np.inf
-    auto_window: bool = False
+    auto_window: bool = True
 
 
 # A fit is flagged when its chi2 is this improbable in either tail (chi2/dof far from 1).
@@ -100,6 +105,7 @@ class Report:
         self.outdir = outdir
         self.fits = []
         self.skipped = []
+        self.ran = []  # the analyses that produced a section
         self.windows = {}  # (model, observable) -> (phi_min, phi_max, rate_max) chosen from the data
         os.makedirs(outdir, exist_ok=True)
 
@@ -108,8 +114,10 @@ class Report:
 
     def attempt(self, name, func):
         """Run one analysis; an AnalysisError becomes a skipped entry."""
+        place = len(self.ran)  # before the analyses it runs itself
         try:
             func()
+            self.ran.insert(place, name)
         except AnalysisError as e:
             self.skipped.append(dict(analysis=name, reason=str(e)))
         except Exception as e:  # noqa: BLE001 - one failed analysis must not stop the report
@@ -117,6 +125,9 @@ class Report:
 
     def write(self):
         d = self.doc
+        body = len(d.blocks)
+        d.heading("Analyses run")
+        d.paragraph("; ".join(self.ran) if self.ran else "none")
         d.heading("Fitted values")
         if self.fits:
             table = pd.DataFrame(self.fits)
@@ -134,8 +145,9 @@ class Report:
             d.paragraph("No fit could run on this archive.")
         d.heading("Analyses not run")
         d.table(pd.DataFrame(self.skipped or [dict(analysis="-", reason="every analysis ran")]))
-        # the summary first: move the two sections just added to the top
-        d.blocks = d.blocks[-5:] + d.blocks[:-5]
+        # the summary first: move the sections just added after the first paragraph (files)
+        head = 1 if body and d.blocks[0][0] == "p" else 0
+        d.blocks = d.blocks[:head] + d.blocks[body:] + d.blocks[head:body]
         with open(self.path("report.md"), "w") as f:
             f.write(d.markdown())
         with open(self.path("report.html"), "w") as f:
@@ -166,6 +178,10 @@ def _dynamics(rep, archive, opts):
     for o in OBSERVABLES:
         figures.flow_curves(groups, o, rep.path(f"flow_{o}.png"))
         d.figure(f"flow_{o}.png", f"{o}/rate against phi")
+    rep.ran.append("steady-state averages")
+    if groups["model"].nunique() >= 2:
+        rep.attempt("steady-state averages compared between models",
+                    lambda: _compare_averages(rep, table, groups))
     phi_j = {}
     for model in sorted(groups["model"].unique()):
         for o in OBSERVABLES:
@@ -178,22 +194,39 @@ def _dynamics(rep, archive, opts):
                         lambda m=model: _divergence(rep, groups, m, 2, phi_j.get(m), opts))
     models = set(groups["model"]) & {"RD0", "CD0"}
     if len(models) == 2:
-        rep.attempt("RD0 against CD0", lambda: _compare(rep, groups, opts))
+        rep.attempt("RD0 against CD0: joint collapse", lambda: _compare(rep, groups, opts))
     rep.attempt("velocity correlations", lambda: _correlations(rep, archive, table))
     rep.attempt("configuration picture", lambda: _picture(rep, archive, kept))
     if any(archive.has_frames(int(r)) for r in archive.done()["replica"]):
         rep.attempt("bond-orientational order", lambda: _order(rep, archive))
 
 
+def _window_text(pts, n, opts):
+    return (f"N = {n}, phi {pts['phi'].min():g}..{pts['phi'].max():g}, rate {pts['rate'].min():g}.."
+            f"{pts['rate'].max():g}, {len(pts)} points, degree {opts.degree}"
+            + (", with correction" if opts.correction else ""))
+
+
+def _explicit_window(opts):
+    return bool(np.isfinite(opts.phi_min) or np.isfinite(opts.phi_max) or np.isfinite(opts.rate_max))
+
+
 def _collapse(rep, table, groups, model, observable, opts, phi_j):
+    """The collapse of one model and observable. Without a window given by hand (and with
+    auto_window) the window chosen from the data comes first, with the bootstrap; the fit to
+    every point follows when it is another window, marked when its chi2 rejects it."""
     phi_min, phi_max, rate_max = opts.phi_min, opts.phi_max, opts.rate_max
-    choice = None
-    if opts.auto_window:
+    choice, no_choice = None, ""
+    if opts.auto_window and not _explicit_window(opts):
         every = scaling.collapse_points(groups, observable, N=opts.N, model=model)
         every["group"] = model
-        choice = scaling.choose_window(every, opts.degree, 0 if opts.correction else -1, observable=observable)
-        phi_min, phi_max, rate_max = choice.phi_min, choice.phi_max, choice.rate_max
-        rep.windows[(model, observable)] = (phi_min, phi_max, rate_max)
+        try:
+            choice = scaling.choose_window(every, opts.degree, 0 if opts.correction else -1, observable=observable)
+        except AnalysisError as e:
+            no_choice = str(e)
+        if choice is not None:
+            phi_min, phi_max, rate_max = choice.phi_min, choice.phi_max, choice.rate_max
+            rep.windows[(model, observable)] = (phi_min, phi_max, rate_max)
     pts = scaling.collapse_points(groups, observable, N=opts.N, model=model,
                                   phi_range=(phi_min, phi_max), rate_max=rate_max)
     pts["group"] = model
@@ -206,18 +239,19 @@ def _collapse(rep, table, groups, model, observable, opts, phi_j):
         fit = scaling.bootstrap_collapse(rows, observable, fit, opts.n_boot)
         method = fit.method
     name = f"collapse {model} {observable}"
-    window = (f"N = {n}, phi {pts['phi'].min():g}..{pts['phi'].max():g}, rate {pts['rate'].min():g}.."
-              f"{pts['rate'].max():g}, {len(pts)} points, degree {opts.degree}"
-              + (", with correction" if opts.correction else ""))
-    rep.fits += fit_rows(name, fit.values, fit.errors, fit.chi2, fit.dof, f"{window}; errors: {method}",
+    window = _window_text(pts, n, opts)
+    kind = ("window chosen from the data" if choice is not None else
+            "window given" if _explicit_window(opts) else "every point (full window)")
+    rep.fits += fit_rows(name, fit.values, fit.errors, fit.chi2, fit.dof, f"{window}; {kind}; errors: {method}",
                          scaled="residuals" if method == "least squares" else False)
     if observable == "pressure":
         phi_j[model] = fit.values["phi_J"]
     fname = f"collapse_{model}_{observable}.png"
-    figures.collapse_figure(fit, rep.path(fname))
-    rep.doc.heading(f"Scaling collapse: {model}, {observable}")
     p, flag = fit_quality(fit.chi2, fit.dof)
-    rep.doc.paragraph(f"Window: {window}. Errors: {method}. chi2/dof = {fit.chi2_per_dof:.2f} ({fit.dof} dof, "
+    figures.collapse_figure(fit, rep.path(fname), label=f"{model} {observable}, {kind}: {window}",
+                            failed=bool(flag) and p < FLAG_P)
+    rep.doc.heading(f"Scaling collapse: {model}, {observable}")
+    rep.doc.paragraph(f"Window ({kind}): {window}. Errors: {method}. chi2/dof = {fit.chi2_per_dof:.2f} ({fit.dof} dof, "
                       f"p = {p:.3g})." + (f" FLAGGED: {flag}; the errors inflated by sqrt(chi2/dof) are in the "
                                          f"table of fitted values; {ADVICE}." if flag else ""))
     if choice is not None:
@@ -225,7 +259,38 @@ def _collapse(rep, table, groups, model, observable, opts, phi_j):
                           f"window whose fit has a chi2 p-value >= {choice.level:g} and its phi_J inside it; "
                           "the windows tried:")
         rep.doc.table(choice.tried.sort_values(["points", "p_value"], ascending=False).head(15))
-    rep.doc.figure(fname, f"collapse of {observable} ({model})")
+    elif no_choice:
+        rep.doc.paragraph(f"No window could be chosen from the data ({no_choice}): every point is fitted.")
+    rep.doc.figure(fname, f"collapse of {observable} ({model}), {kind}")
+    if choice is not None:
+        every = scaling.collapse_points(groups, observable, N=opts.N, model=model)
+        if len(every) > len(pts):
+            rep.attempt(f"{name} (full window)", lambda: _full_window(rep, every, model, observable, opts, n))
+
+
+def _full_window(rep, pts, model, observable, opts, n):
+    """The fit to every point (pts), after the chosen window's when that is smaller, marked
+    REJECTED when its chi2 p-value is below FLAG_P."""
+    pts["group"] = model
+    fit = scaling.fit_collapse(pts, opts.degree, 0 if opts.correction else -1, observable=observable)
+    window = _window_text(pts, n, opts)
+    p, flag = fit_quality(fit.chi2, fit.dof)
+    rejected = bool(flag) and p < FLAG_P
+    name = f"collapse {model} {observable} (full window)"
+    rep.fits += fit_rows(name, fit.values, fit.errors, fit.chi2, fit.dof,
+                         f"{window}; every point; errors: least squares" + ("; REJECTED" if rejected else ""),
+                         scaled="residuals")
+    fname = f"collapse_{model}_{observable}_full.png"
+    figures.collapse_figure(fit, rep.path(fname), label=f"{model} {observable}, every point: {window}",
+                            failed=rejected)
+    rep.doc.heading(f"Scaling collapse: {model}, {observable}, every point" + (" (REJECTED)" if rejected else ""), 3)
+    rep.doc.paragraph(f"For comparison, the fit to every point ({window}): chi2/dof = {fit.chi2_per_dof:.2f} "
+                      f"({fit.dof} dof, p = {p:.3g})."
+                      + (f" REJECTED: {flag}; the scaling form does not describe the points outside the "
+                         "window chosen above, and its values are not to be quoted." if rejected else
+                         (f" FLAGGED: {flag}." if flag else " Acceptable, but the window above is the one chosen.")))
+    rep.doc.figure(fname, f"collapse of {observable} ({model}), every point"
+                   + (": rejected by its chi2" if rejected else ""))
 
 
 def _divergence(rep, groups, model, power, phi_j, opts):
@@ -253,7 +318,7 @@ def _compare(rep, groups, opts):
                                              phi_range=(phi_min, phi_max), rate_max=rate_max)
                      for m in ("RD0", "CD0")])
     cmp = scaling.compare_collapses(pts, opts.degree, 0 if opts.correction else -1)
-    rep.doc.heading("RD0 against CD0")
+    rep.doc.heading("RD0 against CD0: joint collapse")
     rep.doc.paragraph(cmp.statement())
     rep.fits += fit_rows("joint collapse RD0+CD0 pressure", cmp.joint.values, cmp.joint.errors,
                          cmp.joint.chi2, cmp.joint.dof, f"F = {cmp.f_statistic:.2f}, p = {cmp.p_value:.3g}",
@@ -262,15 +327,43 @@ def _compare(rep, groups, opts):
     rep.doc.figure("collapse_joint.png", "joint collapse of RD0 and CD0")
 
 
+def _compare_averages(rep, table, groups, label="model"):
+    """The steady averages of the models at the state points they share (comparison.py)."""
+    cmp = comparison.compare_averages(groups, list(OBSERVABLES), label=label, replica_table=table)
+    d = rep.doc
+    d.heading(f"Steady-state averages compared: {' against '.join(map(str, cmp.labels))}")
+    d.paragraph("At each state point (N, phi, rate) that two or more models share, each pair's difference of "
+                "seed averages, its error sqrt(error_a^2 + error_b^2) from the 1-sigma errors of the table above "
+                "and the difference in those errors (sigmas). " + TEST_TEXT)
+    d.table(cmp.averages)
+    d.table(cmp.differences[[c for c in DIFFERENCE_COLUMNS if c in cmp.differences]])
+    d.paragraph(cmp.statement())
+    comparison.write_tables(cmp, rep.outdir)
+    figures.comparison_figure(cmp, rep.path("compare.png"), replicas=table, label=label)
+    d.figure("compare.png", "seed averages with 1-sigma errors per group (dots: replica means) and each "
+             "difference in units of its error (filled: significant)")
+
+
+TEST_TEXT = ("Test of equal means, two-sided: Welch's t over the replica means when both groups have 2 or "
+             "more seeds, else a z test with the time errors; Holm's adjustment over every test of the "
+             "comparison. Tables: compare_averages.tsv, compare.tsv.")
+DIFFERENCE_COLUMNS = ("N", "phi", "rate", "observable", "group_a", "group_b", "difference", "difference_error",
+                      "relative_difference", "sigmas", "test", "statistic", "dof", "p_value", "p_adjusted",
+                      "significant")
+
+
 def _correlations(rep, archive, table):
     per, grouped = correlations.correlation_minima(archive, table)
     rep.doc.heading("Velocity correlations")
     rep.doc.table(grouped)
-    curves = {}
-    for (model, n, phi, rate), part in per.groupby(["model", "N", "phi", "rate"]):
-        curves[f"{model} N={int(n)} phi={phi:g} rate={rate:g}"] = correlations.mean_curves(archive, part["replica"])
-    figures.correlation_figure(dict(list(curves.items())[:12]), grouped, rep.path("correlation.png"))
-    rep.doc.figure("correlation.png", "g_y(x) per rate (left) and the position of its minimum (right)")
+    curves = {key: correlations.mean_curves(archive, part["replica"])
+              for key, part in per.groupby(["model", "N", "phi", "rate"])}
+    figures.correlation_figure(curves, grouped, rep.path("correlation.png"))
+    pd.concat([pd.DataFrame(dict(model=k[0], N=k[1], phi=k[2], rate=k[3], x=x, g_y=g, g_y_error=e))
+               for k, (x, g, e) in curves.items()]).to_csv(rep.path("correlation.tsv"), sep="\t", index=False)
+    rep.doc.figure("correlation.png", f"g_y(x), seed mean, one panel per (model, N, phi) with every rate "
+                   f"({len(curves)} curves, in correlation.tsv; colour: rate, triangles: x_min), and x_min "
+                   "against rate (last panel)")
     for (model, n, phi), part in grouped.groupby(["model", "N", "phi"]):
         try:
             g = correlations.fit_minimum_growth(part["rate"], part["x_min"], part["x_min_error"])
@@ -288,12 +381,19 @@ def _picture(rep, archive, kept):
     pick = small.sort_values(order, ascending=[False, False, True][: len(order)]).iloc[0]
     r = int(pick["replica"])
     alpha = float(pick["alpha"]) if "alpha" in pick and np.isfinite(pick["alpha"]) else 2.0
-    net, ratt = pictures.draw_configuration(archive.final(r), rep.path("configuration.png"), alpha)
+    strain = archive.final_strain(r)
+    final = archive.final(r)
+    params = (f"{pick['model']} N = {int(pick['N'])}, phi = {pick['phi']:g}"
+              + (f", rate = {pick['rate']:g}" if "rate" in pick and np.isfinite(pick["rate"]) and pick["rate"] > 0
+                 else ""))
+    net, ratt = pictures.draw_configuration(final, rep.path("configuration.png"), alpha, strain=strain,
+                                            caption=f"replica {r}: {params}")
     rep.doc.heading("Final configuration")
-    rep.doc.paragraph(f"Replica {r} (N = {int(pick['N'])}, phi = {pick['phi']:g}"
-                      + (f", rate = {pick['rate']:g}" if "rate" in pick and np.isfinite(pick["rate"]) else "")
-                      + f"): {len(net.force)} contacts, {int(ratt.sum())} rattlers.")
-    rep.doc.figure("configuration.png", "final configuration in the lab frame, contact forces as lines")
+    rep.doc.paragraph(f"Replica {r} ({params}), {pictures.strain_text(strain, final.box_strain)}: "
+                      f"{len(net.force)} contacts, {int(ratt.sum())} rattlers.")
+    rep.doc.figure("configuration.png", "final configuration in the lab frame of the sheared cell: disks "
+                   "coloured by size, rattlers grey with a red cross, contact forces as lines of width "
+                   "proportional to the force")
 
 
 def _order(rep, archive):
@@ -341,14 +441,21 @@ def _static(rep, archive, opts):
     figures.jamming_figure(pj, thr if len(thr) else None, rep.path("pj.png"))
     d.figure("pj.png", "jamming probability P_J(phi) per N")
     jammed = states[states["jammed"] == 1]
-    hist = {f"{m} N={int(n)} phi={phi:g}": part["pressure"].to_numpy()
-            for (m, n, phi), part in jammed.groupby(["model", "N", "phi"])}
-    figures.histogram_figure(hist, "p (jammed states)", rep.path("pressure_distribution.png"))
-    d.figure("pressure_distribution.png", "pressure distributions of jammed states at fixed phi")
+    rep.ran.append("jamming probability")
+    rep.attempt("pressure distributions", lambda: _pressure_distributions(rep, states))
     for model in sorted(states["model"].unique()):
         rep.attempt(f"finite-size scaling {model}", lambda m=model: _fss(rep, thr, m, opts))
     kept = archive.done().merge(jammed[["replica"]], on="replica")
     rep.attempt("configuration picture", lambda: _picture(rep, archive, kept))
+
+
+def _pressure_distributions(rep, states):
+    try:
+        figures.pressure_distribution_figure(states, rep.path("pressure_distribution.png"))
+    except ValueError as e:
+        raise AnalysisError(str(e)) from None
+    rep.doc.figure("pressure_distribution.png", "distributions of p of jammed states per phi (colour), one panel "
+                   "per model and N")
 
 
 def _fss(rep, thr, model, opts):
@@ -363,6 +470,7 @@ def _quasistatic(rep, archive):
     groups = stats.group_averages(table, list(OBSERVABLES), keys=("model", "N", "phi"))
     rep.doc.heading("Quasistatic shear averages")
     rep.doc.table(groups)
+    rep.ran.append("quasistatic shear averages")
     kept = table[table["left_out"] == ""]
     rep.attempt("configuration picture", lambda: _picture(rep, archive, kept))
 

@@ -1,0 +1,199 @@
+"""Steady-state averages of several groups compared at the state points they share: two models
+(RD0 against CD0 at phi = 0.84, rate = 1e-4), two archives (code versions, settings), any
+number of rates, one included.
+
+Groups are labelled by model (default) or by archive file. At each state point (N, phi, rate)
+held by two or more groups, every pair (a, b) of groups is compared for each observable:
+
+    difference       = mean_a - mean_b (seed averages, stats.group_averages)
+    difference_error = sqrt(error_a^2 + error_b^2), the 1-sigma errors of the tables
+    sigmas           = |difference| / difference_error
+
+and tested for equal means, two-sided:
+
+    Welch t (both groups with >= 2 seeds): t = difference / sqrt(s_a^2/k_a + s_b^2/k_b) over
+      the replica means (s^2 their variance between seeds, k the seeds; the spread between
+      seeds holds the time noise and the seed-to-seed offsets alike), with the
+      Welch-Satterthwaite degrees of freedom nu = (v_a + v_b)^2 / (v_a^2/(k_a-1) + v_b^2/(k_b-1)),
+      v = s^2/k, and p = 2 P(T_nu > |t|).
+    z (a group with one seed): z = difference / difference_error with the time errors (the
+      only error one seed has), p = 2 P(Z > |z|).
+
+The p-values of one comparison (every state point, pair and observable) are adjusted for
+multiplicity by Holm's step-down method; a difference is significant when its adjusted p is
+below alpha (default 0.05).
+"""
+import dataclasses
+import itertools
+import os
+
+import numpy as np
+import pandas as pd
+from scipy import stats as sps
+
+from .errors import AnalysisError
+
+POINT = ("N", "phi", "rate")
+ALPHA = 0.05
+
+
+def holm(p):
+    """Holm-Bonferroni adjusted p-values (same order as p)."""
+    p = np.asarray(p, float)
+    m = len(p)
+    order = np.argsort(p)
+    adjusted = np.empty(m)
+    running = 0.0
+    for rank, k in enumerate(order):
+        running = max(running, min(1.0, (m - rank) * p[k]))
+        adjusted[k] = running
+    return adjusted
+
+
+def welch(mean_a, var_a, k_a, mean_b, var_b, k_b):
+    """Welch's t test of equal means from the means, the sample variances (ddof 1) and the
+    sizes of two samples: (t, nu, two-sided p)."""
+    va, vb = var_a / k_a, var_b / k_b
+    se2 = va + vb
+    d = mean_a - mean_b
+    if not se2 > 0:
+        return (0.0 if d == 0 else np.copysign(np.inf, d)), np.nan, (1.0 if d == 0 else 0.0)
+    nu = se2 ** 2 / (va ** 2 / (k_a - 1) + vb ** 2 / (k_b - 1))
+    t = d / np.sqrt(se2)
+    return float(t), float(nu), float(2 * sps.t.sf(abs(t), nu))
+
+
+def z_test(difference, error):
+    """Two-sided z test: (z, p)."""
+    if not (np.isfinite(error) and error > 0):
+        return np.nan, np.nan
+    z = difference / error
+    return float(z), float(2 * sps.norm.sf(abs(z)))
+
+
+@dataclasses.dataclass
+class AveragesComparison:
+    """averages: each group's seed averages at the shared state points (label, N, phi, rate,
+    seeds, <obs>, <obs>_error); differences: one row per (state point, pair, observable)
+    (see the module); alpha: the level; observables; labels (the groups in order)."""
+    averages: pd.DataFrame
+    differences: pd.DataFrame
+    alpha: float
+    observables: list
+    labels: list
+
+    @property
+    def significant(self):
+        return self.differences[self.differences["significant"]]
+
+    def statement(self):
+        """One sentence per difference, then the verdict."""
+        d = self.differences
+        lines = []
+        for r in d.itertuples(index=False):
+            test = (f"Welch t = {r.statistic:.2f}, nu = {r.dof:.1f}" if r.test == "Welch t"
+                    else f"z = {r.statistic:.2f} (one seed: time errors)")
+            lines.append(f"{r.observable} at N = {int(r.N)}, phi = {r.phi:g}, rate = {r.rate:g}: "
+                         f"{r.group_a} - {r.group_b} = {r.difference:.4g} +- {r.difference_error:.2g} "
+                         f"({r.sigmas:.1f} sigma; {test}, p = {r.p_value:.3g}, Holm-adjusted "
+                         f"{r.p_adjusted:.3g}): {'significant' if r.significant else 'not significant'} "
+                         f"at the {self.alpha:g} level.")
+        n_sig = int(d["significant"].sum())
+        lines.append(f"{n_sig} of {len(d)} differences significant at the {self.alpha:g} level "
+                     f"(two-sided; Holm's adjustment over the {len(d)} tests of this comparison).")
+        return " ".join(lines)
+
+
+def compare_averages(groups, observables, label="model", alpha=ALPHA, replica_table=None):
+    """Compare the seed averages `groups` (stats.group_averages output; a `label` column names
+    each group, default the model) at the state points two or more groups share.
+
+    The Welch test needs each group's variance between seeds: from replica_table (the
+    replica means, stats.replica_averages, with the same `label` column) when given, else
+    from `<obs>_error_seeds` (s/sqrt(k)). Raises AnalysisError when fewer than two groups or
+    no shared state point."""
+    if label not in groups:
+        raise AnalysisError(f"the averages have no column '{label}' to tell the groups apart")
+    keys = [k for k in POINT if k in groups and not groups[k].isna().all()]
+    labels = list(dict.fromkeys(groups[label]))
+    if len(labels) < 2:
+        raise AnalysisError(f"a comparison needs two groups; the data hold {labels or 'none'} ({label})")
+    missing = [o for o in observables if o not in groups]
+    if missing:
+        raise AnalysisError(f"observable {', '.join(missing)} is not in the averages")
+    spread = _seed_variances(replica_table, label, keys, observables)
+    rows, shared = [], []
+    for point, part in groups.groupby(keys, sort=True):
+        point = point if isinstance(point, tuple) else (point,)
+        here = [g for g in labels if g in set(part[label])]
+        if len(here) < 2:
+            continue
+        twice = part[label].duplicated()
+        if twice.any():
+            raise AnalysisError(f"group {part[label][twice].iloc[0]} has two rows at "
+                                + ", ".join(f"{k} = {v:g}" for k, v in zip(keys, point))
+                                + ": each group holds one model (choose one with --model)")
+        shared.append(part)
+        by = {g: part[part[label] == g].iloc[0] for g in here}
+        for a, b in itertools.combinations(here, 2):
+            ra, rb = by[a], by[b]
+            ka, kb = int(ra["seeds"]), int(rb["seeds"])
+            for o in observables:
+                d = float(ra[o] - rb[o])
+                err = float(np.hypot(ra[f"{o}_error"], rb[f"{o}_error"]))
+                row = dict(zip(keys, point), observable=o, group_a=a, group_b=b, mean_a=float(ra[o]),
+                           error_a=float(ra[f"{o}_error"]), seeds_a=ka, mean_b=float(rb[o]),
+                           error_b=float(rb[f"{o}_error"]), seeds_b=kb, difference=d, difference_error=err,
+                           relative_difference=d / float(rb[o]) if rb[o] != 0 else np.nan,
+                           sigmas=abs(d) / err if err > 0 else np.nan)
+                if ka >= 2 and kb >= 2:
+                    va, vb = (spread.get((g,) + point + (o,), (np.nan, 0)) for g in (a, b))
+                    va, vb = (v if n == k and n >= 2 else float(r[f"{o}_error_seeds"]) ** 2 * k
+                              for (v, n), r, k in ((va, ra, ka), (vb, rb, kb)))
+                    t, nu, p = welch(float(ra[o]), va, ka, float(rb[o]), vb, kb)
+                    row.update(test="Welch t", statistic=t, dof=nu, p_value=p)
+                else:
+                    z, p = z_test(d, err)
+                    row.update(test="z", statistic=z, dof=np.nan, p_value=p)
+                rows.append(row)
+    if not rows:
+        raise AnalysisError(f"no state point ({', '.join(keys)}) is held by two groups: nothing to compare "
+                            f"(groups: {', '.join(map(str, labels))})")
+    diff = pd.DataFrame(rows)
+    finite = np.isfinite(diff["p_value"].to_numpy(float))
+    adjusted = np.full(len(diff), np.nan)
+    adjusted[finite] = holm(diff.loc[finite, "p_value"])
+    diff["p_adjusted"] = adjusted
+    diff["significant"] = diff["p_adjusted"] < alpha
+    cols = [label] + keys + ["seeds"] + [c for o in observables for c in (o, f"{o}_error")]
+    averages = pd.concat(shared)[cols].reset_index(drop=True)
+    return AveragesComparison(averages, diff, alpha, list(observables), labels)
+
+
+def _seed_variances(replica_table, label, keys, observables):
+    """{(label, *point, observable): (variance of the kept replica means (ddof 1), count)}."""
+    if replica_table is None:
+        return {}
+    t = replica_table[replica_table["left_out"] == ""] if "left_out" in replica_table else replica_table
+    out = {}
+    for key, part in t.groupby([label] + list(keys), sort=False):
+        for o in observables:
+            v = part[o].to_numpy(float)
+            out[tuple(key) + (o,)] = (float(np.var(v, ddof=1)) if len(v) >= 2 else np.nan, len(v))
+    return out
+
+
+def point_label(row, keys=POINT):
+    parts = []
+    for k in keys:
+        if k in row and np.isfinite(row[k]):
+            parts.append(f"N={int(row[k])}" if k == "N" else f"{k}={row[k]:g}")
+    return " ".join(parts)
+
+
+def write_tables(comparison, outdir, stem="compare"):
+    """<stem>_averages.tsv and <stem>.tsv (the differences) in outdir: their paths."""
+    a, d = (os.path.join(outdir, f"{stem}{s}.tsv") for s in ("_averages", ""))
+    comparison.averages.to_csv(a, sep="\t", index=False)
+    comparison.differences.to_csv(d, sep="\t", index=False)
+    return a, d
