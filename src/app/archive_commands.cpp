@@ -51,9 +51,9 @@ int status(const std::string& path) {
     }
     for (const auto& r : s.in_progress) {
         const auto id = static_cast<long long>(r.replica);
-        if (!std::isfinite(r.noted))
-            std::printf("%s replica %lld: %.1f%% of its steps at its last checkpoint\n",
-                        live ? "running" : "interrupted", id, 100.0 * r.fraction);
+        if (!std::isfinite(r.noted) || (!live && r.noted <= r.fraction))
+            std::printf("%s replica %lld: %.1f%% of its steps at its last checkpoint%s\n",
+                        live ? "running" : "interrupted", id, 100.0 * r.fraction, live ? "" : ", where it continues");
         else if (live)
             std::printf("running replica %lld: %.1f%% of its steps (%.0f s ago), %.1f%% at its last checkpoint\n", id,
                         100.0 * r.noted, r.note_age, 100.0 * r.fraction);

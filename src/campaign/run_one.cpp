@@ -75,26 +75,28 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, A
             archive.record_initial(id, options.initial_states->fingerprint(), InitialStates::digest(*initial));
         });
     timed([&] { archive.mark_running(id, rank, resume.has_value()); });
-    auto last_save = Clock::now();
-    std::size_t rows_saved = resume ? resume->series.size() : 0;  // already in the archive
-    const CheckpointPolicy policy{.due = [&] { return seconds_since(last_save) >= options.checkpoint_seconds; },
-                                  .save =
-                                      [&](const ReplicaState& state) {
-                                          timed([&] {
-                                              write_checkpoint(checkpoint, params, state);
-                                              archive.write_progress(
-                                                  id, state.series, rows_saved,
-                                                  static_cast<double>(state.step) /
-                                                      static_cast<double>(std::max<std::int64_t>(state.steps, 1)));
-                                          });
-                                          rows_saved = state.series.size();
-                                          last_save = Clock::now();
-                                      },
-                                  .stop = stop};
-    // Between samples: the farm's messages, and every kProgressNoteSeconds a note of how far
-    // the replica has got (jamsim status reads it between checkpoints).
     const std::string note = progress_note_path(options.archive_path, id);
     auto last_note = Clock::now() - std::chrono::hours(1);
+    auto last_save = Clock::now();
+    std::size_t rows_saved = resume ? resume->series.size() : 0;  // already in the archive
+    const CheckpointPolicy policy{
+        .due = [&] { return seconds_since(last_save) >= options.checkpoint_seconds; },
+        .save =
+            [&](const ReplicaState& state) {
+                const double done =
+                    static_cast<double>(state.step) / static_cast<double>(std::max<std::int64_t>(state.steps, 1));
+                timed([&] {
+                    write_checkpoint(checkpoint, params, state);
+                    archive.write_progress(id, state.series, rows_saved, done);
+                    write_progress_note(note, done);  // the note never says less than the checkpoint
+                });
+                rows_saved = state.series.size();
+                last_note = Clock::now();
+                last_save = Clock::now();
+            },
+        .stop = stop};
+    // Between samples: the farm's messages, and every kProgressNoteSeconds a note of how far
+    // the replica has got (jamsim status reads it between checkpoints).
     const SampleHook after_sample = [&](double done) {
         between();
         if (!std::isfinite(done) || seconds_since(last_note) < kProgressNoteSeconds) return;
