@@ -31,6 +31,10 @@ struct Calibration {
     /// work that threads do not shorten, and that the kernel's probe leaves out).
     std::map<CostGroup, double> per_sample;
     int recorded = 0, probed = 0;  ///< groups from an earlier run's archive, from probes
+    /// Minimisations: (N, seconds per cost unit) of probes at sizes below the campaign's (its
+    /// replicas at N / 2 and N / 4), for the growth with N when the campaign's own sizes are
+    /// too costly to probe more than one of.
+    std::map<std::string, std::vector<std::pair<double, double>>> size_probes;
 
     /// Seconds of p's samples: its group's probe, else the mean per disk of its model's
     /// probed groups, else 0 (nominal; and groups recorded from an archive, whose wall times
@@ -51,23 +55,53 @@ struct Calibration {
         return rate * static_cast<double>(sample_count(p)) * static_cast<double>(p.n);
     }
 
-    /// A group measured, else the model's measured groups (the same N first), else nominal.
+    /// A group measured; else the mean of the model's measured groups at the same N (other
+    /// phi); else the size measured nearest (a group, or a probe below the campaign's sizes)
+    /// scaled by the model's growth with N: a power law in N of the seconds per cost unit,
+    /// fitted to every size measured (a minimisation's iterations grow with N, which its cost
+    /// estimate does not count; none with one size); else nominal.
     double seconds_per_cost(const ReplicaParams& p) const {
         if (const auto it = measured.find(cost_group(p)); it != measured.end()) return it->second;
-        double same_n = 0, same_model = 0;
-        int n_count = 0, model_count = 0;
+        double same_n = 0;
+        int n_count = 0;
+        std::vector<std::pair<double, double>> by_size;  // (log N, log rate) of the model's groups
         for (const auto& [group, rate] : measured) {
             if (std::get<0>(group) != p.model) continue;
-            same_model += rate;
-            ++model_count;
+            by_size.emplace_back(std::log(static_cast<double>(std::get<1>(group))), std::log(rate));
             if (std::get<1>(group) == p.n) {
                 same_n += rate;
                 ++n_count;
             }
         }
         if (n_count > 0) return same_n / n_count;
-        if (model_count > 0) return same_model / model_count;
-        return 1.0 / kNominalEvaluationsPerSecond;
+        if (const auto it = size_probes.find(p.model); it != size_probes.end())
+            for (const auto& [n, rate] : it->second) by_size.emplace_back(std::log(n), std::log(rate));
+        if (by_size.empty()) return 1.0 / kNominalEvaluationsPerSecond;
+        // The size measured nearest in N, scaled by the growth fitted to every size measured.
+        const double log_n = std::log(static_cast<double>(p.n));
+        const auto nearest = *std::min_element(by_size.begin(), by_size.end(), [&](const auto& a, const auto& b) {
+            return std::abs(a.first - log_n) < std::abs(b.first - log_n);
+        });
+        const double slope = straight_line(by_size).second;
+        return std::exp(nearest.second + slope * (log_n - nearest.first));
+    }
+
+    /// Least squares y = a + b x over the points; b = 0 when they share one x.
+    static std::pair<double, double> straight_line(const std::vector<std::pair<double, double>>& points) {
+        double mx = 0, my = 0;
+        for (const auto& [x, y] : points) {
+            mx += x;
+            my += y;
+        }
+        mx /= static_cast<double>(points.size());
+        my /= static_cast<double>(points.size());
+        double sxx = 0, sxy = 0;
+        for (const auto& [x, y] : points) {
+            sxx += (x - mx) * (x - mx);
+            sxy += (x - mx) * (y - my);
+        }
+        const double b = sxx > 1e-12 ? sxy / sxx : 0.0;
+        return {my - b * mx, b};
     }
 };
 
@@ -80,6 +114,46 @@ double process_cpu_seconds() {
 
 /// Seconds of probes a dry run may spend calibrating (the groups left use measured neighbours).
 constexpr double kProbeBudgetSeconds = 30.0;
+
+/// Minimisations measured at fewer than two sizes (the campaign's sizes too costly to probe
+/// more than one, or any): their replica of the smallest N run whole at N / 8, N / 4 and
+/// N / 2 (at least 256 disks; three seeds each), smallest first, each while the probe budget
+/// lasts by the best estimate so far, so that the growth of their cost with N is measured,
+/// not assumed.
+void probe_smaller_sizes(const CampaignSpec& spec, double spent, Calibration& out) {
+    std::map<std::string, std::set<std::int64_t>> measured_sizes;
+    std::map<std::string, const ReplicaParams*> smallest;
+    for (const ReplicaParams& p : spec.replicas) {
+        if (model_of(p).kind == ModelKind::Dynamics) continue;
+        if (out.measured.count(cost_group(p))) measured_sizes[p.model].insert(p.n);
+        if (!smallest.count(p.model) || p.n < smallest[p.model]->n) smallest[p.model] = &p;
+    }
+    for (const auto& [model, first] : smallest) {
+        if (measured_sizes[model].size() > 1) continue;
+        for (const std::int64_t divisor : {8, 4, 2}) {
+            ReplicaParams q = *first;
+            q.n = first->n / divisor;
+            if (q.n < 256) continue;
+            // Three seeds per size: a minimisation's cost varies from seed to seed, and the
+            // growth is extrapolated from these sizes.
+            double seconds = 0, cost = 0;
+            for (std::uint64_t k = 0; k < 3; ++k) {
+                q.seed = first->seed + k;
+                if (estimated_cost(q) * out.seconds_per_cost(q) > kProbeBudgetSeconds - spent) break;
+                try {
+                    const double t0 = process_cpu_seconds();
+                    const ReplicaResult r = run_replica(q);
+                    spent += r.wall_seconds;
+                    seconds += process_cpu_seconds() - t0;
+                    cost += estimated_cost(q);
+                } catch (const std::exception&) {
+                    break;  // a probe that fails leaves this size to the others
+                }
+            }
+            if (seconds > 0 && cost > 0) out.size_probes[model].emplace_back(static_cast<double>(q.n), seconds / cost);
+        }
+    }
+}
 
 /// The throughput of each group of a campaign on this machine: from the replicas an earlier
 /// run finished in the campaign's archive (wall time over estimated cost), else from a probe
@@ -180,6 +254,7 @@ Calibration calibrate(const CampaignSpec& spec, const std::string& archive) {
         }
     }
     out.probed = static_cast<int>(probed.size());
+    probe_smaller_sizes(spec, spent, out);
     return out;
 }
 
@@ -208,7 +283,10 @@ std::string describe_source(bool calibrate, const Calibration& rates, const Camp
            " groups from the archive's finished replicas, " + std::to_string(rates.probed) + " by a short probe; " +
            std::to_string(groups.size() - measured) + " of the " + std::to_string(groups.size()) +
            " groups not measured (past the probes' 30 s budget) take the mean of the measured groups "
-           "of their model and N, else of their model";
+           "of their model and N, else the nearest size measured scaled by their model's growth with N "
+           "fitted to its measured sizes" +
+           (rates.size_probes.empty() ? std::string()
+                                      : " (minimisations also probed below the campaign's sizes, for that growth)");
 }
 
 }  // namespace

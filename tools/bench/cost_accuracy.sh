@@ -2,8 +2,8 @@
 # The dry run's cost estimate against the measured cost, per model and protocol: for each
 # benchmark campaign (tests/bench/campaigns/cost_*.toml, a few seconds of work each) the
 # estimate of `jamsim run --dry-run` (throughput calibrated on this machine), then the campaign
-# run on one rank; measured = the sum of its replicas' wall times (core-seconds). Prints a
-# Markdown table. Not a test: timings depend on the machine and its load.
+# run on one rank; measured = the sum of its replicas' wall times (core-seconds), per N and in
+# all. Prints a Markdown table. Not a test: timings depend on the machine and its load.
 #   tools/bench/cost_accuracy.sh [JAMSIM] [CAMPAIGN.toml ...]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
@@ -18,21 +18,38 @@ campaigns=("$@")
 [[ ${#campaigns[@]} -gt 0 ]] || campaigns=("$root"/tests/bench/campaigns/cost_*.toml)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-echo "| campaign | model | replicas | estimated core-s | measured core-s | estimated / measured |"
-echo "|---|---|---:|---:|---:|---:|"
+echo "| campaign | model | N | replicas | estimated core-s | measured core-s | estimated / measured |"
+echo "|---|---|---:|---:|---:|---:|---:|"
 for spec in "${campaigns[@]}"; do
   name=$(basename "$spec" .toml)
   out="$work/$name.h5"
-  estimate=$("$jamsim" run --dry-run "$spec" -o "$out" 2>/dev/null | sed -n 's/^total: .* core-hours, \([0-9.e+-]*\) core-seconds.*/\1/p')
+  "$jamsim" run --dry-run "$spec" -o "$out" > "$work/$name.plan" 2>/dev/null
   "$jamsim" run "$spec" -o "$out" --progress lines > "$work/$name.log" 2>&1 || { cat "$work/$name.log" >&2; exit 1; }
-  /usr/bin/python3 - "$out" "$name" "$estimate" <<'PY'
+  /usr/bin/python3 - "$out" "$name" "$work/$name.plan" <<'PY'
+import re
 import sys
+from collections import defaultdict
+
 import h5py
-path, name, estimate = sys.argv[1], sys.argv[2], float(sys.argv[3])
+
+path, name, plan = sys.argv[1:4]
+estimated = {}  # replica id -> estimated seconds (the dry run's listing: id N phi rate seed samples cost est.s ...)
+for line in open(plan):
+    fields = line.split()
+    if len(fields) >= 8 and re.fullmatch(r"\d+", fields[0]) and re.fullmatch(r"\d+", fields[1]):
+        estimated[int(fields[0])] = float(fields[7])
 with h5py.File(path, "r") as f:
-    measured = float(f["replicas/wall_seconds"][...].sum())
+    wall = f["replicas/wall_seconds"][...]
+    sizes = f["replicas/N"][...].astype(int)
     model = f.attrs["model"] if "model" in f.attrs else "?"
-    n = len(f["replicas/status"])
-print(f"| {name} | {model} | {n} | {estimate:.3g} | {measured:.3g} | {estimate / measured:.2f} |")
+rows = defaultdict(lambda: [0, 0.0, 0.0])
+for r, (n, w) in enumerate(zip(sizes, wall)):
+    for key in (n, "all"):
+        rows[key][0] += 1
+        rows[key][1] += estimated[r]
+        rows[key][2] += w
+for key in sorted(rows, key=lambda k: (k == "all", k if k != "all" else 0)):
+    count, est, meas = rows[key]
+    print(f"| {name} | {model} | {key} | {count} | {est:.3g} | {meas:.3g} | {est / meas:.2f} |")
 PY
 done
