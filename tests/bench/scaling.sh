@@ -7,7 +7,8 @@
 #        tests/bench/scaling.sh --bundle DIR OUT_DIR       (binaries packed by a bundle's run.sh)
 # Writes OUT_DIR/bitwise.log and OUT_DIR/{rd0,cg,cd0_16384,cd0_65536}.json and prints a table of particle-steps per second,
 # speed-up against 1 thread and serial fraction. SCALING_BITWISE_THREADS ("8 16") and
-# SCALING_THREADS ("1|2|4|8|16") choose the thread counts. Threads are placed one per core, close together.
+# SCALING_THREADS ("1|2|4|8|16") choose the thread counts, SCALING_KERNELS the kernels (below).
+# Threads are placed one per core, close together.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 if [[ ${1:-} == --bundle ]]; then
@@ -40,8 +41,11 @@ bench() {  # bench NAME PROGRAM FILTER
   run "$2" --benchmark_filter="$3/.*threads:($only)/" \
     --benchmark_out="$out/$1.json" --benchmark_out_format=json > "$work/$1.txt"
 }
-bench rd0 jamsim_bench 'BM_Rd0Threads'
-bench cg jamsim_bench 'BM_CgThreads'
-bench cd0_16384 jamsim_bench_cd0 'BM_Cd0Threads/N:16384'
-bench cd0_65536 jamsim_bench_cd0 'BM_Cd0Threads/N:65536'
+# SCALING_KERNELS ("rd0 cg cd0_16384 cd0_65536") chooses the kernels; JAMSIM_BENCH_CD0_STATES
+# (a folder of CD0's sheared start states, made by an earlier run) spares CD0's shearing.
+kernels=" ${SCALING_KERNELS:-rd0 cg cd0_16384 cd0_65536} "
+[[ $kernels == *" rd0 "* ]] && bench rd0 jamsim_bench 'BM_Rd0Threads'
+[[ $kernels == *" cg "* ]] && bench cg jamsim_bench 'BM_CgThreads'
+[[ $kernels == *" cd0_16384 "* ]] && bench cd0_16384 jamsim_bench_cd0 'BM_Cd0Threads/N:16384'
+[[ $kernels == *" cd0_65536 "* ]] && bench cd0_65536 jamsim_bench_cd0 'BM_Cd0Threads/N:65536'
 /usr/bin/env python3 "$here/scaling_table.py" "$out"/*.json
