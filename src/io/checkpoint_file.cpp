@@ -1,6 +1,7 @@
 #include "jamsim/io/checkpoint_file.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <ctime>
 
@@ -19,6 +20,19 @@
 namespace jamsim {
 
 namespace {
+
+/// The per-disk columns of a checkpoint's `particles` group, in the file's order (`P` is
+/// Particles or const Particles).
+template <class P> auto particle_columns(P& q) {
+    using Column = decltype(&q.x);
+    return std::array<std::pair<const char*, Column>, 7>{{{"x", &q.x},
+                                                          {"y", &q.y},
+                                                          {"diameter", &q.diameter},
+                                                          {"fx", &q.fx},
+                                                          {"fy", &q.fy},
+                                                          {"ux", &q.ux},
+                                                          {"uy", &q.uy}}};
+}
 
 /// The format of the file and of what it means: v1 with fingerprint v6 (identity-keyed
 /// random numbers, caches dropped at checkpoint steps).
@@ -61,7 +75,7 @@ std::int64_t digest_of(const ReplicaState& state) {
     d.add(state.system.box.side());
     d.add(state.system.box.strain());
     const Particles& q = state.system.particles;
-    for (const auto* v : {&q.x, &q.y, &q.diameter, &q.fx, &q.fy, &q.ux, &q.uy}) d.add(*v);
+    for (const auto& [name, v] : particle_columns(q)) d.add(*v);
     d.add(q.tag);
     for (const auto& c : kSampleColumns) d.add(state.series.column(c.member));
     d.add(state.correlation.sum);
@@ -135,14 +149,7 @@ void write_checkpoint(const std::string& path, const ReplicaParams& p, const Rep
         const Particles& q = state.system.particles;
         {
             auto g = h5::create_group(f, "particles");  // memory order: the order matters
-            for (const auto& [name, v] : {std::pair{"x", &q.x},
-                                          {"y", &q.y},
-                                          {"diameter", &q.diameter},
-                                          {"fx", &q.fx},
-                                          {"fy", &q.fy},
-                                          {"ux", &q.ux},
-                                          {"uy", &q.uy}})
-                write_vector(g.get(), name, *v, H5T_NATIVE_DOUBLE);
+            for (const auto& [name, v] : particle_columns(q)) write_vector(g.get(), name, *v, H5T_NATIVE_DOUBLE);
             write_vector(g.get(), "tag", q.tag, H5T_NATIVE_INT32);
             g.close("particles");
         }
@@ -186,13 +193,7 @@ bool all_finite(const std::vector<double>& v) {
 std::string body_problem(const ReplicaState& s, std::int64_t n) {
     const Particles& q = s.system.particles;
     const auto size = static_cast<std::size_t>(n);
-    for (const auto& [name, v] : {std::pair{"x", &q.x},
-                                  {"y", &q.y},
-                                  {"diameter", &q.diameter},
-                                  {"fx", &q.fx},
-                                  {"fy", &q.fy},
-                                  {"ux", &q.ux},
-                                  {"uy", &q.uy}}) {
+    for (const auto& [name, v] : particle_columns(q)) {
         if (v->size() != size)
             return std::string("particles/") + name + " holds " + std::to_string(v->size()) +
                    " values, the replica has N = " + std::to_string(n);
@@ -236,14 +237,7 @@ ReplicaState read_state(const std::string& path, std::int64_t n = -1) {
         s.wall_seconds = h5::read_double_attribute(f, "wall_seconds");
         if (H5Aexists(f, "checksum") > 0) checksum = h5::read_int64_attribute(f, "checksum");
         Particles& q = s.system.particles;
-        for (const auto& [name, v] : {std::pair{"x", &q.x},
-                                      {"y", &q.y},
-                                      {"diameter", &q.diameter},
-                                      {"fx", &q.fx},
-                                      {"fy", &q.fy},
-                                      {"ux", &q.ux},
-                                      {"uy", &q.uy}})
-            *v = h5::read_dataset(f, std::string("particles/") + name);
+        for (const auto& [name, v] : particle_columns(q)) *v = h5::read_dataset(f, std::string("particles/") + name);
         q.tag = h5::read_all<std::int32_t>(f, "particles/tag", H5T_NATIVE_INT32);
         for (const auto* v : {&q.y, &q.diameter, &q.fx, &q.fy, &q.ux, &q.uy})
             if (v->size() != q.x.size() || q.tag.size() != q.x.size())
