@@ -324,3 +324,59 @@ TEST(CholmodFactor, UpdatesAndSolvesGiveTheSameBitsOnAnyThreadCount) {
         EXPECT_EQ(std::memcmp(one.solutions.data(), many.solutions.data(), one.solutions.size() * sizeof(double)), 0);
     }
 }
+
+// On several threads the rows below the large supernodes at the top of the elimination tree
+// (the dense separators) are split over the threads, in the sweep's updates and downdates and
+// in both passes of the solve: the factor must give the one-thread bits on 2, 3 and 4 threads.
+// 16384 points with about six neighbours each: the top separators are long enough that both
+// split paths run (counted), with many changes per step (all paths end at the top).
+TEST(CholmodFactor, SupernodesSplitOverThreadsGiveTheOneThreadBits) {
+    const int n = 16384;
+    std::mt19937_64 pattern_rng(31);
+    const std::vector<ContactPair> pairs = binned_neighbour_pairs(n, 0.0135, pattern_rng);
+    std::vector<std::int32_t> labels(static_cast<std::size_t>(n));
+    for (int i = 0; i < n; ++i) labels[static_cast<std::size_t>(i)] = i;
+    struct Outcome {
+        std::vector<double> solutions;
+        CholmodUpdatedFactor::Counts counts;
+    };
+    const auto run = [&](int threads) {
+        const int before = jamsim::kernel_threads();
+        jamsim::set_kernel_threads(threads);
+        std::mt19937_64 rng(37);
+        CholmodUpdatedFactor factor(static_cast<std::size_t>(n), kDelta, CholmodUpdatedFactor::Ordering::metis);
+        std::vector<std::uint8_t> in_contact(pairs.size());
+        std::bernoulli_distribution half(0.5);
+        for (auto& c : in_contact) c = half(rng);
+        factor.adopt(pairs, labels);
+        factor.factorize(pairs, in_contact);
+        Outcome out;
+        std::normal_distribution<double> g;
+        std::vector<double> b(2 * static_cast<std::size_t>(n)), x(b.size());
+        for (int s = 0; s < 6; ++s) {
+            // Few changes (one pass of the sweep) and many (several passes of 63).
+            std::bernoulli_distribution flip(s % 2 == 0 ? 0.0005 : 0.004);
+            for (auto& c : in_contact)
+                if (flip(rng)) c = !c;
+            factor.follow(pairs, in_contact);
+            for (double& v : b) v = g(rng);
+            factor.solve(b.data(), x.data());
+            out.solutions.insert(out.solutions.end(), x.begin(), x.end());
+        }
+        out.counts = factor.counts();
+        jamsim::set_kernel_threads(before);
+        return out;
+    };
+    const Outcome one = run(1);
+    EXPECT_EQ(one.counts.split_solves, 0);
+    EXPECT_EQ(one.counts.split_supernodes, 0);
+    EXPECT_EQ(one.counts.refactored, 0);
+    for (const int t : {2, 3, 4}) {
+        SCOPED_TRACE("threads " + std::to_string(t));
+        const Outcome many = run(t);
+        EXPECT_GT(many.counts.split_solves, 0);
+        EXPECT_GT(many.counts.split_supernodes, 0);
+        ASSERT_EQ(one.solutions.size(), many.solutions.size());
+        EXPECT_EQ(std::memcmp(one.solutions.data(), many.solutions.data(), one.solutions.size() * sizeof(double)), 0);
+    }
+}
