@@ -27,10 +27,9 @@ namespace jamsim::linalg {
 ///    after `adopt`, goes through cholmod_updown, which allocates the fill;
 ///  - `solve` applies A⁻¹ to both right-hand sides (n × 2, column major) in one pass over L
 ///    for both.
-/// Deterministic (fixed ordering), and the same bits on any number of threads: on several,
-/// the rows below the large supernodes at the top of the elimination tree (its dense
-/// separators) are split over the threads, in the sweep and in both passes of the solve, each
-/// entry taking the same operations in the same order as on one thread.
+/// Deterministic (fixed ordering), and the same bits on any number of threads: the updates
+/// run on one thread, and on several `solve` takes the x and y halves side by side (each
+/// with the operations of the paired pass on its half).
 class CholmodUpdatedFactor {
   public:
     enum class Ordering { metis, amd };
@@ -76,10 +75,9 @@ class CholmodUpdatedFactor {
     /// its solves, for benchmarks.
     /// `block_updates`: entry updates (entries × changes) made by the consecutive-row kernels
     /// on whole blocks of rows, the part that `Vectors` selects.
-    /// `split_solves`: solves on several threads; `split_supernodes`: supernodes whose rows
-    /// below the block the sweep split over several threads.
+    /// `split_solves`: solves whose x and y halves ran side by side on two threads.
     struct Counts {
-        long swept = 0, filled = 0, refactored = 0, block_updates = 0, split_solves = 0, split_supernodes = 0;
+        long swept = 0, filled = 0, refactored = 0, block_updates = 0, split_solves = 0;
         double upkeep_seconds = 0, solve_seconds = 0;
     };
     Counts counts() const;

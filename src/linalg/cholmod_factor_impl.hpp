@@ -44,13 +44,6 @@ class ScopeTimer {
     std::chrono::steady_clock::time_point start_;
 };
 
-/// A panel of L: columns first..last, each the elimination tree's parent of the one before
-/// (so every column's rows below `last` are among column `last`'s). Column c's entries are
-/// `inside[c]` in rows up to `last` (the panel's triangle), then its rows below the panel.
-struct Panel {
-    int first, last;
-};
-
 /// The entry updates of the sweep's columns: a column's changes (their coefficients in
 /// step_p, step_beta, step_w) on its entries.
 struct SweepColumns {
@@ -76,43 +69,31 @@ struct SweepColumns {
     /// A column's `count` changes (step_p, step_beta, step_w) on its entries l[0, len), whose
     /// workspace rows are `rows`.
     void apply_column(double* l, const int* rows, int len, int count) {
-        block_updates += apply_changes(ColumnChanges{step_p, step_beta, step_w}, l, rows, len, count);
-    }
-    /// apply_column with the coefficients in `c`; returns the entry updates made by the
-    /// consecutive-row kernel (touches nothing else of this object: for threads).
-    long apply_changes(ColumnChanges c, double* l, const int* rows, int len, int count) const {
-        long updates = 0;
         by_runs(
             rows, len,
             [&](int from, int to) {
-                const int k = consecutive_kernel(c, l + from, rows[from], to - from, count);
-                updates += static_cast<long>(k) * count;
+                const int k = consecutive_kernel(ColumnChanges{step_p, step_beta, step_w}, l + from, rows[from],
+                                                 to - from, count);
+                block_updates += static_cast<long>(k) * count;
                 return from + k;
             },
-            [&](int from, int to) { apply_scattered(c, l + from, rows + from, to - from, count); });
-        return updates;
+            [&](int from, int to) { apply_scattered(l + from, rows + from, to - from, count); });
     }
 
     /// The two columns of a pair on the same rows (the second column's coefficients in
     /// step_p2, step_beta2; the same changes): per entry and change, the first column's step
     /// before the second's, as column after column.
     void apply_pair(double* l1, double* l2, const int* rows, int len, int count) {
-        block_updates += apply_changes2(ColumnChanges{step_p, step_beta, step_w},
-                                        ColumnChanges{step_p2, step_beta2, step_w}, l1, l2, rows, len, count);
-    }
-    /// apply_pair with the coefficients in `a` and `b` (b's workspaces those of a).
-    long apply_changes2(ColumnChanges a, ColumnChanges b, double* l1, double* l2, const int* rows, int len,
-                        int count) const {
-        long updates = 0;
         by_runs(
             rows, len,
             [&](int from, int to) {
-                const int k = consecutive2_kernel(a, b, l1 + from, l2 + from, rows[from], to - from, count);
-                updates += 2L * k * count;
+                const int k = consecutive2_kernel(ColumnChanges{step_p, step_beta, step_w},
+                                                  ColumnChanges{step_p2, step_beta2, step_w}, l1 + from, l2 + from,
+                                                  rows[from], to - from, count);
+                block_updates += 2L * k * count;
                 return from + k;
             },
-            [&](int from, int to) { apply_scattered2(a, b, l1 + from, l2 + from, rows + from, to - from, count); });
-        return updates;
+            [&](int from, int to) { apply_scattered2(l1 + from, l2 + from, rows + from, to - from, count); });
     }
 
     /// A column's entries [0, len) split by their places in the workspace: runs of at least
@@ -145,20 +126,17 @@ struct SweepColumns {
 
     /// One entry (in workspace row `row`) alone.
     void apply_entry(double& entry, int row, int count) const {
-        apply_entry(ColumnChanges{step_p, step_beta, step_w}, entry, row, count);
-    }
-    static void apply_entry(ColumnChanges c, double& entry, int row, int count) {
         double v = entry;
         for (int s = 0; s < count; ++s) {
-            double& wr = c.w[s][row];
-            const double wk = wr - c.p[s] * v;
+            double& wr = step_w[s][row];
+            const double wk = wr - step_p[s] * v;
             wr = wk;
-            v += c.beta[s] * wk;
+            v += step_beta[s] * wk;
         }
         entry = v;
     }
 
-    static void apply_scattered(ColumnChanges c, double* l, const int* rows, int len, int count) {
+    void apply_scattered(double* l, const int* rows, int len, int count) const {
         int k = 0;
         for (; k + kBlock <= len; k += kBlock) {
             double v[kBlock];
@@ -168,8 +146,8 @@ struct SweepColumns {
                 r[u] = rows[k + u];
             }
             for (int s = 0; s < count; ++s) {
-                double* wt = c.w[s];
-                const double p = c.p[s], beta = c.beta[s];
+                double* wt = step_w[s];
+                const double p = step_p[s], beta = step_beta[s];
                 for (int u = 0; u < kBlock; ++u) {
                     const double wk = wt[r[u]] - p * v[u];
                     wt[r[u]] = wk;
@@ -178,28 +156,27 @@ struct SweepColumns {
             }
             for (int u = 0; u < kBlock; ++u) l[k + u] = v[u];
         }
-        for (; k < len; ++k) apply_entry(c, l[k], rows[k], count);
+        for (; k < len; ++k) apply_entry(l[k], rows[k], count);
     }
 
     // Two columns of a pair over the same rows, each with its own coefficients (step_p,
     // step_beta; step_p2, step_beta2) and the same changes (step_w): per workspace entry and
     // change, the first column's step before the second's, as column after column.
-    static void apply_entry2(ColumnChanges a, ColumnChanges b, double& e1, double& e2, int row, int count) {
+    void apply_entry2(double& e1, double& e2, int row, int count) const {
         double v1 = e1, v2 = e2;
         for (int s = 0; s < count; ++s) {
-            double& wr = a.w[s][row];
-            double wk = wr - a.p[s] * v1;
-            v1 += a.beta[s] * wk;
-            wk = wk - b.p[s] * v2;
+            double& wr = step_w[s][row];
+            double wk = wr - step_p[s] * v1;
+            v1 += step_beta[s] * wk;
+            wk = wk - step_p2[s] * v2;
             wr = wk;
-            v2 += b.beta[s] * wk;
+            v2 += step_beta2[s] * wk;
         }
         e1 = v1;
         e2 = v2;
     }
 
-    static void apply_scattered2(ColumnChanges a, ColumnChanges b, double* l1, double* l2, const int* rows, int len,
-                                 int count) {
+    void apply_scattered2(double* l1, double* l2, const int* rows, int len, int count) const {
         constexpr int kRows = 4;
         int k = 0;
         for (; k + kRows <= len; k += kRows) {
@@ -211,8 +188,8 @@ struct SweepColumns {
                 r[u] = rows[k + u];
             }
             for (int s = 0; s < count; ++s) {
-                double* wt = a.w[s];
-                const double p1 = a.p[s], beta1 = a.beta[s], p2 = b.p[s], beta2 = b.beta[s];
+                double* wt = step_w[s];
+                const double p1 = step_p[s], beta1 = step_beta[s], p2 = step_p2[s], beta2 = step_beta2[s];
                 for (int u = 0; u < kRows; ++u) {
                     double wk = wt[r[u]] - p1 * v1[u];
                     v1[u] += beta1 * wk;
@@ -226,7 +203,7 @@ struct SweepColumns {
                 l2[k + u] = v2[u];
             }
         }
-        for (; k < len; ++k) apply_entry2(a, b, l1[k], l2[k], rows[k], count);
+        for (; k < len; ++k) apply_entry2(l1[k], l2[k], rows[k], count);
     }
 };
 
@@ -313,52 +290,11 @@ struct CholmodUpdatedFactor::Impl {
     /// many.
     template <int Second> int column_pivots(int j, std::size_t slot, std::size_t slots, double* alpha);
 
-    /// The sweep of a panel's columns first..last (see Panel; the first at workspace place
-    /// `slot`, the others after it), all on the union: column by column, the pivots and the
-    /// entries in the panel's triangle (which give the later columns their pivots); then the
-    /// entries below the panel, each row taking every column's changes in column order, in
-    /// chunks of rows that stay in cache, split over the threads when there is enough work
-    /// (kSweepSplitMin entry updates). Returns the last column's place.
-    std::size_t sweep_panel(int first, int last, std::size_t slot, std::size_t slots, double* alpha);
-    static constexpr long kSweepSplitMin = 8192;
-    // sweep_panel's coefficients, kRank per column, and its columns' entries in the triangle.
-    std::vector<double> node_p, node_beta;
-    std::vector<double*> node_w;
-    std::vector<int> node_count;
-
     /// The elimination tree of L's pattern: a column's parent is its first row below the
     /// diagonal (−1 at a root). Cleared whenever the pattern may change.
     std::vector<int> etree;
     void find_etree();
     std::vector<std::uint8_t> nests_next;  // column j + 1's rows are column j's after its first
-    /// Chains of the elimination tree: chain_end[j] is the last column of the path j, j + 1,
-    /// ... on which each column's parent is the next (j itself when j + 1 is not j's parent).
-    /// The top of a nested-dissection tree is such chains (its separators).
-    std::vector<int> chain_end;
-    /// The threaded passes take a chain kPanel columns at a time (a panel: its rows below are
-    /// the later columns' of the chain and those above): the panel's triangle, one thread's
-    /// work, stays small.
-    static constexpr int kPanel = 32;
-    using Panel = factor_kernels::Panel;
-    /// The panels the threaded solve splits over its threads (kSolveSplitMin entries below
-    /// the panel at least: a split costs two barriers), in ascending order; `inside` (per
-    /// column of those panels) the column's entries in the panel's rows.
-    std::vector<Panel> solve_blocks;
-    /// Per column (see find_etree): its panel's last column, its entries in the panel's rows,
-    /// and the entries below the panel of it and the panel's later columns.
-    std::vector<int> panel_last, inside;
-    std::vector<long> below_from;
-    static constexpr long kSolveSplitMin = 2048;
-    /// Column c's entries in rows up to `last` (sorted rows): how many.
-    int entries_up_to(int col, int last) const {
-        const auto* Li = static_cast<const int*>(L->i);
-        const int* begin = Li + static_cast<const int*>(L->p)[col] + 1;
-        return static_cast<int>(std::upper_bound(begin, begin + static_cast<const int*>(L->nz)[col] - 1, last) - begin);
-    }
-    std::vector<factor_kernels::Pair> block_sums;  // the threaded solve's partial sums, 4 per column
-    /// The solve on several threads: the columns one by one on the first thread, the rows
-    /// below the large supernodes (solve_blocks) split over all.
-    void solve_blocked(const double* b_x, const double* b_y, double* u_x, double* u_y);
     std::vector<int> slot_of;              // sweep: a row's place in the workspace
     factor_kernels::SweepColumns columns;  // the sweep's entry updates and their coefficients
 

@@ -52,7 +52,6 @@ void CholmodUpdatedFactor::Impl::sweep(std::span<const std::pair<int, int>> rows
     if (etree.size() != un) find_etree();
     auto parent = [&](int j) { return etree[static_cast<std::size_t>(j)]; };
     double alpha[kSweepRank];
-    const bool split = kernel_threads() > 1 && un >= kThreadedLoopMin;
     for (std::size_t start = 0; start < rows.size(); start += kSweepRank) {
         const int rank = static_cast<int>(std::min<std::size_t>(kSweepRank, rows.size() - start));
         int lowest = n;
@@ -88,16 +87,6 @@ void CholmodUpdatedFactor::Impl::sweep(std::span<const std::pair<int, int>> rows
         }
         for (std::size_t slot = 0; slot < slots; ++slot) {
             const int j = path_union[slot];
-            // On several threads, the panels at the top of the tree with enough work below
-            // them (an estimate: the changes that enter at column j).
-            if (const int last = panel_last[static_cast<std::size_t>(j)];
-                split && last > j &&
-                below_from[static_cast<std::size_t>(j)] *
-                        __builtin_popcountll(on_path[static_cast<std::size_t>(j)] & ~kVisited) >=
-                    kSweepSplitMin) {
-                slot = sweep_panel(j, last, slot, slots, alpha);
-                continue;
-            }
             // The pivot's recurrence, change after change; then each entry of the column
             // takes every change in turn (its arithmetic is that of one change at a time).
             const int begin = Lp[j];
@@ -145,108 +134,6 @@ void CholmodUpdatedFactor::Impl::sweep(std::span<const std::pair<int, int>> rows
     }
 }
 
-std::size_t CholmodUpdatedFactor::Impl::sweep_panel(int first, int last, std::size_t slot, std::size_t slots,
-                                                    double* alpha) {
-    constexpr int kRank = kSweepRank;
-    const auto* Lp = static_cast<const int*>(L->p);
-    const auto* Li = static_cast<const int*>(L->i);
-    const auto* Lnz = static_cast<const int*>(L->nz);
-    auto* Lx = static_cast<double*>(L->x);
-    const int width = last - first + 1;
-    const auto cells = static_cast<std::size_t>(width) * kRank;
-    if (node_p.size() < cells) {
-        node_p.resize(cells);
-        node_beta.resize(cells);
-        node_w.resize(cells);
-    }
-    node_count.resize(static_cast<std::size_t>(width));
-    const auto changes = [&](int k) {
-        const std::size_t at = static_cast<std::size_t>(k) * kRank;
-        return factor_kernels::ColumnChanges{node_p.data() + at, node_beta.data() + at, node_w.data() + at};
-    };
-    // The pivots and the triangle, column by column (the triangle's entries give the later
-    // columns of the panel their pivots).
-    int* places = columns.slot_rows.data();
-    long work = 0;
-    for (int k = 0; k < width; ++k) {
-        const int col = first + k, count = column_pivots<0>(col, slot + static_cast<std::size_t>(k), slots, alpha);
-        const std::size_t at = static_cast<std::size_t>(k) * kRank;
-        std::copy(columns.step_p, columns.step_p + count, node_p.begin() + static_cast<std::ptrdiff_t>(at));
-        std::copy(columns.step_beta, columns.step_beta + count, node_beta.begin() + static_cast<std::ptrdiff_t>(at));
-        std::copy(columns.step_w, columns.step_w + count, node_w.begin() + static_cast<std::ptrdiff_t>(at));
-        node_count[static_cast<std::size_t>(k)] = count;
-        const int in = inside[static_cast<std::size_t>(col)];
-        work += static_cast<long>(count) * (Lnz[col] - 1 - in);
-        if (count == 0 || in == 0) continue;
-        const int* rows = Li + Lp[col] + 1;
-        for (int e = 0; e < in; ++e) places[e] = slot_of[static_cast<std::size_t>(rows[e])];
-        columns.apply_column(Lx + Lp[col] + 1, places, in, count);
-    }
-    // The entries below the panel in the rows of R (column `last`'s rows below it, which
-    // hold every column's) from index lo to hi, kChunk rows of R at a time (their workspace
-    // entries, one per change, stay in cache through the panel's columns); two columns with
-    // the same changes on the same rows go together (apply_changes2: each workspace entry
-    // loaded and stored once for both). Every entry gets the same operations in the same
-    // order as column after column.
-    const int* R = Li + Lp[last] + 1;
-    const int below = Lnz[last] - 1;
-    const auto rows_below = [&](int lo, int hi) {
-        constexpr int kChunk = 128;
-        const int* cursor[kPanel];
-        for (int k = 0; k < width; ++k) {
-            const int col = first + k;
-            cursor[k] = std::lower_bound(Li + Lp[col] + 1 + inside[static_cast<std::size_t>(col)],
-                                         Li + Lp[col] + Lnz[col], lo < below ? R[lo] : n);
-        }
-        int buffer[kChunk];
-        long updates = 0;
-        for (int from = lo; from < hi; from += kChunk) {
-            const int to = std::min(hi, from + kChunk), end_row = to < below ? R[to] : n;
-            for (int k = 0; k < width; ++k) {
-                const int col = first + k, count = node_count[static_cast<std::size_t>(k)];
-                const int* rows = cursor[k];
-                const int* stop = std::lower_bound(rows, Li + Lp[col] + Lnz[col], end_row);
-                cursor[k] = stop;
-                const int len = static_cast<int>(stop - rows);
-                if (count == 0 || len == 0) continue;
-                for (int e = 0; e < len; ++e) buffer[e] = slot_of[static_cast<std::size_t>(rows[e])];
-                double* l = Lx + (rows - Li);
-                const auto a = changes(k);
-                if (k + 1 < width && node_count[static_cast<std::size_t>(k) + 1] == count &&
-                    std::equal(a.w, a.w + count, changes(k + 1).w)) {
-                    const int* rows2 = cursor[k + 1];
-                    const int* stop2 = std::lower_bound(rows2, Li + Lp[col + 1] + Lnz[col + 1], end_row);
-                    if (stop2 - rows2 == len && std::equal(rows, stop, rows2)) {
-                        cursor[k + 1] = stop2;
-                        updates += columns.apply_changes2(a, changes(k + 1), l, Lx + (rows2 - Li), buffer, len, count);
-                        ++k;
-                        continue;
-                    }
-                }
-                updates += columns.apply_changes(a, l, buffer, len, count);
-            }
-        }
-        return updates;
-    };
-    if (static_cast<long>(below) >= 32 && work >= kSweepSplitMin) {
-        ++counts.split_supernodes;
-        long updates = 0;
-        const TimedRegion timed;
-#pragma omp parallel reduction(+ : updates)
-        {
-            const int t = omp_get_thread_num(), team = omp_get_num_threads();
-            const int units = (below + 15) / 16;
-            const int lo = std::min(below, 16 * static_cast<int>(1L * units * t / team));
-            const int hi = std::min(below, 16 * static_cast<int>(1L * units * (t + 1) / team));
-            updates += rows_below(lo, hi);
-        }
-        columns.block_updates += updates;
-    } else {
-        columns.block_updates += rows_below(0, below);
-    }
-    return slot + static_cast<std::size_t>(width) - 1;
-}
-
 void CholmodUpdatedFactor::Impl::find_etree() {
     const auto* Lp = static_cast<const int*>(L->p);
     const auto* Li = static_cast<const int*>(L->i);
@@ -258,32 +145,6 @@ void CholmodUpdatedFactor::Impl::find_etree() {
         const int len = Lnz[j] - 1;
         if (len < 2 || Li[Lp[j] + 1] != j + 1 || Lnz[j + 1] != len) continue;
         nests_next[static_cast<std::size_t>(j)] = std::equal(Li + Lp[j] + 2, Li + Lp[j] + 1 + len, Li + Lp[j + 1] + 1);
-    }
-    // Chains of the tree cut into panels of at most kPanel columns from their starts: per
-    // column its panel's last column, its entries in the panel's rows and, summed from it to
-    // the panel's end, the entries below the panel (the work of a panel the sweep enters at
-    // that column).
-    const auto un = static_cast<std::size_t>(n);
-    panel_last.resize(un);
-    inside.resize(un);
-    below_from.resize(un);
-    solve_blocks.clear();
-    for (int j = 0; j < n;) {
-        int chain = j;
-        while (chain + 1 < n && etree[static_cast<std::size_t>(chain)] == chain + 1) ++chain;
-        for (int first = j; first <= chain; first += kPanel) {
-            const int last = std::min(chain, first + kPanel - 1);
-            long below = 0;
-            for (int col = last; col >= first; --col) {
-                const auto u = static_cast<std::size_t>(col);
-                panel_last[u] = last;
-                inside[u] = entries_up_to(col, last);
-                below += Lnz[col] - 1 - inside[u];
-                below_from[u] = below;
-            }
-            if (last > first && below >= kSolveSplitMin) solve_blocks.push_back({first, last});
-        }
-        j = chain + 1;
     }
 }
 
