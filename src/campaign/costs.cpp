@@ -115,12 +115,11 @@ double process_cpu_seconds() {
 /// Seconds of probes a dry run may spend calibrating (the groups left use measured neighbours).
 constexpr double kProbeBudgetSeconds = 30.0;
 
-/// Minimisations measured at fewer than two sizes (the campaign's sizes too costly to probe
-/// more than one, or any): their replica of the smallest N run whole at N / 8, N / 4 and
-/// N / 2 (at least 256 disks; three seeds each), smallest first, each while the probe budget
-/// lasts by the best estimate so far, so that the growth of their cost with N is measured,
-/// not assumed.
-void probe_smaller_sizes(const CampaignSpec& spec, double spent, Calibration& out) {
+/// Minimisations not measured at two sizes by an earlier run's archive: their replica of the
+/// smallest N run whole at N / 8, N / 4 and N / 2 (at least 256 disks; three seeds each),
+/// smallest first, each while the probe budget lasts by the best estimate so far, so that
+/// the growth of their cost with N is measured, not assumed. Returns the seconds spent.
+double probe_smaller_sizes(const CampaignSpec& spec, double spent, Calibration& out) {
     std::map<std::string, std::set<std::int64_t>> measured_sizes;
     std::map<std::string, const ReplicaParams*> smallest;
     for (const ReplicaParams& p : spec.replicas) {
@@ -153,6 +152,7 @@ void probe_smaller_sizes(const CampaignSpec& spec, double spent, Calibration& ou
             if (seconds > 0 && cost > 0) out.size_probes[model].emplace_back(static_cast<double>(q.n), seconds / cost);
         }
     }
+    return spent;
 }
 
 /// The throughput of each group of a campaign on this machine: from the replicas an earlier
@@ -186,7 +186,10 @@ Calibration calibrate(const CampaignSpec& spec, const std::string& archive) {
         out.measured[group] = sums.first / sums.second;
         ++out.recorded;
     }
-    double spent = 0;
+    // Minimisations first at sizes below the campaign's: their growth with N, so that a
+    // probe of the campaign's own size is judged by it (not by the nominal rate, which can
+    // be 30 times too fast there) and one that would take too long is not started.
+    double spent = probe_smaller_sizes(spec, 0.0, out);
     // Minimisations: up to kMinimisationProbes replicas (seeds) per group, their mean, since
     // a minimisation's cost varies from seed to seed (near phi_J by an order of magnitude).
     constexpr int kMinimisationProbes = 3;
@@ -254,7 +257,6 @@ Calibration calibrate(const CampaignSpec& spec, const std::string& archive) {
         }
     }
     out.probed = static_cast<int>(probed.size());
-    probe_smaller_sizes(spec, spent, out);
     return out;
 }
 
