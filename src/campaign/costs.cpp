@@ -115,6 +115,17 @@ double process_cpu_seconds() {
 /// Seconds of probes a dry run may spend calibrating (the groups left use measured neighbours).
 constexpr double kProbeBudgetSeconds = 30.0;
 
+/// A probe: `run` run whole; its result and the process CPU seconds it took (CPU time, not
+/// wall time: other jobs on a shared machine, a login node or a laptop, would otherwise
+/// inflate the estimate for the cluster node it is for); its wall seconds added to `spent`.
+std::pair<ReplicaResult, double> probe(const ReplicaParams& run, double& spent) {
+    const double t0 = process_cpu_seconds();
+    ReplicaResult r = run_replica(run);
+    const double seconds = process_cpu_seconds() - t0;
+    spent += r.wall_seconds;
+    return {std::move(r), seconds};
+}
+
 /// Minimisations not measured at two sizes by an earlier run's archive: their replica of the
 /// smallest N run whole at N / 8, N / 4 and N / 2 (at least 256 disks; three seeds each),
 /// smallest first, each while the probe budget lasts by the best estimate so far, so that
@@ -140,10 +151,7 @@ double probe_smaller_sizes(const CampaignSpec& spec, double spent, Calibration& 
                 q.seed = first->seed + k;
                 if (estimated_cost(q) * out.seconds_per_cost(q) > kProbeBudgetSeconds - spent) break;
                 try {
-                    const double t0 = process_cpu_seconds();
-                    const ReplicaResult r = run_replica(q);
-                    spent += r.wall_seconds;
-                    seconds += process_cpu_seconds() - t0;
+                    seconds += probe(q, spent).second;
                     cost += estimated_cost(q);
                 } catch (const std::exception&) {
                     break;  // a probe that fails leaves this size to the others
@@ -224,14 +232,9 @@ Calibration calibrate(const CampaignSpec& spec, const std::string& archive) {
             continue;
         }
         try {
-            // Process CPU time, not wall time: other jobs on a shared machine (a login node,
-            // a laptop) would otherwise inflate the estimate for the cluster node it is for.
             std::vector<std::pair<double, double>> measured;  // (CPU seconds, cost) per run
             for (const ReplicaParams& run : runs) {
-                const double t0 = process_cpu_seconds();
-                const ReplicaResult r = run_replica(run);
-                const double seconds = process_cpu_seconds() - t0;
-                spent += r.wall_seconds;
+                const auto [r, seconds] = probe(run, spent);
                 const double cost =
                     dynamics ? static_cast<double>(r.force_evaluations) * static_cast<double>(p.n) : estimated_cost(p);
                 measured.emplace_back(seconds, cost);

@@ -19,8 +19,6 @@ void say(const RunSettings& settings, int rank, const std::string& line) {
     if (rank == 0 && settings.say) settings.say(line);
 }
 
-std::string count(std::int64_t n) { return std::to_string(static_cast<long long>(n)); }
-
 /// Extends or grows the archive in place when check_run decided so (collective).
 void reshape_archive(MPI_Comm comm, const CampaignSpec& spec, const RunDecision& d, const RunSettings& settings,
                      ArchiveLock& lock) {
@@ -38,7 +36,8 @@ void reshape_archive(MPI_Comm comm, const CampaignSpec& spec, const RunDecision&
     if (d.mode == OutputMode::Grow) {
         const auto added = static_cast<std::int64_t>(spec.replicas.size()) - d.grow_kept;
         say(settings, rank,
-            "growing archive " + d.output + ": " + count(d.grow_kept) + " replicas kept, " + count(added) + " new");
+            "growing archive " + d.output + ": " + std::to_string(d.grow_kept) + " replicas kept, " +
+                std::to_string(added) + " new");
         Archive::grow(comm, d.output, spec, d.grow_source);
         lock.hold_archive(d.output);
     }
