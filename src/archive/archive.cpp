@@ -61,6 +61,7 @@ Archive Archive::open(MPI_Comm comm, const std::string& path) {
     layout.bins = h5::dataset_shape(file.get(), "/correlation/g_y").at(1);
     layout.particles = h5::dataset_shape(file.get(), "/final/x").at(0);
     if (h5::exists(file.get(), "/frames/strain")) layout.frames = h5::dataset_shape(file.get(), "/frames/strain").at(1);
+    layout.has_threads = h5::exists(file.get(), "/replicas/threads");
     return Archive(std::move(file), comm, std::move(layout));
 }
 
@@ -140,7 +141,7 @@ void Archive::mark_running(std::int64_t replica, int rank, bool keep_rows) {
     write_block(file_.get(), "/replicas/failure_reason", rt.get(), {r}, {1}, no_reason);
 }
 
-void Archive::write_done(std::int64_t replica, const ReplicaResult& result, int rank) {
+void Archive::write_done(std::int64_t replica, const ReplicaResult& result, int rank, int threads) {
     const hid_t f = file_.get();
     const auto r = static_cast<hsize_t>(replica);
     const auto rows = static_cast<hsize_t>(result.series.size());
@@ -174,6 +175,10 @@ void Archive::write_done(std::int64_t replica, const ReplicaResult& result, int 
     write_block(f, "/replicas/force_evaluations", H5T_NATIVE_INT64, {r}, {1}, &result.force_evaluations);
     const std::int32_t who = rank;
     write_block(f, "/replicas/rank", H5T_NATIVE_INT32, {r}, {1}, &who);
+    if (layout_.has_threads) {  // not in archives made before the column existed
+        const std::int32_t on = threads;
+        write_block(f, "/replicas/threads", H5T_NATIVE_INT32, {r}, {1}, &on);
+    }
     // Last: the flag that makes the rows above valid.
     const auto s = static_cast<std::int8_t>(ReplicaStatus::Done);
     write_block(f, "/replicas/status", H5T_NATIVE_INT8, {r}, {1}, &s);
@@ -227,7 +232,8 @@ void Archive::import_replica(const std::string& source_path, std::int64_t source
           "/replicas/wall_seconds", "/replicas/force_evaluations", "/replicas/rows_written", "/replicas/progress",
           "/replicas/failure_reason", "/replicas/status"})  // status last: it validates the rest
         paths.emplace_back(p);
-    for (const char* p : {"/replicas/initial_state", "/replicas/initial_source"})  // where both have them
+    for (const char* p :
+         {"/replicas/initial_state", "/replicas/initial_source", "/replicas/threads"})  // where both have them
         if (H5Lexists(src.get(), p, H5P_DEFAULT) > 0 && H5Lexists(file_.get(), p, H5P_DEFAULT) > 0)
             paths.insert(paths.end() - 1, p);  // before the status
     // The final configuration: its N disks, at the replica's offset in each archive.

@@ -132,6 +132,12 @@ void create_replica_columns(hid_t f, const CampaignSpec& spec, const std::vector
                               "MPI rank that ran the replica (-1: not run)");
     h5::create_filled_dataset(f, "/replicas/wall_seconds", H5T_NATIVE_DOUBLE, {replicas}, &nan, "s",
                               "wall time of the replica");
+    {
+        const std::int32_t none = 0;
+        h5::create_filled_dataset(f, "/replicas/threads", H5T_NATIVE_INT32, {replicas}, &none, "1",
+                                  "OpenMP threads of the replica's kernel when it ended, cores lent by idle ranks "
+                                  "included (0: not done); its data do not depend on them");
+    }
     h5::create_filled_dataset(f, "/replicas/rows_written", H5T_NATIVE_INT64, {replicas}, &zero, "1",
                               "rows of /timeseries written so far (partial while status is 1)");
     {

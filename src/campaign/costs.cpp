@@ -12,6 +12,7 @@
 
 #include "jamsim/archive/archive.hpp"
 #include "jamsim/archive/archive_file_check.hpp"
+#include "jamsim/campaign/scheduler.hpp"
 #include "jamsim/parallel/threads.hpp"
 #include "jamsim/run/model_registry.hpp"
 #include "jamsim/run/replica.hpp"
@@ -180,11 +181,16 @@ Calibration calibrate(const CampaignSpec& spec, const std::string& archive) {
             const StoredCampaign stored = read_stored_campaign(archive);
             const h5::Handle file = h5::open_unlocked_readonly(archive);
             const auto wall = h5::read_all<double>(file.get(), "/replicas/wall_seconds", H5T_NATIVE_DOUBLE);
-            for (std::size_t r = 0; r < stored.status.size() && r < wall.size(); ++r) {
+            // The threads each ran on (none recorded before the column: one), so that a replica
+            // that ran on several counts as the one-thread seconds the estimates are in.
+            std::vector<std::int32_t> threads(wall.size(), 1);
+            if (h5::exists(file.get(), "/replicas/threads"))
+                threads = h5::read_all<std::int32_t>(file.get(), "/replicas/threads", H5T_NATIVE_INT32);
+            for (std::size_t r = 0; r < stored.status.size() && r < wall.size() && r < threads.size(); ++r) {
                 const ReplicaParams& p = stored.spec.replicas[r];
                 if (stored.status[r] != ReplicaStatus::Done || !(wall[r] > 0) || !(estimated_cost(p) > 0)) continue;
                 auto& [seconds, cost] = recorded[cost_group(p)];
-                seconds += wall[r];
+                seconds += wall[r] * SpeedupModel{}.speedup(model_of(p).thread_scaling, p.n, std::max(1, threads[r]));
                 cost += estimated_cost(p);
             }
         } catch (const std::exception&) {

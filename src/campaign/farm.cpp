@@ -12,6 +12,7 @@
 #include "jamsim/campaign/stop_request.hpp"
 #include "jamsim/parallel/mpi.hpp"
 #include "jamsim/parallel/threads.hpp"
+#include "jamsim/run/model_registry.hpp"
 #include "run_one.hpp"
 
 namespace jamsim {
@@ -224,10 +225,12 @@ class Dispatcher {
         if (in_first_round_) return;  // once, at its end
         std::vector<RankWork> work(cores_.size());
         for (std::size_t r = 0; r < cores_.size(); ++r)
-            if (const std::int64_t id = replica_of_[r]; id >= 0)
+            if (const std::int64_t id = replica_of_[r]; id >= 0) {
+                const ReplicaParams& p = spec_.replicas[static_cast<std::size_t>(id)];
                 work[r] = {.running = true,
                            .priority = scheduler_.critical_path(id),
-                           .useful = useful_threads(spec_.replicas[static_cast<std::size_t>(id)].n)};
+                           .useful = useful_threads(model_of(p).thread_scaling, p.n)};
+            }
         const std::vector<int> threads = lend_cores(cores_, work);
         for (std::size_t r = 0; r < cores_.size(); ++r) {
             if (threads[r] == threads_[r]) continue;

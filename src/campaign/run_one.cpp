@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "jamsim/io/checkpoint_file.hpp"
+#include "jamsim/parallel/threads.hpp"
 
 namespace jamsim {
 
@@ -123,7 +124,7 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, A
                                               .steps = schedule_of(params).steps,
                                               .system = result.final_state});
             });
-        timed([&] { archive.write_done(id, result, rank); });
+        timed([&] { archive.write_done(id, result, rank, kernel_threads()); });
         last_checkpoint = result.last_checkpoint;
         if (before >= 0) {  // the predecessor's end state has served
             std::error_code ignored;

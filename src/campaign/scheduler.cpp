@@ -181,10 +181,15 @@ std::vector<std::pair<std::int64_t, std::int64_t>> Scheduler::take_failed() {
     return out;
 }
 
-double SpeedupModel::fraction(std::int64_t n) const {
-    if (serial_fraction >= 0) return std::min(1.0, serial_fraction);
-    if (n < 4096) return 1.0;  // parallel_for's kThreadedLoopMin: every loop on one thread
-    constexpr std::array<std::pair<double, double>, 3> measured{{{16384, 0.21}, {65536, 0.05}, {262144, 0.045}}};
+namespace {
+
+/// Serial fractions measured at N = 16384, 65536 and 262144 (SpeedupModel).
+constexpr std::array<std::pair<double, double>, 3> kPairLoopFraction{{{16384, 0.21}, {65536, 0.05}, {262144, 0.045}}};
+constexpr std::array<std::pair<double, double>, 1> kMinimiserFraction{{{65536, 0.10}}};
+constexpr std::array<std::pair<double, double>, 2> kContactSolveFraction{{{16384, 0.42}, {65536, 0.59}}};
+
+/// A table's fraction at n: interpolated in log N, held beyond its ends.
+template <std::size_t K> double interpolated(const std::array<std::pair<double, double>, K>& measured, std::int64_t n) {
     const auto x = static_cast<double>(n);
     if (x <= measured.front().first) return measured.front().second;
     for (std::size_t k = 1; k < measured.size(); ++k)
@@ -196,10 +201,23 @@ double SpeedupModel::fraction(std::int64_t n) const {
     return measured.back().second;
 }
 
-double SpeedupModel::speedup(std::int64_t n, int threads) const {
+}  // namespace
+
+double SpeedupModel::fraction(ThreadScaling kernel, std::int64_t n) const {
+    if (serial_fraction >= 0) return std::min(1.0, serial_fraction);
+    if (n < 4096) return 1.0;  // parallel_for's kThreadedLoopMin: every loop on one thread
+    switch (kernel) {
+    case ThreadScaling::minimiser: return interpolated(kMinimiserFraction, n);
+    case ThreadScaling::contact_solve: return interpolated(kContactSolveFraction, n);
+    case ThreadScaling::pair_loop: break;
+    }
+    return interpolated(kPairLoopFraction, n);
+}
+
+double SpeedupModel::speedup(ThreadScaling kernel, std::int64_t n, int threads) const {
     if (threads <= 1 || n < 1) return 1.0;
-    const double useful = std::min(threads, useful_threads(n));
-    const double f = fraction(n);
+    const double useful = std::min(threads, useful_threads(kernel, n));
+    const double f = fraction(kernel, n);
     return 1.0 / (f + (1.0 - f) / useful);
 }
 
@@ -225,13 +243,14 @@ std::vector<int> lend_cores(const std::vector<RankCores>& cores, const std::vect
     return threads;
 }
 
-int useful_threads(std::int64_t n) {
-    return n <= 0 ? 1 : static_cast<int>(ForceBlocks::block_count(static_cast<std::size_t>(n)));
+int useful_threads(ThreadScaling kernel, std::int64_t n) {
+    const int blocks = n <= 0 ? 1 : static_cast<int>(ForceBlocks::block_count(static_cast<std::size_t>(n)));
+    return kernel == ThreadScaling::contact_solve ? std::min(blocks, 2) : blocks;
 }
 
 double seconds_on_threads(const SimulatedReplica& r, const SpeedupModel& model, int threads) {
     const double fixed = std::clamp(r.serial, 0.0, r.seconds);
-    return (r.seconds - fixed) / model.speedup(r.n, threads) + fixed;
+    return (r.seconds - fixed) / model.speedup(r.kernel, r.n, threads) + fixed;
 }
 
 std::vector<int> spread_over_nodes(const std::vector<RankCores>& cores) {
@@ -281,7 +300,8 @@ std::pair<double, double> run_with_lending(const std::vector<SimulatedReplica>& 
             if (at[w] >= 0)
                 work[w] = {.running = true,
                            .priority = scheduler.critical_path(at[w]),
-                           .useful = useful_threads(replicas[static_cast<std::size_t>(at[w])].n)};
+                           .useful = useful_threads(replicas[static_cast<std::size_t>(at[w])].kernel,
+                                                    replicas[static_cast<std::size_t>(at[w])].n)};
         const std::vector<int> t = lend_cores(cores, work);
         std::vector<double> rate(cores.size(), 0.0);  // fraction per second
         double step = -1;

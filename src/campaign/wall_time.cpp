@@ -17,7 +17,8 @@ std::vector<SimulatedReplica> simulated_replicas(const CampaignSpec& spec, const
         out[r] = {.cost = estimated_cost(spec.replicas[r]),
                   .seconds = seconds[r],
                   .n = spec.replicas[r].n,
-                  .serial = std::clamp(serial[r], 0.0, seconds[r])};
+                  .serial = std::clamp(serial[r], 0.0, seconds[r]),
+                  .kernel = model_of(spec.replicas[r]).thread_scaling};
         const double on_threads = seconds_on_threads(out[r], model, threads);
         out[r].speedup = on_threads > 0 ? seconds[r] / on_threads : 1.0;
     }
@@ -69,15 +70,16 @@ std::string duration(double seconds) {
 }
 
 std::string describe_speedup(const SpeedupModel& model) {
-    const std::string blocks = " on at most as many threads as the force loop has blocks (N / 4096, at most 32), "
-                               "the samples not at all";
+    const std::string caps = " on at most as many threads as the force loop has blocks (N / 4096, at most 32; CD0 "
+                             "at most 2), the samples not at all";
     if (model.serial_fraction < 0)
-        return "the kernel by Amdahl's law with the RD0 kernel's serial fraction by N (0.21 at N <= 16384, 0.05 at "
-               "65536, 0.045 from 262144, 1 below 4096; --serial-fraction sets one)" +
-               blocks;
+        return "the kernel by Amdahl's law with its measured serial fraction by model and N (RD0 and the massive "
+               "models 0.21 at N <= 16384, 0.05 at 65536, 0.045 from 262144; the minimisations 0.10; CD0 0.42 at "
+               "16384, 0.59 from 65536; 1 below 4096; --serial-fraction sets one)" +
+               caps;
     char fraction[32];
     std::snprintf(fraction, sizeof fraction, "%g", model.serial_fraction);
-    return "the kernel by Amdahl's law with serial fraction " + std::string(fraction) + " (--serial-fraction)" + blocks;
+    return "the kernel by Amdahl's law with serial fraction " + std::string(fraction) + " (--serial-fraction)" + caps;
 }
 
 }  // namespace jamsim

@@ -144,7 +144,8 @@ DynamicsInfo cd0_model() {
             .bytes_per_disk = 2560.0,
             .stable_dt_basis = contact_drag_dt_basis,
             .advisory = [](const ReplicaParams& p) { return overdamped_dt_advisory(p, contact_drag_stable_dt); },
-            .relax_start = relax_cd0_start};
+            .relax_start = relax_cd0_start,
+            .thread_scaling = ThreadScaling::contact_solve};
 }
 
 }  // namespace jamsim

@@ -54,7 +54,8 @@ ModelInfo dynamics(const DynamicsInfo& d) {
             .bytes_per_disk = d.bytes_per_disk,
             .stable_dt_basis = d.stable_dt_basis,
             .advisory = d.advisory,
-            .relax_start = d.relax_start};
+            .relax_start = d.relax_start,
+            .thread_scaling = d.thread_scaling};
 }
 
 /// One line per model or protocol: adding one is its own file plus a line here.

@@ -221,7 +221,8 @@ ModelInfo qs_protocol() {
                 },
             .cost = [](const ReplicaParams& p) { return n_of(p) * 1e2 * qs_steps(p); },
             .run = run_qs,
-            .extendable = true};
+            .extendable = true,
+            .thread_scaling = ThreadScaling::minimiser};
 }
 
 ModelInfo rand_protocol() {
@@ -233,7 +234,8 @@ ModelInfo rand_protocol() {
             .stable_dt = no_dt_limit,
             .schedule = one_state,
             .cost = [](const ReplicaParams& p) { return n_of(p) * 1e3; },
-            .run = run_rand};
+            .run = run_rand,
+            .thread_scaling = ThreadScaling::minimiser};
 }
 
 ModelInfo compress_protocol() {
@@ -246,7 +248,8 @@ ModelInfo compress_protocol() {
             .schedule = one_state,
             .cost = [](const ReplicaParams& p) { return n_of(p) * 2e4; },
             .run = run_compress,
-            .open_ended = true};
+            .open_ended = true,
+            .thread_scaling = ThreadScaling::minimiser};
 }
 
 ModelInfo cool_protocol() {
@@ -261,7 +264,8 @@ ModelInfo cool_protocol() {
             .run = run_cool,
             .checkpointed_steps = cooling_steps_of,
             .stable_dt_basis = reservoir_drag_dt_basis,
-            .advisory = cooling_advisory};
+            .advisory = cooling_advisory,
+            .thread_scaling = ThreadScaling::minimiser};
 }
 
 ModelInfo cool_compress_protocol() {
@@ -277,7 +281,8 @@ ModelInfo cool_compress_protocol() {
             .checkpointed_steps = cooling_steps_of,
             .open_ended = true,
             .stable_dt_basis = reservoir_drag_dt_basis,
-            .advisory = cooling_advisory};
+            .advisory = cooling_advisory,
+            .thread_scaling = ThreadScaling::minimiser};
 }
 
 ModelInfo sheared_protocol() {
@@ -291,7 +296,8 @@ ModelInfo sheared_protocol() {
             .cost = [](const ReplicaParams& p) { return n_of(p) * (2e4 + 1e2 * qs_steps(p)); },
             .run = run_sheared,
             .checkpointed_steps = shear_steps_of,
-            .open_ended = true};
+            .open_ended = true,
+            .thread_scaling = ThreadScaling::minimiser};
 }
 
 }  // namespace jamsim

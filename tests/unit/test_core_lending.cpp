@@ -38,10 +38,10 @@ TEST(CoreLending, CappedByTheReplicasBlocksAndTheRanksCpus) {
     EXPECT_EQ(lend_cores(bound, {running(9), idle, idle, running(1)}), (std::vector<int>{1, 1, 1, 3}));
     // A replica of one block (N <= 4096) takes nothing.
     EXPECT_EQ(lend_cores(cores, {running(9, 1), idle, idle, idle}), (std::vector<int>{1, 1, 1, 1}));
-    EXPECT_EQ(useful_threads(4096), 1);
-    EXPECT_EQ(useful_threads(8192), 2);
-    EXPECT_EQ(useful_threads(65536), 16);
-    EXPECT_EQ(useful_threads(1 << 20), 32);
+    EXPECT_EQ(useful_threads(ThreadScaling::pair_loop, 4096), 1);
+    EXPECT_EQ(useful_threads(ThreadScaling::pair_loop, 8192), 2);
+    EXPECT_EQ(useful_threads(ThreadScaling::pair_loop, 65536), 16);
+    EXPECT_EQ(useful_threads(ThreadScaling::pair_loop, 1 << 20), 32);
 }
 
 TEST(CoreLending, NeverAcrossNodes) {

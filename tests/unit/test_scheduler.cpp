@@ -155,20 +155,56 @@ TEST(Scheduler, SimulationWithCoresLent) {
 
 TEST(Scheduler, AmdahlSpeedupModel) {
     const SpeedupModel model;
-    EXPECT_DOUBLE_EQ(model.fraction(1024), 1.0);  // loops under 4096 run on one thread
-    EXPECT_DOUBLE_EQ(model.speedup(1024, 16), 1.0);
-    EXPECT_DOUBLE_EQ(model.fraction(16384), 0.21);
-    EXPECT_DOUBLE_EQ(model.fraction(65536), 0.05);
-    EXPECT_NEAR(model.fraction(32768), 0.13, 1e-12);  // halfway in log N
-    EXPECT_DOUBLE_EQ(model.fraction(1 << 20), 0.045);
-    EXPECT_NEAR(model.speedup(65536, 16), 1 / (0.05 + 0.95 / 16), 1e-12);  // 16 blocks: all 16 threads
-    EXPECT_DOUBLE_EQ(model.speedup(65536, 1), 1.0);
+    constexpr auto pair = ThreadScaling::pair_loop;
+    EXPECT_DOUBLE_EQ(model.fraction(pair, 1024), 1.0);  // loops under 4096 run on one thread
+    EXPECT_DOUBLE_EQ(model.speedup(pair, 1024, 16), 1.0);
+    EXPECT_DOUBLE_EQ(model.fraction(pair, 16384), 0.21);
+    EXPECT_DOUBLE_EQ(model.fraction(pair, 65536), 0.05);
+    EXPECT_NEAR(model.fraction(pair, 32768), 0.13, 1e-12);  // halfway in log N
+    EXPECT_DOUBLE_EQ(model.fraction(pair, 1 << 20), 0.045);
+    EXPECT_NEAR(model.speedup(pair, 65536, 16), 1 / (0.05 + 0.95 / 16), 1e-12);  // 16 blocks: all 16 threads
+    EXPECT_DOUBLE_EQ(model.speedup(pair, 65536, 1), 1.0);
     // The pair loop shares out whole blocks: 4 at N = 16384, so 16 threads do what 4 do.
-    EXPECT_NEAR(model.speedup(16384, 16), 1 / (0.21 + 0.79 / 4), 1e-12);
-    EXPECT_DOUBLE_EQ(model.speedup(16384, 16), model.speedup(16384, 4));
-    EXPECT_LT(model.speedup(16384, 2), model.speedup(16384, 4));
-    EXPECT_DOUBLE_EQ((SpeedupModel{.serial_fraction = 0.5}).speedup(65536, 2), 1 / 0.75);
-    EXPECT_DOUBLE_EQ((SpeedupModel{.serial_fraction = 0.5}).speedup(1024, 2), 1.0);  // one block
+    EXPECT_NEAR(model.speedup(pair, 16384, 16), 1 / (0.21 + 0.79 / 4), 1e-12);
+    EXPECT_DOUBLE_EQ(model.speedup(pair, 16384, 16), model.speedup(pair, 16384, 4));
+    EXPECT_LT(model.speedup(pair, 16384, 2), model.speedup(pair, 16384, 4));
+    EXPECT_DOUBLE_EQ((SpeedupModel{.serial_fraction = 0.5}).speedup(pair, 65536, 2), 1 / 0.75);
+    EXPECT_DOUBLE_EQ((SpeedupModel{.serial_fraction = 0.5}).speedup(pair, 1024, 2), 1.0);  // one block
+}
+
+TEST(Scheduler, SpeedupModelByKernel) {
+    const SpeedupModel model;
+    // The minimisers: one fraction at every size from 4096 on.
+    EXPECT_DOUBLE_EQ(model.fraction(ThreadScaling::minimiser, 16384), 0.10);
+    EXPECT_DOUBLE_EQ(model.fraction(ThreadScaling::minimiser, 1 << 20), 0.10);
+    EXPECT_DOUBLE_EQ(model.fraction(ThreadScaling::minimiser, 2048), 1.0);
+    EXPECT_NEAR(model.speedup(ThreadScaling::minimiser, 65536, 16), 1 / (0.10 + 0.90 / 16), 1e-12);
+    // CD0: its factor runs on one thread, so it gains from 2 threads and no more.
+    constexpr auto cd0 = ThreadScaling::contact_solve;
+    EXPECT_DOUBLE_EQ(model.fraction(cd0, 16384), 0.42);
+    EXPECT_DOUBLE_EQ(model.fraction(cd0, 65536), 0.59);
+    EXPECT_DOUBLE_EQ(model.fraction(cd0, 262144), 0.59);
+    EXPECT_NEAR(model.speedup(cd0, 65536, 2), 1 / (0.59 + 0.41 / 2), 1e-12);
+    EXPECT_DOUBLE_EQ(model.speedup(cd0, 65536, 16), model.speedup(cd0, 65536, 2));
+    EXPECT_EQ(useful_threads(cd0, 65536), 2);
+    EXPECT_EQ(useful_threads(cd0, 8192), 2);
+    EXPECT_EQ(useful_threads(cd0, 4096), 1);
+    // --serial-fraction replaces every table, the caps stay.
+    const SpeedupModel one{.serial_fraction = 0};
+    EXPECT_DOUBLE_EQ(one.speedup(cd0, 65536, 16), 2.0);
+    EXPECT_DOUBLE_EQ(one.speedup(ThreadScaling::minimiser, 65536, 16), 16.0);
+}
+
+TEST(Scheduler, CoresAreNotLentToACd0ReplicaPastItsUse) {
+    // Two ranks' worth of idle cores on one node: an RD0 replica at N = 65536 takes all 4
+    // threads of the node and ends sooner, a CD0 replica of the same cost takes 2.
+    std::vector<SimulatedReplica> r(1, SimulatedReplica{.cost = 8, .seconds = 8, .n = 65536});
+    const SimulatedLending node{.ranks_per_node = 4, .model = SpeedupModel{.serial_fraction = 0}};
+    EXPECT_DOUBLE_EQ(simulate_schedule(r, {}, 4, 1, &node).makespan, 2);
+    r[0].kernel = ThreadScaling::contact_solve;
+    const SimulatedRun cd0 = simulate_schedule(r, {}, 4, 1, &node);
+    EXPECT_DOUBLE_EQ(cd0.makespan, 4);
+    EXPECT_NEAR(cd0.idle_core_seconds, 4 * 4 - 4 * 2, 1e-12);  // two cores idle throughout
 }
 
 }  // namespace

@@ -26,7 +26,7 @@ DONE = 2
 # running, pending.
 STATUS_PRIORITY = {2: 3, 3: 2, 1: 1, 0: 0}
 # /replicas columns that describe the run, not the physics.
-BOOKKEEPING = {"identity", "status", "failure_reason", "rank", "wall_seconds", "force_evaluations",
+BOOKKEEPING = {"identity", "status", "failure_reason", "rank", "threads", "wall_seconds", "force_evaluations",
                "rows_written", "progress", "n_samples", "estimated_cost", "predecessor",
                "particle_offset"}
 # Numeric root attributes of a replica file that are results, not parameters.

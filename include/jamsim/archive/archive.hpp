@@ -27,6 +27,7 @@ struct ArchiveLayout {
     std::vector<std::int64_t> particle_offset;  ///< [R] first disk of each replica in /final
     hsize_t frames = 0;                         ///< configuration frames per replica (most of any; 0: no /frames)
     double frame_bytes = 0.0;                   ///< bytes of /frames (part of `bytes`)
+    bool has_threads = true;                    ///< /replicas/threads exists (not before that column)
     /// Bytes the archive will take once every replica is written (data, not metadata).
     double bytes = 0.0;
     /// One replica of N disks: its row of every per-replica dataset (time series and g_y rows
@@ -93,7 +94,9 @@ class Archive {
     /// Status running; its rows are set to NaN unless `keep_rows` (a replica continued from a
     /// checkpoint, whose rows so far are in the archive).
     void mark_running(std::int64_t replica, int rank, bool keep_rows = false);
-    void write_done(std::int64_t replica, const ReplicaResult& result, int rank);
+    /// Its rows, final configuration and bookkeeping, then status done. `threads`: the
+    /// kernel's threads when it ended (/replicas/threads, where the archive has the column).
+    void write_done(std::int64_t replica, const ReplicaResult& result, int rank, int threads);
     /// A running replica's rows so far and its progress (fraction of steps) at a checkpoint:
     /// readers see them while its status is still 1 (running), i.e. partial. Rows before
     /// `from_row` are in the archive already and are not written again.

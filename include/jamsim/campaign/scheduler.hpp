@@ -8,6 +8,8 @@
 #include <utility>
 #include <vector>
 
+#include "jamsim/parallel/thread_scaling.hpp"
+
 namespace jamsim {
 
 /// The chains of a campaign: replicas linked by `predecessor` (a rate ladder: each replica
@@ -79,19 +81,24 @@ class Scheduler {
 };
 
 /// How many times faster a replica runs on T threads than on one: Amdahl's law,
-/// 1 / (f + (1 − f) / T'), with T' = min(T, the force loop's blocks at N) (the pair loop
-/// shares out whole blocks: 4 at N = 16384, 16 at 65536, 32 from 131072) and the serial
-/// fraction f of its kernel by N, fitted to the RD0 kernel on a 16-core Xeon
-/// (tests/bench/scaling.sh; tests/README.md "Benchmarks"): 2.46× at N = 16384 on 16 threads
-/// (4 blocks),
-/// 9.50× at 65536 and 9.57× at 262144, which are f = 0.21, 0.046 and 0.045, rounded up to
-/// 0.21, 0.05 and 0.045 and interpolated in log N, held beyond the ends; below 4096 disks
-/// the kernel's loops run on one thread (f = 1). `serial_fraction` >= 0 replaces the table
-/// with one fraction for every N (the block cap stays).
+/// 1 / (f + (1 − f) / T'), with T' = min(T, useful_threads(kernel, N)) and the serial
+/// fraction f of its kernel by N, fitted to one run on a 16-core Xeon (tests/README.md
+/// "Benchmarks": tests/bench/scaling.sh for the pair loop and CG, "CD0 on threads" for the
+/// contact solve), interpolated in log N and held beyond the ends:
+///  - pair_loop (RD0): 2.46× at N = 16384 on 16 threads (4 blocks), 9.50× at 65536 and 9.57×
+///    at 262144, which are f = 0.21, 0.046 and 0.045, rounded up to 0.21, 0.05 and 0.045;
+///  - minimiser (CG): 2.83×, 2.91× and 3.49× at N = 16384 on 4, 8 and 16 threads (4 blocks),
+///    3.10×, 4.48× and 6.91× at 65536: f = 0.10 at both (1.82× to 6.40× on 2 to 16 threads
+///    at 65536, where 2 threads measured 2.38×);
+///  - contact_solve (CD0): 1.41× at 16384 and 1.26× at 65536 on 2 threads, and no more on 4
+///    to 16 (the factor's update and most of its solve run on one thread): f = 0.42 and 0.59,
+///    on at most 2 threads.
+/// Below 4096 disks the kernel's loops run on one thread (f = 1). `serial_fraction` >= 0
+/// replaces the tables with one fraction for every N and kernel (the thread caps stay).
 struct SpeedupModel {
     double serial_fraction = -1;
-    double fraction(std::int64_t n) const;
-    double speedup(std::int64_t n, int threads) const;
+    double fraction(ThreadScaling kernel, std::int64_t n) const;
+    double speedup(ThreadScaling kernel, std::int64_t n, int threads) const;
 };
 
 /// A rank's cores.
@@ -117,8 +124,9 @@ struct RankWork {
 /// Deterministic.
 std::vector<int> lend_cores(const std::vector<RankCores>& cores, const std::vector<RankWork>& work);
 
-/// The pair loop's blocks for N disks: more threads than this gain nothing.
-int useful_threads(std::int64_t n);
+/// The most threads a replica of N disks gains from: the pair loop's blocks (it shares out
+/// whole blocks: 4 at N = 16384, 16 at 65536, 32 from 131072), and 2 for the contact solve.
+int useful_threads(ThreadScaling kernel, std::int64_t n);
 
 /// The ranks in the order the farm hands out its first replicas: the first rank of every
 /// node, then the second of every node, and so on (nodes in order of their first rank), so
@@ -133,9 +141,10 @@ struct SimulatedReplica {
     double speedup = 1;  ///< how many times faster it runs on the run's threads
     // For a run with cores lent (SimulatedLending): its disks and the seconds that threads
     // do not shorten (its samples); on T threads it takes
-    // (seconds − serial) / SpeedupModel::speedup(n, T) + serial.
+    // (seconds − serial) / SpeedupModel::speedup(kernel, n, T) + serial.
     std::int64_t n = 0;
     double serial = 0;
+    ThreadScaling kernel = ThreadScaling::pair_loop;  ///< its model's (ModelInfo::thread_scaling)
 };
 
 /// A replica's seconds on `threads`: its `serial` part as it is, the rest sped up by `model`.

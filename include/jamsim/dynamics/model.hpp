@@ -6,6 +6,7 @@
 #include <string>
 #include <string_view>
 
+#include "jamsim/parallel/thread_scaling.hpp"
 #include "jamsim/core/rng.hpp"
 #include "jamsim/core/system.hpp"
 #include "jamsim/force/force_field.hpp"
@@ -91,6 +92,8 @@ struct DynamicsInfo {
     /// from them (not to an initial configuration, a resumed or an extended state); nullptr:
     /// none. Deterministic and the same bits on any thread count (start_system).
     void (*relax_start)(System& sys, const ReplicaParams& p) = nullptr;
+    /// How its kernel gains from threads: the most threads the scheduler lends it.
+    ThreadScaling thread_scaling = ThreadScaling::pair_loop;
 };
 
 inline double no_dt_limit(const ReplicaParams&) { return std::numeric_limits<double>::infinity(); }

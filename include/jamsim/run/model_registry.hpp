@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "jamsim/parallel/thread_scaling.hpp"
 #include "jamsim/dynamics/model.hpp"
 #include "jamsim/params/parameters.hpp"
 
@@ -68,6 +69,9 @@ struct ModelInfo {
     std::string (*advisory)(const ReplicaParams& p) = nullptr;
     /// The start protocol on random positions (DynamicsInfo::relax_start); nullptr: none.
     void (*relax_start)(System& sys, const ReplicaParams& p) = nullptr;
+    /// How its kernel gains from threads (DynamicsInfo::thread_scaling; minimiser for the
+    /// minimisation protocols).
+    ThreadScaling thread_scaling = ThreadScaling::pair_loop;
 };
 
 /// Every registered model, in registration order.
