@@ -259,6 +259,7 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
         ->check(CLI::PositiveNumber)
         ->default_str("1");
     add_serial_fraction_option(*cmd, opt->plan.serial_fraction);
+    add_probe_seconds_option(*cmd, opt->plan.probe_seconds);
     cmd->add_option_function<std::string>(
         "--time-limit",
         [opt](const std::string& v) {

@@ -65,12 +65,34 @@ void print_groups(const CampaignSpec& spec, const std::vector<double>& seconds) 
                 order.size());
 }
 
+/// The groups whose throughput is extrapolated: the heaviest ten, then the rest in one line.
+void print_extrapolated(const std::vector<ExtrapolatedGroup>& groups, double total_seconds) {
+    if (groups.empty()) return;
+    double seconds = 0;
+    for (const ExtrapolatedGroup& g : groups) seconds += g.seconds;
+    std::printf("extrapolated: %zu groups (model, N, phi) not measured hold %.1f%% of the estimated work:\n",
+                groups.size(), 100.0 * seconds / std::max(1e-300, total_seconds));
+    constexpr std::size_t kShown = 10;
+    for (std::size_t k = 0; k < groups.size() && k < kShown; ++k) {
+        const ExtrapolatedGroup& g = groups[k];
+        std::printf("  %-6s N = %-7lld phi = %-8g %6lld replicas %5.1f%% of the work, from the %s\n", g.model.c_str(),
+                    static_cast<long long>(g.n), g.phi, static_cast<long long>(g.replicas),
+                    100.0 * g.seconds / std::max(1e-300, total_seconds), g.from.c_str());
+    }
+    if (groups.size() > kShown) {
+        double rest = 0;
+        for (std::size_t k = kShown; k < groups.size(); ++k) rest += groups[k].seconds;
+        std::printf("  and %zu more groups with %.1f%% of the work\n", groups.size() - kShown,
+                    100.0 * rest / std::max(1e-300, total_seconds));
+    }
+}
+
 }  // namespace
 
 void print_dry_run(const CampaignSpec& spec, const std::string& output, const DryRunPlan& plan) {
     std::printf("campaign %s: %zu replicas -> %s (dry run: nothing written)\n", spec.name.c_str(), spec.replicas.size(),
                 output.c_str());
-    const ReplicaSeconds estimate = replica_seconds(spec, output, plan.calibrate);
+    const ReplicaSeconds estimate = replica_seconds(spec, output, plan.calibrate, plan.probe_seconds);
     double total = 0, largest = 0;
     for (const double seconds : estimate.seconds) {
         total += seconds;
@@ -90,6 +112,7 @@ void print_dry_run(const CampaignSpec& spec, const std::string& output, const Dr
     }
     std::printf("total: %.3g core-hours, %.3g core-seconds on one thread (%s; the longest replica: %s)\n",
                 total / 3600.0, total, estimate.source.c_str(), duration(largest).c_str());
+    print_extrapolated(estimate.extrapolated, total);
     // A resumed or grown archive: what its finished replicas leave to run.
     std::error_code ec;
     if (std::filesystem::exists(output, ec) && diagnose_archive_file(output).empty()) try {

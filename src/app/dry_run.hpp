@@ -13,11 +13,12 @@ namespace jamsim::app {
 /// What --dry-run estimates for.
 struct DryRunPlan {
     bool calibrate = true;
-    int ranks = 1;                ///< ranks of the planned run
-    int shards = 1;               ///< Slurm array tasks
-    double time_limit = 0;        ///< seconds per task (0: none)
-    double serial_fraction = -1;  ///< the speed-up model's (campaign/scheduler.hpp; < 0: its table)
-    bool summary = false;         ///< one line per (model, N) instead of one per replica (--summary)
+    int ranks = 1;                                ///< ranks of the planned run
+    int shards = 1;                               ///< Slurm array tasks
+    double time_limit = 0;                        ///< seconds per task (0: none)
+    double serial_fraction = -1;                  ///< the speed-up model's (campaign/scheduler.hpp; < 0: its table)
+    bool summary = false;                         ///< one line per (model, N) instead of one per replica (--summary)
+    double probe_seconds = kDefaultProbeSeconds;  ///< the calibration's probe budget (--probe-seconds)
 };
 
 /// The dry run's table and totals on stdout.

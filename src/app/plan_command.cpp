@@ -66,7 +66,7 @@ ReplicaSeconds seconds_from_listing(const std::string& path, const CampaignSpec&
         throw PlanError("jamsim plan: --costs " + path + " lists " + std::to_string(found) + " of the " +
                         std::to_string(spec.replicas.size()) + " replicas of " + spec.path +
                         ": give the whole listing of `jamsim run --dry-run " + spec.path + "`");
-    return {.seconds = seconds, .serial = serial, .source = "one-thread seconds from " + path};
+    return {.seconds = seconds, .serial = serial, .source = "one-thread seconds from " + path, .extrapolated = {}};
 }
 
 int plan(const PlanOptions& opt, int& argc, char**& argv) {
@@ -82,7 +82,8 @@ int plan(const PlanOptions& opt, int& argc, char**& argv) {
     if (!opt.costs.empty()) {
         estimate = seconds_from_listing(opt.costs, spec);
     } else {
-        estimate = replica_seconds(spec, opt.output.empty() ? spec.output : opt.output, opt.estimate.calibrate);
+        estimate = replica_seconds(spec, opt.output.empty() ? spec.output : opt.output, opt.estimate.calibrate,
+                                   opt.estimate.probe_seconds);
     }
     const Chains chains = chains_of(spec.predecessor, spec.replicas.size());
     const SpeedupModel model{.serial_fraction = opt.estimate.serial_fraction};
@@ -167,6 +168,7 @@ CLI::App* add_plan_command(CLI::App& app, int& argc, char**& argv) {
     cmd->add_flag("!--no-calibrate", opt->estimate.calibrate,
                   "Nominal throughput instead of a short probe per model and N");
     add_serial_fraction_option(*cmd, opt->estimate.serial_fraction);
+    add_probe_seconds_option(*cmd, opt->estimate.probe_seconds);
     cmd->callback([opt, &argc, &argv] {
         int rc = 2;
         try {

@@ -101,8 +101,26 @@ void add_serial_fraction_option(CLI::App& command, double& fraction) {
                 fraction = v;
             },
             "The wall-time estimate's speed-up on threads: Amdahl's law with this serial fraction for every N "
-            "(default: the RD0 kernel's, measured, by N)")
+            "and model (default: each model's kernel's, measured, by N)")
         ->type_name("F");
+}
+
+void add_probe_seconds_option(CLI::App& command, double& seconds) {
+    command
+        .add_option_function<std::string>(
+            "--probe-seconds",
+            [&seconds](const std::string& text) {
+                char* end = nullptr;
+                const double v = std::strtod(text.c_str(), &end);
+                if (text.empty() || *end != '\0' || !(v >= 0 && v <= 1e6))
+                    throw CLI::ValidationError("--probe-seconds = " + text +
+                                               " is not allowed: seconds from 0 to 1e6 (the calibration's probe "
+                                               "budget; 0: no probes)");
+                seconds = v;
+            },
+            "Seconds the cost calibration may spend probing (default 30): groups past it are extrapolated "
+            "from those measured, and listed")
+        ->type_name("SECONDS");
 }
 
 }  // namespace jamsim::app

@@ -21,4 +21,8 @@ void print_wall_time(const CampaignSpec& spec, const std::vector<double>& second
 /// serial fraction for every N instead of its table.
 void add_serial_fraction_option(CLI::App& command, double& fraction);
 
+/// `--probe-seconds S` (0 <= S <= 1e6) on `command`, into `seconds`: the cost calibration's
+/// probe budget.
+void add_probe_seconds_option(CLI::App& command, double& seconds);
+
 }  // namespace jamsim::app

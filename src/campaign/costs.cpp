@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <ctime>
 #include <filesystem>
 #include <map>
@@ -87,6 +88,33 @@ struct Calibration {
         return std::exp(nearest.second + slope * (log_n - nearest.first));
     }
 
+    /// For a group not measured: what seconds_per_cost takes its throughput from, in words
+    /// ("" for a measured group).
+    std::string basis(const ReplicaParams& p) const {
+        if (measured.count(cost_group(p))) return "";
+        std::string same_n, sizes;
+        std::set<std::int64_t> other_sizes;
+        for (const auto& [group, rate] : measured) {
+            if (std::get<0>(group) != p.model) continue;
+            if (std::get<1>(group) == p.n)
+                same_n += (same_n.empty() ? "" : ", ") + show(std::get<2>(group));
+            else
+                other_sizes.insert(std::get<1>(group));
+        }
+        if (!same_n.empty()) return "mean of phi " + same_n + " at this N";
+        if (const auto it = size_probes.find(p.model); it != size_probes.end())
+            for (const auto& [n, rate] : it->second) other_sizes.insert(static_cast<std::int64_t>(n));
+        if (other_sizes.empty()) return "nominal rate";
+        for (const std::int64_t n : other_sizes) sizes += (sizes.empty() ? "" : ", ") + std::to_string(n);
+        return "scaled in N from N = " + sizes;
+    }
+
+    static std::string show(double x) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%g", x);
+        return buf;
+    }
+
     /// Least squares y = a + b x over the points; b = 0 when they share one x.
     static std::pair<double, double> straight_line(const std::vector<std::pair<double, double>>& points) {
         double mx = 0, my = 0;
@@ -113,9 +141,6 @@ double process_cpu_seconds() {
     return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
-/// Seconds of probes a dry run may spend calibrating (the groups left use measured neighbours).
-constexpr double kProbeBudgetSeconds = 30.0;
-
 /// A probe: `run` run whole; its result and the process CPU seconds it took (CPU time, not
 /// wall time: other jobs on a shared machine, a login node or a laptop, would otherwise
 /// inflate the estimate for the cluster node it is for); its wall seconds added to `spent`.
@@ -131,7 +156,7 @@ std::pair<ReplicaResult, double> probe(const ReplicaParams& run, double& spent) 
 /// smallest N run whole at N / 8, N / 4 and N / 2 (at least 256 disks; three seeds each),
 /// smallest first, each while the probe budget lasts by the best estimate so far, so that
 /// the growth of their cost with N is measured, not assumed. Returns the seconds spent.
-double probe_smaller_sizes(const CampaignSpec& spec, double spent, Calibration& out) {
+double probe_smaller_sizes(const CampaignSpec& spec, double budget, double spent, Calibration& out) {
     std::map<std::string, std::set<std::int64_t>> measured_sizes;
     std::map<std::string, const ReplicaParams*> smallest;
     for (const ReplicaParams& p : spec.replicas) {
@@ -150,7 +175,7 @@ double probe_smaller_sizes(const CampaignSpec& spec, double spent, Calibration& 
             double seconds = 0, cost = 0;
             for (std::uint64_t k = 0; k < 3; ++k) {
                 q.seed = first->seed + k;
-                if (estimated_cost(q) * out.seconds_per_cost(q) > kProbeBudgetSeconds - spent) break;
+                if (estimated_cost(q) * out.seconds_per_cost(q) > budget - spent) break;
                 try {
                     seconds += probe(q, spent).second;
                     cost += estimated_cost(q);
@@ -169,10 +194,10 @@ double probe_smaller_sizes(const CampaignSpec& spec, double spent, Calibration& 
 /// of the group's first replica (process CPU time): dynamics run it for about 1e7 and 3e7
 /// particle force evaluations and take the difference (at least 20 steps; the replica whole
 /// when shorter), a minimisation protocol up to three of
-/// its replicas whole, each when it takes under 10 s by the best estimate so far (a
+/// its replicas whole, each when it takes under a third of the budget by the best estimate so far (a
 /// minimisation's cost depends on N, phi and the seed in ways its estimate counts only
-/// roughly). Probes stop after kProbeBudgetSeconds.
-Calibration calibrate(const CampaignSpec& spec, const std::string& archive) {
+/// roughly). Probes stop after `budget` seconds.
+Calibration calibrate(const CampaignSpec& spec, const std::string& archive, double budget) {
     Calibration out;
     // Rates recorded by earlier runs of this campaign (or of the archive's campaign, grown).
     std::map<CostGroup, std::pair<double, double>> recorded;  // group -> (seconds, cost)
@@ -203,7 +228,7 @@ Calibration calibrate(const CampaignSpec& spec, const std::string& archive) {
     // Minimisations first at sizes below the campaign's: their growth with N, so that a
     // probe of the campaign's own size is judged by it (not by the nominal rate, which can
     // be 30 times too fast there) and one that would take too long is not started.
-    double spent = probe_smaller_sizes(spec, 0.0, out);
+    double spent = probe_smaller_sizes(spec, budget, 0.0, out);
     // Minimisations: up to kMinimisationProbes replicas (seeds) per group, their mean, since
     // a minimisation's cost varies from seed to seed (near phi_J by an order of magnitude).
     constexpr int kMinimisationProbes = 3;
@@ -212,9 +237,7 @@ Calibration calibrate(const CampaignSpec& spec, const std::string& archive) {
     for (const ReplicaParams& p : spec.replicas) {
         const CostGroup key = cost_group(p);
         const bool minimisation = model_of(p).kind != ModelKind::Dynamics;
-        if (recorded.count(key) || spent >= kProbeBudgetSeconds ||
-            probes[key] >= (minimisation ? kMinimisationProbes : 1))
-            continue;
+        if (recorded.count(key) || spent >= budget || probes[key] >= (minimisation ? kMinimisationProbes : 1)) continue;
         const bool dynamics = model_of(p).kind == ModelKind::Dynamics;
         // A dynamics probe runs the replica for `steps` and for 3 × `steps` and takes the
         // difference, so that the set-up (initial state, first list, first factorisation)
@@ -234,7 +257,7 @@ Calibration calibrate(const CampaignSpec& spec, const std::string& archive) {
             const double steps = std::max(20.0, 1e7 / (static_cast<double>(p.n) * evaluations_per_step(p)));
             if (3 * steps < static_cast<double>(schedule_of(p).steps))
                 runs = {shortened(steps), shortened(3 * steps), shortened(steps, kSampleProbe)};
-        } else if (estimated_cost(p) * out.seconds_per_cost(p) > std::min(10.0, kProbeBudgetSeconds - spent)) {
+        } else if (estimated_cost(p) * out.seconds_per_cost(p) > std::min(budget / 3, budget - spent)) {
             continue;
         }
         try {
@@ -271,11 +294,11 @@ Calibration calibrate(const CampaignSpec& spec, const std::string& archive) {
 
 /// The probes on one thread (the dry run's seconds are one thread's; the speed-up model
 /// scales them), the kernel's threads restored after.
-Calibration calibrate_on_one_thread(const CampaignSpec& spec, const std::string& archive) {
+Calibration calibrate_on_one_thread(const CampaignSpec& spec, const std::string& archive, double budget) {
     const int threads = kernel_threads();
     set_kernel_threads(1);
     try {
-        Calibration c = calibrate(spec, archive);
+        Calibration c = calibrate(spec, archive, budget);
         set_kernel_threads(threads);
         return c;
     } catch (...) {
@@ -284,7 +307,7 @@ Calibration calibrate_on_one_thread(const CampaignSpec& spec, const std::string&
     }
 }
 
-std::string describe_source(bool calibrate, const Calibration& rates, const CampaignSpec& spec) {
+std::string describe_source(bool calibrate, const Calibration& rates, const CampaignSpec& spec, double budget) {
     if (!calibrate) return "nominal 7e7 particle force evaluations/s";
     std::set<CostGroup> groups;
     for (const ReplicaParams& p : spec.replicas) groups.insert(cost_group(p));
@@ -293,7 +316,8 @@ std::string describe_source(bool calibrate, const Calibration& rates, const Camp
     return "throughput measured on this machine per model, N and phi: " + std::to_string(rates.recorded) +
            " groups from the archive's finished replicas, " + std::to_string(rates.probed) + " by a short probe; " +
            std::to_string(groups.size() - measured) + " of the " + std::to_string(groups.size()) +
-           " groups not measured (past the probes' 30 s budget) take the mean of the measured groups "
+           " groups not measured (past the probes' " + Calibration::show(budget) +
+           " s budget, --probe-seconds) take the mean of the measured groups "
            "of their model and N, else the nearest size measured scaled by their model's growth with N "
            "fitted to its measured sizes" +
            (rates.size_probes.empty() ? std::string()
@@ -302,13 +326,26 @@ std::string describe_source(bool calibrate, const Calibration& rates, const Camp
 
 }  // namespace
 
-ReplicaSeconds replica_seconds(const CampaignSpec& spec, const std::string& archive, bool calibrate) {
-    const Calibration rates = calibrate ? calibrate_on_one_thread(spec, archive) : Calibration{};
-    ReplicaSeconds out{.seconds = {}, .serial = {}, .source = describe_source(calibrate, rates, spec)};
+ReplicaSeconds replica_seconds(const CampaignSpec& spec, const std::string& archive, bool calibrate,
+                               double probe_seconds) {
+    const Calibration rates = calibrate ? calibrate_on_one_thread(spec, archive, probe_seconds) : Calibration{};
+    ReplicaSeconds out{.seconds = {},
+                       .serial = {},
+                       .source = describe_source(calibrate, rates, spec, probe_seconds),
+                       .extrapolated = {}};
+    std::map<CostGroup, std::size_t> unmeasured;  // group -> its index in out.extrapolated
     for (const ReplicaParams& p : spec.replicas) {
         out.serial.push_back(rates.sample_seconds(p));
         out.seconds.push_back(estimated_cost(p) * rates.seconds_per_cost(p) + out.serial.back());
+        if (!calibrate || rates.measured.count(cost_group(p))) continue;
+        const auto [it, added] = unmeasured.emplace(cost_group(p), out.extrapolated.size());
+        if (added) out.extrapolated.push_back({.model = p.model, .n = p.n, .phi = p.phi, .from = rates.basis(p)});
+        ExtrapolatedGroup& g = out.extrapolated[it->second];
+        ++g.replicas;
+        g.seconds += out.seconds.back();
     }
+    std::stable_sort(out.extrapolated.begin(), out.extrapolated.end(),
+                     [](const auto& a, const auto& b) { return a.seconds > b.seconds; });
     return out;
 }
 

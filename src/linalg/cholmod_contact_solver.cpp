@@ -31,6 +31,11 @@ struct CholmodContactSolver::Impl {
     void apply(std::span<const double> bx, std::span<const double> by, std::span<double> ux, std::span<double> uy) {
         factor.solve(bx.data(), by.data(), ux.data(), uy.data());
     }
+    int follow_and_apply(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,
+                         std::span<const double> bx, std::span<const double> by, std::span<double> ux,
+                         std::span<double> uy) {
+        return factor.follow_and_solve(pairs, in_contact, bx.data(), by.data(), ux.data(), uy.data());
+    }
     bool residual_within(std::span<const double> bx, std::span<const double> by, std::span<const double> ux,
                          std::span<const double> uy) {
         return contact_residual_within(bx, by, ux, uy, delta, factor.contacts(), rtol, residual);

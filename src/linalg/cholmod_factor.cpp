@@ -1,5 +1,7 @@
 #include "cholmod_factor_impl.hpp"
 
+#include <omp.h>
+
 namespace jamsim::linalg {
 
 using factor_kernels::load;
@@ -231,49 +233,55 @@ void CholmodUpdatedFactor::factorize(std::span<const ContactPair> pairs, std::sp
     m.fresh_fill = m.fill();
 }
 
-int CholmodUpdatedFactor::follow(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact) {
-    Impl& m = *impl_;
-    const ScopeTimer timer(m.counts.upkeep_seconds, m.timing);
-    m.formed.clear();
-    m.broken.clear();
+std::pair<int, std::size_t> CholmodUpdatedFactor::Impl::gather_changes(std::span<const ContactPair> pairs,
+                                                                       std::span<const std::uint8_t> in_contact) {
+    formed.clear();
+    broken.clear();
     // The contacts gathered without a branch on the (unpredictable) contact flag; changes
     // are rare, so their branch predicts well.
-    if (m.contacts.size() < pairs.size()) m.contacts.resize(pairs.size());
+    if (contacts.size() < pairs.size()) contacts.resize(pairs.size());
     std::size_t touching = 0;
     for (std::size_t k = 0; k < pairs.size(); ++k) {
-        m.contacts[touching] = pairs[k];
+        contacts[touching] = pairs[k];
         touching += in_contact[k] != 0;
-        if (in_contact[k] == m.factored[k]) continue;
-        (in_contact[k] ? m.formed : m.broken).push_back(k);
-        m.factored[k] = in_contact[k];
+        if (in_contact[k] == factored[k]) continue;
+        (in_contact[k] ? formed : broken).push_back(k);
+        factored[k] = in_contact[k];
     }
-    m.n_contacts = touching;
+    n_contacts = touching;
     // Changes whose pattern L holds go through `sweep`, updates first (the factor stays well
     // away from singular), in one pass; contacts formed outside the pattern (possible after
     // `adopt`) make fill, which CHOLMOD's update allocates.
-    m.sweep_rows.clear();
-    m.outside.clear();
+    sweep_rows.clear();
+    outside.clear();
     int a = 0, b = 0;
-    for (const std::size_t k : m.formed) {
-        if (m.fits(pairs[k], a, b))
-            m.sweep_rows.emplace_back(a, b);
+    for (const std::size_t k : formed) {
+        if (fits(pairs[k], a, b))
+            sweep_rows.emplace_back(a, b);
         else
-            m.outside.push_back(k);
+            outside.push_back(k);
     }
-    const std::size_t n_up = m.sweep_rows.size();
-    for (const std::size_t k : m.broken) {
-        if (!m.fits(pairs[k], a, b)) throw std::logic_error("CD0 CHOLMOD factor: a broken contact outside L's pattern");
-        m.sweep_rows.emplace_back(a, b);
+    const std::size_t n_up = sweep_rows.size();
+    for (const std::size_t k : broken) {
+        if (!fits(pairs[k], a, b)) throw std::logic_error("CD0 CHOLMOD factor: a broken contact outside L's pattern");
+        sweep_rows.emplace_back(a, b);
     }
-    m.modify(true, pairs, m.outside);
+    modify(true, pairs, outside);
+    counts.swept += static_cast<long>(sweep_rows.size());
+    counts.filled += static_cast<long>(outside.size());
+    return {static_cast<int>(formed.size() + broken.size()), n_up};
+}
+
+int CholmodUpdatedFactor::follow(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact) {
+    Impl& m = *impl_;
+    const ScopeTimer timer(m.counts.upkeep_seconds, m.timing);
+    const auto [changes, n_up] = m.gather_changes(pairs, in_contact);
     m.sweep(m.sweep_rows, n_up);
-    m.counts.swept += static_cast<long>(m.sweep_rows.size());
-    m.counts.filled += static_cast<long>(m.outside.size());
     if (std::exchange(m.columns.failed, false)) {  // a downdate lost positive definiteness (round-off): start afresh
         ++m.counts.refactored;
         factorize(pairs, in_contact);
     }
-    return static_cast<int>(m.formed.size() + m.broken.size());
+    return changes;
 }
 
 void CholmodUpdatedFactor::solve(const double* b, double* x) {
@@ -314,6 +322,92 @@ void solve_one(const cholmod_factor& L, const int* pinv, const double* b, double
     for (int i = 0; i < n; ++i) u[i] = y[pinv[i]];
 }
 
+// The paired solve's passes: row r of `y` holds (x, y) as one SIMD pair, so each entry of L is
+// read once per pass for both right-hand sides.
+
+/// y = P b, both halves.
+void permute_in(const cholmod_factor& L, const double* b_x, const double* b_y, double* y) {
+    const auto* perm = static_cast<const int*>(L.Perm);
+    for (std::size_t k = 0; k < L.n; ++k) {
+        y[2 * k] = b_x[perm[k]];
+        y[2 * k + 1] = b_y[perm[k]];
+    }
+}
+
+/// Spins until column j is final: `limit` is the last value read from `done_below`.
+inline void wait_for_column(int j, int& limit, const std::atomic<int>& done_below) {
+    while (j >= limit) {
+        limit = done_below.load(std::memory_order_acquire);
+        if (j >= limit) {
+#if defined(__x86_64__) || defined(__i386__)
+            __builtin_ia32_pause();
+#endif
+        }
+    }
+}
+
+/// L z = y in place, column by column; with `done_below`, column j only once the sweep
+/// running on another thread has stored a value above j. (No test for a zero y_j: few columns
+/// have one, even at φ = 0.80, where the test cost more than it saved; skipping one gives the
+/// same bits.)
+void forward_pass(const cholmod_factor& L, double* y, const std::atomic<int>* done_below) {
+    const auto n = static_cast<int>(L.n);
+    const auto* Lp = static_cast<const int*>(L.p);
+    const auto* Li = static_cast<const int*>(L.i);
+    const auto* Lnz = static_cast<const int*>(L.nz);
+    const auto* Lx = static_cast<const double*>(L.x);
+    int limit = done_below ? 0 : n;
+    for (int j = 0; j < n; ++j) {
+        if (done_below) wait_for_column(j, limit, *done_below);
+        const Pair yj = load(y + 2 * j);
+        const int begin = Lp[j], end = begin + Lnz[j];
+        for (int p = begin + 1; p < end; ++p) {
+            double* at = y + 2 * Li[p];
+            store(at, load(at) - Lx[p] * yj);
+        }
+    }
+}
+
+/// Lᵀ x = D⁻¹ z in place, row by row of Lᵀ, each row's D⁻¹ applied as it is reached: the
+/// pivot Lx[begin] is then the next entry of the downward stream, where a pass of its own read
+/// one scattered cache line per column (0.3 ms of a step at N = 65536). The same operations in
+/// the same order per row, so the same bits.
+void backward_pass(const cholmod_factor& L, double* y) {
+    const auto n = static_cast<int>(L.n);
+    const auto* Lp = static_cast<const int*>(L.p);
+    const auto* Li = static_cast<const int*>(L.i);
+    const auto* Lnz = static_cast<const int*>(L.nz);
+    const auto* Lx = static_cast<const double*>(L.x);
+    for (int j = n - 1; j >= 0; --j) {
+        const int begin = Lp[j], end = begin + Lnz[j];
+        // Four partial sums (independent chains; a fixed order, so deterministic). Each
+        // column is read from its end down, so that the whole pass walks L's arrays downwards
+        // as one stream the hardware prefetcher follows: read upwards within columns taken in
+        // reverse, the short columns defeat it and at N = 65536 (L far larger than the cache)
+        // this pass took twice as long as the forward one.
+        Pair s0{0.0, 0.0}, s1{0.0, 0.0}, s2{0.0, 0.0}, s3{0.0, 0.0};
+        int p = end;
+        for (; p - 4 >= begin + 1; p -= 4) {
+            s0 += Lx[p - 1] * load(y + 2 * Li[p - 1]);
+            s1 += Lx[p - 2] * load(y + 2 * Li[p - 2]);
+            s2 += Lx[p - 3] * load(y + 2 * Li[p - 3]);
+            s3 += Lx[p - 4] * load(y + 2 * Li[p - 4]);
+        }
+        for (; p > begin + 1; --p) s0 += Lx[p - 1] * load(y + 2 * Li[p - 1]);
+        store(y + 2 * j, load(y + 2 * j) / Lx[begin] - ((s0 + s1) + (s2 + s3)));
+    }
+}
+
+/// u = the rows of y through pinv (row of each disk): sequential stores and one (x, y) load per
+/// disk, where storing through perm wrote two scattered lines per row.
+void permute_out(const int* pinv, int n, const double* y, double* u_x, double* u_y) {
+    for (int i = 0; i < n; ++i) {
+        const Pair xi = load(y + 2 * pinv[i]);
+        u_x[i] = xi[0];
+        u_y[i] = xi[1];
+    }
+}
+
 }  // namespace
 
 void CholmodUpdatedFactor::solve(const double* b_x, const double* b_y, double* u_x, double* u_y) {
@@ -341,57 +435,62 @@ void CholmodUpdatedFactor::solve(const double* b_x, const double* b_y, double* u
         }
         return;
     }
-    const auto* Lp = static_cast<const int*>(m.L->p);
-    const auto* Li = static_cast<const int*>(m.L->i);
-    const auto* Lnz = static_cast<const int*>(m.L->nz);
-    const auto* Lx = static_cast<const double*>(m.L->x);
-    const auto* perm = static_cast<const int*>(m.L->Perm);
     m.xy.resize(2 * static_cast<std::size_t>(n));
-    double* y = m.xy.data();  // row r at y + 2 r
-    for (int k = 0; k < n; ++k) {
-        y[2 * k] = b_x[perm[k]];
-        y[2 * k + 1] = b_y[perm[k]];
+    permute_in(*m.L, b_x, b_y, m.xy.data());
+    forward_pass(*m.L, m.xy.data(), nullptr);
+    backward_pass(*m.L, m.xy.data());
+    permute_out(m.pinv.data(), n, m.xy.data(), u_x, u_y);
+}
+
+int CholmodUpdatedFactor::follow_and_solve(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,
+                                           const double* b_x, const double* b_y, double* u_x, double* u_y) {
+    Impl& m = *impl_;
+    const int n = m.n;
+    if (kernel_threads() < 2 || static_cast<std::size_t>(n) < kThreadedLoopMin) {
+        const int changes = follow(pairs, in_contact);
+        solve(b_x, b_y, u_x, u_y);
+        return changes;
     }
-    // L z = P b, column by column. (No test for a zero y_j: few columns have one, even at
-    // φ = 0.80, where the test cost more than it saved; skipping one gives the same bits.)
-    for (int j = 0; j < n; ++j) {
-        const Pair yj = load(y + 2 * j);
-        const int begin = Lp[j], end = begin + Lnz[j];
-        for (int p = begin + 1; p < end; ++p) {
-            double* at = y + 2 * Li[p];
-            store(at, load(at) - Lx[p] * yj);
+    std::pair<int, std::size_t> gathered;
+    {
+        const ScopeTimer timer(m.counts.upkeep_seconds, m.timing);
+        gathered = m.gather_changes(pairs, in_contact);
+    }
+    if (m.sweep_rows.empty()) {  // nothing to sweep: the solve alone, x and y side by side
+        solve(b_x, b_y, u_x, u_y);
+        return gathered.first;
+    }
+    m.xy.resize(2 * static_cast<std::size_t>(n));
+    double* const y = m.xy.data();
+    {
+        // The sweep on one thread and, behind it, the forward pass on another: the sweep's
+        // columns come in ascending order, each final once the sweep is past it (done_below).
+        // Timed as upkeep (the forward pass hides in it).
+        const ScopeTimer timer(m.counts.upkeep_seconds, m.timing);
+        std::atomic<int> done_below{0};
+        const std::size_t n_up = gathered.second;
+#pragma omp parallel num_threads(2)
+        {
+            const int thread = omp_get_thread_num();
+            if (thread == 0) m.sweep(m.sweep_rows, n_up, &done_below);
+            // A team of one (nested or limited OpenMP) takes both, the sweep first.
+            if (thread == 1 || omp_get_num_threads() == 1) {
+                permute_in(*m.L, b_x, b_y, y);
+                forward_pass(*m.L, y, &done_below);
+            }
         }
     }
-    // Lᵀ x = D⁻¹ z, row by row of Lᵀ, each row's D⁻¹ applied as it is reached: the pivot
-    // Lx[begin] is then the next entry of the downward stream, where a pass of its own read
-    // one scattered cache line per column (0.3 ms of a step at N = 65536). The same
-    // operations in the same order per row, so the same bits.
-    for (int j = n - 1; j >= 0; --j) {
-        const int begin = Lp[j], end = begin + Lnz[j];
-        // Four partial sums (independent chains; a fixed order, so deterministic). Each
-        // column is read from its end down, so that the whole pass walks L's arrays downwards
-        // as one stream the hardware prefetcher follows: read upwards within columns taken in
-        // reverse, the short columns defeat it and at N = 65536 (L far larger than the cache)
-        // this pass took twice as long as the forward one.
-        Pair s0{0.0, 0.0}, s1{0.0, 0.0}, s2{0.0, 0.0}, s3{0.0, 0.0};
-        int p = end;
-        for (; p - 4 >= begin + 1; p -= 4) {
-            s0 += Lx[p - 1] * load(y + 2 * Li[p - 1]);
-            s1 += Lx[p - 2] * load(y + 2 * Li[p - 2]);
-            s2 += Lx[p - 3] * load(y + 2 * Li[p - 3]);
-            s3 += Lx[p - 4] * load(y + 2 * Li[p - 4]);
-        }
-        for (; p > begin + 1; --p) s0 += Lx[p - 1] * load(y + 2 * Li[p - 1]);
-        store(y + 2 * j, load(y + 2 * j) / Lx[begin] - ((s0 + s1) + (s2 + s3)));
+    if (std::exchange(m.columns.failed, false)) {  // as in follow: start afresh, and solve again
+        ++m.counts.refactored;
+        factorize(pairs, in_contact);
+        solve(b_x, b_y, u_x, u_y);
+        return gathered.first;
     }
-    // Out through pinv (row of each disk): sequential stores and one (x, y) load per disk,
-    // where storing through perm wrote two scattered lines per row.
-    const int* pinv = m.pinv.data();
-    for (int i = 0; i < n; ++i) {
-        const Pair xi = load(y + 2 * pinv[i]);
-        u_x[i] = xi[0];
-        u_y[i] = xi[1];
-    }
+    const ScopeTimer timer(m.counts.solve_seconds, m.timing);
+    backward_pass(*m.L, y);
+    permute_out(m.pinv.data(), n, y, u_x, u_y);
+    ++m.counts.pipelined_solves;
+    return gathered.first;
 }
 
 }  // namespace jamsim::linalg

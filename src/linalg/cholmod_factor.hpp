@@ -57,6 +57,12 @@ class CholmodUpdatedFactor {
     void factorize(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact);
     /// Updates the factor to `in_contact`; returns the number of contacts formed or broken.
     int follow(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact);
+    /// `follow`, then `solve`, with the same bits: on two threads or more (n of at least
+    /// kThreadedLoopMin, changes to sweep) the solve's forward pass runs on a second thread
+    /// behind the sweep, each column as soon as the sweep is past it, and the backward pass
+    /// after it (the update and the forward pass each read most of L, 22 MB at N = 65536).
+    int follow_and_solve(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,
+                         const double* b_x, const double* b_y, double* u_x, double* u_y);
     /// (u_x, u_y) = A⁻¹ (b_x, b_y), each of n; no input may overlap an output.
     void solve(const double* b_x, const double* b_y, double* u_x, double* u_y);
     /// x = A⁻¹ b for b, x of n × 2 (x half then y half).
@@ -75,9 +81,10 @@ class CholmodUpdatedFactor {
     /// its solves, for benchmarks.
     /// `block_updates`: entry updates (entries × changes) made by the consecutive-row kernels
     /// on whole blocks of rows, the part that `Vectors` selects.
-    /// `split_solves`: solves whose x and y halves ran side by side on two threads.
+    /// `split_solves`: solves whose x and y halves ran side by side on two threads;
+    /// `pipelined_solves`: follow_and_solve calls whose forward pass ran behind the sweep.
     struct Counts {
-        long swept = 0, filled = 0, refactored = 0, block_updates = 0, split_solves = 0;
+        long swept = 0, filled = 0, refactored = 0, block_updates = 0, split_solves = 0, pipelined_solves = 0;
         double upkeep_seconds = 0, solve_seconds = 0;
     };
     Counts counts() const;

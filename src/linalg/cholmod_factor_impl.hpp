@@ -6,6 +6,7 @@
 #include <cholmod.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <span>
@@ -281,7 +282,18 @@ struct CholmodUpdatedFactor::Impl {
     /// column after column). Sets sweep_failed when a downdate meets a pivot that is not
     /// positive (the caller refactors).
     static constexpr int kSweepRank = factor_kernels::SweepColumns::kRank;
-    void sweep(std::span<const std::pair<int, int>> rows, std::size_t n_up);
+    /// With `done_below`, for a solve's forward pass that follows the sweep on another thread
+    /// (follow_and_solve): in its last pass it stores j before it takes column j (every column
+    /// below j is then final: the union ascends, and no other column changes), and n at its
+    /// end, each with release order.
+    void sweep(std::span<const std::pair<int, int>> rows, std::size_t n_up, std::atomic<int>* done_below = nullptr);
+
+    /// follow's bookkeeping: the contact flags taken over, the changes since the factor's
+    /// contact set found, those outside L's pattern applied by CHOLMOD (which allocates their
+    /// fill), the others listed in sweep_rows (updates first). Returns (changes, updates in
+    /// sweep_rows).
+    std::pair<int, std::size_t> gather_changes(std::span<const ContactPair> pairs,
+                                               std::span<const std::uint8_t> in_contact);
 
     /// Column j's pivot (at workspace place `slot`) through its changes in turn, the changes
     /// passed on to its parent, and the coefficients of the changes (those whose w is not

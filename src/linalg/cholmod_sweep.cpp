@@ -37,7 +37,8 @@ template <int Second>
     return count;
 }
 
-void CholmodUpdatedFactor::Impl::sweep(std::span<const std::pair<int, int>> rows, std::size_t n_up) {
+void CholmodUpdatedFactor::Impl::sweep(std::span<const std::pair<int, int>> rows, std::size_t n_up,
+                                       std::atomic<int>* done_below) {
     const auto* Lp = static_cast<const int*>(L->p);
     const auto* Li = static_cast<const int*>(L->i);
     const auto* Lnz = static_cast<const int*>(L->nz);
@@ -85,8 +86,11 @@ void CholmodUpdatedFactor::Impl::sweep(std::span<const std::pair<int, int>> rows
             wt[slot_of[static_cast<std::size_t>(a)]] = 1.0;
             wt[slot_of[static_cast<std::size_t>(b)]] = -1.0;
         }
+        const bool last_pass = start + kSweepRank >= rows.size();
+        std::atomic<int>* const publish = last_pass ? done_below : nullptr;
         for (std::size_t slot = 0; slot < slots; ++slot) {
             const int j = path_union[slot];
+            if (publish) publish->store(j, std::memory_order_release);
             // The pivot's recurrence, change after change; then each entry of the column
             // takes every change in turn (its arithmetic is that of one change at a time).
             const int begin = Lp[j];
@@ -132,6 +136,7 @@ void CholmodUpdatedFactor::Impl::sweep(std::span<const std::pair<int, int>> rows
             columns.apply_column(l, slots_j, len, count);
         }
     }
+    if (done_below) done_below->store(n, std::memory_order_release);
 }
 
 void CholmodUpdatedFactor::Impl::find_etree() {

@@ -199,6 +199,13 @@ struct EigenContactSolver::Impl {
     void apply(std::span<const double> bx, std::span<const double> by, std::span<double> ux, std::span<double> uy) {
         factor.solve(bx.data(), by.data(), ux.data(), uy.data());
     }
+    int follow_and_apply(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,
+                         std::span<const double> bx, std::span<const double> by, std::span<double> ux,
+                         std::span<double> uy) {
+        const int changes = follow(pairs, in_contact);
+        apply(bx, by, ux, uy);
+        return changes;
+    }
     /// Whether ‖b − A u‖ ≤ rtol ‖b‖ for both right-hand sides and the current contacts.
     bool residual_within(std::span<const double> bx, std::span<const double> by, std::span<const double> ux,
                          std::span<const double> uy) {

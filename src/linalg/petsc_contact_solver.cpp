@@ -229,8 +229,16 @@ struct PetscContactSolver::Impl {
     /// Brings the preconditioner to the current contacts: the updated CHOLMOD factor (carried
     /// over a new candidate list, updated by the contacts' changes, or factorised afresh when
     /// `refresh` asks), or PETSc's own, recomputed when the pattern or `refresh` asks.
+    /// With `shortcut_rhs` (b_x, b_y, u_x, u_y: the shortcut below will follow), the factor's
+    /// update and its application to b go together (CholmodUpdatedFactor::follow_and_solve,
+    /// the same bits), and `solved` says so.
+    struct Rhs {
+        std::span<const double> b_x, b_y;
+        std::span<double> u_x, u_y;
+    };
     SolveInfo update_preconditioner(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,
-                                    std::size_t pattern_version, std::span<const std::int32_t> labels);
+                                    std::size_t pattern_version, std::span<const std::int32_t> labels,
+                                    const Rhs* shortcut_rhs, bool& solved);
     SolveInfo run(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,
                   std::size_t pattern_version, std::span<const std::int32_t> labels, std::span<const double> b_x,
                   std::span<const double> b_y, std::span<double> u_x, std::span<double> u_y);
@@ -281,9 +289,11 @@ SolveInfo PetscContactSolver::solve(std::span<const ContactPair> pairs, std::spa
 SolveInfo PetscContactSolver::Impl::update_preconditioner(std::span<const ContactPair> pairs,
                                                           std::span<const std::uint8_t> in_contact,
                                                           std::size_t pattern_version,
-                                                          std::span<const std::int32_t> labels) {
+                                                          std::span<const std::int32_t> labels, const Rhs* shortcut_rhs,
+                                                          bool& solved) {
     Impl& m = *this;
     SolveInfo info;
+    solved = false;
     if (m.shell) {
         if (!m.A) m.make_shell_operator();
         if (pattern_version != m.version) {
@@ -296,7 +306,14 @@ SolveInfo PetscContactSolver::Impl::update_preconditioner(std::span<const Contac
             m.refresh = false;
             info.refactored = true;
         } else {
-            info.factor_updates = m.factor->follow(pairs, in_contact);
+            if (shortcut_rhs) {
+                info.factor_updates =
+                    m.factor->follow_and_solve(pairs, in_contact, shortcut_rhs->b_x.data(), shortcut_rhs->b_y.data(),
+                                               shortcut_rhs->u_x.data(), shortcut_rhs->u_y.data());
+                solved = true;
+            } else {
+                info.factor_updates = m.factor->follow(pairs, in_contact);
+            }
             if (info.factor_updates > 0 || info.relabelled) m.factor_exact = false;
         }
     } else {
@@ -321,12 +338,17 @@ SolveInfo PetscContactSolver::Impl::run(std::span<const ContactPair> pairs, std:
                                         std::span<double> u_y) {
     Impl& m = *this;
     const auto nn = static_cast<std::size_t>(m.n);
-    SolveInfo info = m.update_preconditioner(pairs, in_contact, pattern_version, labels);
+    // Whenever the shell's factor is updated, the shortcut applies it next (a norm is checked).
+    const Rhs rhs{b_x, b_y, u_x, u_y};
+    bool solved = false;
+    SolveInfo info = m.update_preconditioner(pairs, in_contact, pattern_version, labels,
+                                             m.shell && m.norm_type != KSP_NORM_NONE ? &rhs : nullptr, solved);
     // The default PC after contact changes: one application of the updated factor, whose
     // true residual is checked here for each half in one pass (as the cholmod backend does);
     // only when it misses the tolerance does the KSP refine, from that solution.
     const bool check_here = m.shell && !m.factor_exact && m.norm_type != KSP_NORM_NONE;
     const bool shortcut = m.shell && (m.factor_exact || check_here) && m.norm_type != KSP_NORM_NONE;
+    if (solved && !shortcut) throw std::logic_error("CD0 PETSc solver: the factor applied for a solve that refines");
     // A KSP solves the system with each right-hand side scaled to unit norm, so that its
     // joint convergence test bounds each half; one application of the factor (the shortcut)
     // needs no scaling, and its result is then the cholmod backend's, bit for bit.
@@ -363,7 +385,7 @@ SolveInfo PetscContactSolver::Impl::run(std::span<const ContactPair> pairs, std:
     // into PETSc's Vecs): the same bits as one Richardson step from a zero guess.
     PetscInt its = 1;
     if (shortcut) {
-        m.factor->solve(b_x.data(), b_y.data(), u_x.data(), u_y.data());
+        if (!solved) m.factor->solve(b_x.data(), b_y.data(), u_x.data(), u_y.data());
         m.last_reason = KSP_CONVERGED_ITS;
     } else {
         scale_system(true);

@@ -19,6 +19,8 @@ namespace jamsim::linalg {
 ///    updates and downdates, returns how many;
 ///  - `void factorize(pairs, in_contact)`: the factor of the current contacts from scratch;
 ///  - `void apply(b_x, b_y, u_x, u_y)`: u = A⁻¹ b for both halves by the factor;
+///  - `int follow_and_apply(pairs, in_contact, b_x, b_y, u_x, u_y)`: `follow` then `apply`
+///    (a backend may overlap the two), returns `follow`'s count;
 ///  - `bool residual_within(b_x, b_y, u_x, u_y)`: the true residual of u for the current
 ///    contacts meets the backend's tolerance.
 /// Accumulated updates and downdates lose accuracy slowly, so after any change the true
@@ -34,8 +36,7 @@ SolveInfo solve_with_updated_factor(Factor& factor, std::size_t& version, std::s
         version = pattern_version;
     }
     if (factor.has_factor()) {
-        info.factor_updates = factor.follow(pairs, in_contact);
-        factor.apply(b_x, b_y, u_x, u_y);
+        info.factor_updates = factor.follow_and_apply(pairs, in_contact, b_x, b_y, u_x, u_y);
         if (info.factor_updates == 0 && !info.relabelled) return info;
         if (factor.residual_within(b_x, b_y, u_x, u_y)) return info;
     }

@@ -266,10 +266,11 @@ TEST(CholmodFactor, WideVectorKernelsGiveTheBaselineBits) {
     }
 }
 
-// On several threads the solve takes the x and y halves side by side: the factor must give
-// the one-thread bits on 2, 3 and 4 threads (oversubscribed here), through fresh factors, many
-// changes per step and a relabelling that adds candidate pairs outside the pattern. 8192
-// points: n reaches the threaded solve (counted).
+// On several threads the solve takes the x and y halves side by side, and follow_and_solve runs
+// the forward pass behind the sweep: the factor must give the one-thread bits on 2, 3 and 4
+// threads (oversubscribed here), through fresh factors, many changes per step (more than one
+// sweep pass), a relabelling that adds candidate pairs outside the pattern, and few changes.
+// 8192 points: n reaches the threaded solve and the pipeline (both counted).
 TEST(CholmodFactor, UpdatesAndSolvesGiveTheSameBitsOnAnyThreadCount) {
     const int n = 8192;
     std::mt19937_64 pattern_rng(23);
@@ -282,7 +283,7 @@ TEST(CholmodFactor, UpdatesAndSolvesGiveTheSameBitsOnAnyThreadCount) {
     }
     struct Outcome {
         std::vector<double> solutions;
-        long split_solves = 0;
+        long split_solves = 0, pipelined_solves = 0;
     };
     const auto run = [&](int threads) {
         const int before = jamsim::kernel_threads();
@@ -297,29 +298,37 @@ TEST(CholmodFactor, UpdatesAndSolvesGiveTheSameBitsOnAnyThreadCount) {
         Outcome out;
         std::normal_distribution<double> g;
         std::vector<double> b(2 * static_cast<std::size_t>(n)), x(b.size());
+        int steps = 0;
         const auto step = [&](std::span<const ContactPair> list, double p) {
             std::bernoulli_distribution flip(p);
             for (auto& c : in_contact)
                 if (flip(rng)) c = !c;
-            factor.follow(list, in_contact);
             for (double& v : b) v = g(rng);
-            factor.solve(b.data(), x.data());
+            if (++steps % 2 == 0) {  // follow then solve
+                factor.follow(list, in_contact);
+                factor.solve(b.data(), x.data());
+            } else {  // both at once: on several threads the forward pass behind the sweep
+                factor.follow_and_solve(list, in_contact, b.data(), b.data() + n, x.data(), x.data() + n);
+            }
             out.solutions.insert(out.solutions.end(), x.begin(), x.end());
         };
-        for (int s = 0; s < 3; ++s) step(pairs, s % 2 == 0 ? 0.02 : 0.002);
+        for (int s = 0; s < 4; ++s) step(pairs, s % 2 == 0 ? 0.02 : 0.002);
         in_contact.assign(second.size(), 0);
         if (!factor.adopt(second, relabelled)) factor.factorize(second, in_contact);
-        for (int s = 0; s < 2; ++s) step(second, 0.01);
+        for (int s = 0; s < 4; ++s) step(second, s < 2 ? 0.01 : 0.0005);
         out.split_solves = factor.counts().split_solves;
+        out.pipelined_solves = factor.counts().pipelined_solves;
         jamsim::set_kernel_threads(before);
         return out;
     };
     const Outcome one = run(1);
     EXPECT_EQ(one.split_solves, 0);
+    EXPECT_EQ(one.pipelined_solves, 0);
     for (const int t : {2, 3, 4}) {
         SCOPED_TRACE("threads " + std::to_string(t));
         const Outcome many = run(t);
         EXPECT_GT(many.split_solves, 0);
+        EXPECT_GT(many.pipelined_solves, 0);
         ASSERT_EQ(one.solutions.size(), many.solutions.size());
         EXPECT_EQ(std::memcmp(one.solutions.data(), many.solutions.data(), one.solutions.size() * sizeof(double)), 0);
     }

@@ -2,6 +2,7 @@
 // A campaign's cost on this machine, for the dry run and `jamsim plan`: each replica's
 // seconds on one thread, from the throughput of its (model, N, phi) group measured on this
 // machine (an earlier run's archive, or short probes), or nominal.
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -11,16 +12,34 @@ namespace jamsim {
 
 /// Every replica's estimated seconds on one thread of this machine, and where the
 /// throughput comes from (in words).
+/// Seconds of probes a dry run spends calibrating by default (--probe-seconds).
+inline constexpr double kDefaultProbeSeconds = 30.0;
+
+/// A (model, N, phi) group whose throughput was not measured (past the probes' budget):
+/// its replicas' seconds come from other groups.
+struct ExtrapolatedGroup {
+    std::string model;
+    std::int64_t n = 0;
+    double phi = 0;
+    std::int64_t replicas = 0;
+    double seconds = 0;  ///< its replicas' estimated seconds on one thread
+    std::string from;    ///< where its throughput comes from, in words
+};
+
 struct ReplicaSeconds {
     std::vector<double> seconds;
     std::vector<double> serial;  ///< the part of `seconds` in samples (serial: threads leave it)
     std::string source;
+    /// The groups not measured, the most seconds first (empty without calibration).
+    std::vector<ExtrapolatedGroup> extrapolated;
 };
 
 /// The seconds of each replica of `spec`: its estimated cost at the throughput calibrated on
 /// this machine (the finished replicas of `archive`, else short probes on one thread), or
 /// nominal without `calibrate`, plus its samples' seconds (probed: a run of the probe's
 /// steps with 10 samples against one with 1).
-ReplicaSeconds replica_seconds(const CampaignSpec& spec, const std::string& archive, bool calibrate);
+/// `probe_seconds`: the probes' budget (wall seconds; groups past it are extrapolated).
+ReplicaSeconds replica_seconds(const CampaignSpec& spec, const std::string& archive, bool calibrate,
+                               double probe_seconds = kDefaultProbeSeconds);
 
 }  // namespace jamsim
