@@ -293,6 +293,8 @@ namespace {
 
 /// u = Pᵀ L⁻ᵀ D⁻¹ L⁻¹ P b for one right-hand side, `y` of n its workspace: the operations of
 /// the paired solve below on one of its halves, in the same order, so the same bits.
+void backward_one(const cholmod_factor& L, double* y);
+
 void solve_one(const cholmod_factor& L, const int* pinv, const double* b, double* u, double* y) {
     const auto n = static_cast<int>(L.n);
     const auto* Lp = static_cast<const int*>(L.p);
@@ -306,6 +308,17 @@ void solve_one(const cholmod_factor& L, const int* pinv, const double* b, double
         const int begin = Lp[j], end = begin + Lnz[j];
         for (int p = begin + 1; p < end; ++p) y[Li[p]] = y[Li[p]] - Lx[p] * yj;
     }
+    backward_one(L, y);
+    for (int i = 0; i < n; ++i) u[i] = y[pinv[i]];
+}
+
+/// Lᵀ x = D⁻¹ z in place for one right-hand side: backward_pass's operations on one half.
+void backward_one(const cholmod_factor& L, double* y) {
+    const auto n = static_cast<int>(L.n);
+    const auto* Lp = static_cast<const int*>(L.p);
+    const auto* Li = static_cast<const int*>(L.i);
+    const auto* Lnz = static_cast<const int*>(L.nz);
+    const auto* Lx = static_cast<const double*>(L.x);
     for (int j = n - 1; j >= 0; --j) {
         const int begin = Lp[j], end = begin + Lnz[j];
         double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
@@ -319,7 +332,6 @@ void solve_one(const cholmod_factor& L, const int* pinv, const double* b, double
         for (; p > begin + 1; --p) s0 += Lx[p - 1] * y[Li[p - 1]];
         y[j] = y[j] / Lx[begin] - ((s0 + s1) + (s2 + s3));
     }
-    for (int i = 0; i < n; ++i) u[i] = y[pinv[i]];
 }
 
 // The paired solve's passes: row r of `y` holds (x, y) as one SIMD pair, so each entry of L is
@@ -486,9 +498,22 @@ int CholmodUpdatedFactor::follow_and_solve(std::span<const ContactPair> pairs, s
         solve(b_x, b_y, u_x, u_y);
         return gathered.first;
     }
+    // The backward pass: the x and y halves side by side (as `solve` on several threads).
     const ScopeTimer timer(m.counts.solve_seconds, m.timing);
-    backward_pass(*m.L, y);
-    permute_out(m.pinv.data(), n, y, u_x, u_y);
+    m.halves.resize(2 * static_cast<std::size_t>(n));
+    double* const halves = m.halves.data();
+    const int* const pinv = m.pinv.data();
+#pragma omp parallel num_threads(2)
+    {
+        const int team = omp_get_num_threads();
+        for (int h = omp_get_thread_num(); h < 2; h += team) {
+            double* const yh = halves + static_cast<std::size_t>(h) * static_cast<std::size_t>(n);
+            for (int k = 0; k < n; ++k) yh[k] = y[2 * k + h];
+            backward_one(*m.L, yh);
+            double* const u = h == 0 ? u_x : u_y;
+            for (int i = 0; i < n; ++i) u[i] = yh[pinv[i]];
+        }
+    }
     ++m.counts.pipelined_solves;
     return gathered.first;
 }

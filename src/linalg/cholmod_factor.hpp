@@ -29,7 +29,8 @@ namespace jamsim::linalg {
 ///    for both.
 /// Deterministic (fixed ordering), and the same bits on any number of threads: the updates
 /// run on one thread, and on several `solve` takes the x and y halves side by side (each
-/// with the operations of the paired pass on its half).
+/// with the operations of the paired pass on its half), and `follow_and_solve` runs the
+/// solve's forward pass behind the sweep on a second thread.
 class CholmodUpdatedFactor {
   public:
     enum class Ordering { metis, amd };

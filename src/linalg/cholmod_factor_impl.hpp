@@ -232,6 +232,7 @@ struct CholmodUpdatedFactor::Impl {
     }
     std::vector<std::uint8_t> factored;  // contact set the factor represents
     std::vector<double> xy;              // solve: the permuted right-hand sides, interleaved
+    std::vector<double> halves;          // follow_and_solve: the x half, then the y half
     // Workspace of `sweep`: one column per change over the rows of the union of the changes'
     // elimination-tree paths, that union, and per column of L which changes pass through it.
     std::vector<double> w;
