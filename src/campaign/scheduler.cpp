@@ -186,7 +186,7 @@ namespace {
 /// Serial fractions measured at N = 16384, 65536 and 262144 (SpeedupModel).
 constexpr std::array<std::pair<double, double>, 3> kPairLoopFraction{{{16384, 0.21}, {65536, 0.05}, {262144, 0.045}}};
 constexpr std::array<std::pair<double, double>, 1> kMinimiserFraction{{{65536, 0.10}}};
-constexpr std::array<std::pair<double, double>, 2> kContactSolveFraction{{{16384, 0.42}, {65536, 0.59}}};
+constexpr std::array<std::pair<double, double>, 2> kContactSolveFraction{{{16384, 0.45}, {65536, 0.37}}};
 
 /// A table's fraction at n: interpolated in log N, held beyond its ends.
 template <std::size_t K> double interpolated(const std::array<std::pair<double, double>, K>& measured, std::int64_t n) {

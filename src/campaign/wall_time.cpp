@@ -74,8 +74,8 @@ std::string describe_speedup(const SpeedupModel& model) {
                              "at most 2), the samples not at all";
     if (model.serial_fraction < 0)
         return "the kernel by Amdahl's law with its measured serial fraction by model and N (RD0 and the massive "
-               "models 0.21 at N <= 16384, 0.05 at 65536, 0.045 from 262144; the minimisations 0.10; CD0 0.42 at "
-               "16384, 0.59 from 65536; 1 below 4096; --serial-fraction sets one)" +
+               "models 0.21 at N <= 16384, 0.05 at 65536, 0.045 from 262144; the minimisations 0.10; CD0 0.45 at "
+               "16384, 0.37 from 65536; 1 below 4096; --serial-fraction sets one)" +
                caps;
     char fraction[32];
     std::snprintf(fraction, sizeof fraction, "%g", model.serial_fraction);
