@@ -87,40 +87,42 @@ void print_wall_time(const CampaignSpec& spec, const std::vector<double>& second
     if (plan.shards > 1 || plan.time_limit > 0) print_shards(spec, chains, replicas, plan);
 }
 
-void add_serial_fraction_option(CLI::App& command, double& fraction) {
+namespace {
+
+/// A number option `name` into `value`, refused outside [lowest, highest] with one message
+/// that says what is allowed (`allowed`).
+void add_bounded_number(CLI::App& command, const std::string& name, double& value, double lowest, double highest,
+                        const std::string& allowed, const std::string& help, const std::string& type) {
     command
         .add_option_function<std::string>(
-            "--serial-fraction",
-            [&fraction](const std::string& text) {
+            name,
+            [&value, name, lowest, highest, allowed](const std::string& text) {
                 char* end = nullptr;
                 const double v = std::strtod(text.c_str(), &end);
-                if (text.empty() || *end != '\0' || !(v >= 0 && v <= 1))
-                    throw CLI::ValidationError("--serial-fraction = " + text +
-                                               " is not allowed: a number from 0 to 1 (the part of a replica's "
-                                               "time that does not speed up on threads)");
-                fraction = v;
+                if (text.empty() || *end != '\0' || !(v >= lowest && v <= highest))
+                    throw CLI::ValidationError(name + " = " + text + " is not allowed: " + allowed);
+                value = v;
             },
-            "The wall-time estimate's speed-up on threads: Amdahl's law with this serial fraction for every N "
-            "and model (default: each model's kernel's, measured, by N)")
-        ->type_name("F");
+            help)
+        ->type_name(type);
+}
+
+}  // namespace
+
+void add_serial_fraction_option(CLI::App& command, double& fraction) {
+    add_bounded_number(command, "--serial-fraction", fraction, 0, 1,
+                       "a number from 0 to 1 (the part of a replica's time that does not speed up on threads)",
+                       "The wall-time estimate's speed-up on threads: Amdahl's law with this serial fraction for "
+                       "every N and model (default: each model's kernel's, measured, by N)",
+                       "F");
 }
 
 void add_probe_seconds_option(CLI::App& command, double& seconds) {
-    command
-        .add_option_function<std::string>(
-            "--probe-seconds",
-            [&seconds](const std::string& text) {
-                char* end = nullptr;
-                const double v = std::strtod(text.c_str(), &end);
-                if (text.empty() || *end != '\0' || !(v >= 0 && v <= 1e6))
-                    throw CLI::ValidationError("--probe-seconds = " + text +
-                                               " is not allowed: seconds from 0 to 1e6 (the calibration's probe "
-                                               "budget; 0: no probes)");
-                seconds = v;
-            },
-            "Seconds the cost calibration may spend probing (default 30): groups past it are extrapolated "
-            "from those measured, and listed")
-        ->type_name("SECONDS");
+    add_bounded_number(command, "--probe-seconds", seconds, 0, 1e6,
+                       "seconds from 0 to 1e6 (the calibration's probe budget; 0: no probes)",
+                       "Seconds the cost calibration may spend probing (default 30): groups past it are "
+                       "extrapolated from those measured, and listed",
+                       "SECONDS");
 }
 
 }  // namespace jamsim::app
