@@ -132,6 +132,10 @@ void Archive::mark_running(std::int64_t replica, int rank, bool keep_rows) {
     // Its rows NaN until written (the datasets are not filled): partial rows of a running
     // replica end in NaN, as finished rows do past n_samples.
     if (!keep_rows) { clear_rows(replica); }
+    if (layout_.has_threads) {  // a run again (extended, retried): its threads are those of the new run
+        const double none = 0.0;
+        write_block(file_.get(), "/replicas/threads", H5T_NATIVE_DOUBLE, {r}, {1}, &none);
+    }
     const auto s = static_cast<std::int8_t>(ReplicaStatus::Running);
     write_block(file_.get(), "/replicas/status", H5T_NATIVE_INT8, {r}, {1}, &s);
     // A replica run again (--retry-failed) forgets an old failure; after the status, so that
@@ -141,7 +145,7 @@ void Archive::mark_running(std::int64_t replica, int rank, bool keep_rows) {
     write_block(file_.get(), "/replicas/failure_reason", rt.get(), {r}, {1}, no_reason);
 }
 
-void Archive::write_done(std::int64_t replica, const ReplicaResult& result, int rank, int threads) {
+void Archive::write_done(std::int64_t replica, const ReplicaResult& result, int rank, double threads) {
     const hid_t f = file_.get();
     const auto r = static_cast<hsize_t>(replica);
     const auto rows = static_cast<hsize_t>(result.series.size());
@@ -175,10 +179,8 @@ void Archive::write_done(std::int64_t replica, const ReplicaResult& result, int 
     write_block(f, "/replicas/force_evaluations", H5T_NATIVE_INT64, {r}, {1}, &result.force_evaluations);
     const std::int32_t who = rank;
     write_block(f, "/replicas/rank", H5T_NATIVE_INT32, {r}, {1}, &who);
-    if (layout_.has_threads) {  // not in archives made before the column existed
-        const std::int32_t on = threads;
-        write_block(f, "/replicas/threads", H5T_NATIVE_INT32, {r}, {1}, &on);
-    }
+    if (layout_.has_threads)  // not in archives made before the column existed
+        write_block(f, "/replicas/threads", H5T_NATIVE_DOUBLE, {r}, {1}, &threads);
     // Last: the flag that makes the rows above valid.
     const auto s = static_cast<std::int8_t>(ReplicaStatus::Done);
     write_block(f, "/replicas/status", H5T_NATIVE_INT8, {r}, {1}, &s);

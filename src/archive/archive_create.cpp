@@ -133,10 +133,11 @@ void create_replica_columns(hid_t f, const CampaignSpec& spec, const std::vector
     h5::create_filled_dataset(f, "/replicas/wall_seconds", H5T_NATIVE_DOUBLE, {replicas}, &nan, "s",
                               "wall time of the replica");
     {
-        const std::int32_t none = 0;
-        h5::create_filled_dataset(f, "/replicas/threads", H5T_NATIVE_INT32, {replicas}, &none, "1",
-                                  "OpenMP threads of the replica's kernel when it ended, cores lent by idle ranks "
-                                  "included (0: not done); its data do not depend on them");
+        const double none = 0.0;
+        h5::create_filled_dataset(f, "/replicas/threads", H5T_NATIVE_DOUBLE, {replicas}, &none, "1",
+                                  "mean OpenMP threads of the replica's kernel over the run that finished it, "
+                                  "weighted by time (cores lent by idle ranks come and go at samples; 0: not done, "
+                                  "or not recorded); its data do not depend on them");
     }
     h5::create_filled_dataset(f, "/replicas/rows_written", H5T_NATIVE_INT64, {replicas}, &zero, "1",
                               "rows of /timeseries written so far (partial while status is 1)");

@@ -206,16 +206,20 @@ Calibration calibrate(const CampaignSpec& spec, const std::string& archive, doub
             const StoredCampaign stored = read_stored_campaign(archive);
             const h5::Handle file = h5::open_unlocked_readonly(archive);
             const auto wall = h5::read_all<double>(file.get(), "/replicas/wall_seconds", H5T_NATIVE_DOUBLE);
-            // The threads each ran on (none recorded before the column: one), so that a replica
-            // that ran on several counts as the one-thread seconds the estimates are in.
-            std::vector<std::int32_t> threads(wall.size(), 1);
+            // The threads each ran on (their mean over its run; none recorded before the column:
+            // one), so that a replica that ran on several counts as the one-thread seconds the
+            // estimates are in. Approximate: its samples, which threads do not shorten, are
+            // counted as sped up too, and a replica resumed after an interruption has its
+            // threads of the last run only.
+            std::vector<double> threads(wall.size(), 1.0);
             if (h5::exists(file.get(), "/replicas/threads"))
-                threads = h5::read_all<std::int32_t>(file.get(), "/replicas/threads", H5T_NATIVE_INT32);
+                threads = h5::read_all<double>(file.get(), "/replicas/threads", H5T_NATIVE_DOUBLE);
             for (std::size_t r = 0; r < stored.status.size() && r < wall.size() && r < threads.size(); ++r) {
                 const ReplicaParams& p = stored.spec.replicas[r];
                 if (stored.status[r] != ReplicaStatus::Done || !(wall[r] > 0) || !(estimated_cost(p) > 0)) continue;
                 auto& [seconds, cost] = recorded[cost_group(p)];
-                seconds += wall[r] * SpeedupModel{}.speedup(model_of(p).thread_scaling, p.n, std::max(1, threads[r]));
+                const int on = std::max(1, static_cast<int>(std::lround(threads[r])));
+                seconds += wall[r] * SpeedupModel{}.speedup(model_of(p).thread_scaling, p.n, on);
                 cost += estimated_cost(p);
             }
         } catch (const std::exception&) {

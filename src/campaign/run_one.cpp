@@ -35,6 +35,31 @@ std::optional<ReplicaState> usable_checkpoint(const std::string& path, const Rep
     }
 }
 
+/// The kernel's threads over a replica's run, weighted by time: lending changes them only in
+/// the farm's calls between samples, so they are read there.
+class ThreadUse {
+  public:
+    /// At a sample: the threads from here on (those before it counted until now).
+    void now_on(int threads) {
+        const Clock::time_point now = Clock::now();
+        const double dt = std::chrono::duration<double>(now - since_).count();
+        thread_seconds_ += dt * threads_;
+        seconds_ += dt;
+        since_ = now;
+        threads_ = threads;
+    }
+    /// The mean threads so far.
+    double mean() {
+        now_on(threads_);
+        return seconds_ > 0 ? thread_seconds_ / seconds_ : threads_;
+    }
+
+  private:
+    Clock::time_point since_ = Clock::now();
+    int threads_ = kernel_threads();
+    double thread_seconds_ = 0, seconds_ = 0;
+};
+
 }  // namespace
 
 Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, Archive& archive, int rank,
@@ -98,8 +123,10 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, A
         .stop = stop};
     // Between samples: the farm's messages, and every kProgressNoteSeconds a note of how far
     // the replica has got (jamsim status reads it between checkpoints).
+    ThreadUse threads;
     const SampleHook after_sample = [&](double done) {
         between();
+        threads.now_on(kernel_threads());
         if (!std::isfinite(done) || seconds_since(last_note) < kProgressNoteSeconds) return;
         timed([&] { write_progress_note(note, done); });
         last_note = Clock::now();
@@ -124,7 +151,7 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, A
                                               .steps = schedule_of(params).steps,
                                               .system = result.final_state});
             });
-        timed([&] { archive.write_done(id, result, rank, kernel_threads()); });
+        timed([&] { archive.write_done(id, result, rank, threads.mean()); });
         last_checkpoint = result.last_checkpoint;
         if (before >= 0) {  // the predecessor's end state has served
             std::error_code ignored;

@@ -245,7 +245,9 @@ std::vector<int> lend_cores(const std::vector<RankCores>& cores, const std::vect
 
 int useful_threads(ThreadScaling kernel, std::int64_t n) {
     const int blocks = n <= 0 ? 1 : static_cast<int>(ForceBlocks::block_count(static_cast<std::size_t>(n)));
-    return kernel == ThreadScaling::contact_solve ? std::min(blocks, 2) : blocks;
+    // CD0's solve takes 2 threads from kThreadedLoopMin (4096) disks on, whatever the blocks.
+    if (kernel == ThreadScaling::contact_solve) return n >= 4096 ? 2 : 1;
+    return blocks;
 }
 
 double seconds_on_threads(const SimulatedReplica& r, const SpeedupModel& model, int threads) {

@@ -2,6 +2,8 @@
 
 #include <omp.h>
 
+#include <exception>
+
 namespace jamsim::linalg {
 
 using factor_kernels::load;
@@ -481,16 +483,23 @@ int CholmodUpdatedFactor::follow_and_solve(std::span<const ContactPair> pairs, s
         const ScopeTimer timer(m.counts.upkeep_seconds, m.timing);
         std::atomic<int> done_below{0};
         const std::size_t n_up = gathered.second;
+        std::exception_ptr failure;  // the sweep's (its workspace's allocations), thrown after the region
 #pragma omp parallel num_threads(2)
         {
             const int thread = omp_get_thread_num();
-            if (thread == 0) m.sweep(m.sweep_rows, n_up, &done_below);
+            if (thread == 0) try {
+                    m.sweep(m.sweep_rows, n_up, &done_below);
+                } catch (...) {
+                    failure = std::current_exception();
+                    done_below.store(n, std::memory_order_release);  // the forward pass ends (its result unused)
+                }
             // A team of one (nested or limited OpenMP) takes both, the sweep first.
             if (thread == 1 || omp_get_num_threads() == 1) {
                 permute_in(*m.L, b_x, b_y, y);
                 forward_pass(*m.L, y, &done_below);
             }
         }
+        if (failure) std::rethrow_exception(failure);
     }
     if (std::exchange(m.columns.failed, false)) {  // as in follow: start afresh, and solve again
         ++m.counts.refactored;

@@ -36,7 +36,7 @@ TEST(Archive, WriteReadBackFailAndImport) {
     const ReplicaResult result = run_replica(spec.replicas[1]);
     archive.mark_running(1, 0);
     EXPECT_EQ(archive.read_status()[1], ReplicaStatus::Running);
-    archive.write_done(1, result, 0, 3);
+    archive.write_done(1, result, 0, 2.5);
     archive.write_failed(0, "deliberate failure for the test", 0.5, 0);
     archive.close();
     EXPECT_EQ(Archive::check_existing(path, spec), "");
@@ -63,8 +63,8 @@ TEST(Archive, WriteReadBackFailAndImport) {
         ASSERT_EQ(offset, (std::vector<std::int64_t>{0, 64}));
         for (std::size_t k = 0; k < fin.x.size(); ++k) EXPECT_EQ(x[64 + k], fin.x[k]);
         // The threads it ended on, for the done replica only (0: not done).
-        EXPECT_EQ(h5::read_all<std::int32_t>(file.get(), "/replicas/threads", H5T_NATIVE_INT32),
-                  (std::vector<std::int32_t>{0, 3}));
+        EXPECT_EQ(h5::read_all<double>(file.get(), "/replicas/threads", H5T_NATIVE_DOUBLE),
+                  (std::vector<double>{0, 2.5}));
     }
     const ArchiveSummary s = summarize_archive(path);
     EXPECT_EQ(s.done, 1);
@@ -86,7 +86,7 @@ TEST(Archive, WriteReadBackFailAndImport) {
         const auto pb = h5::read_dataset(b.get(), "/timeseries/shear_stress");
         for (std::size_t k = pa.size() / 2; k < pa.size(); ++k)
             EXPECT_TRUE(pa[k] == pb[k] || (std::isnan(pa[k]) && std::isnan(pb[k])));
-        EXPECT_EQ(h5::read_all<std::int32_t>(b.get(), "/replicas/threads", H5T_NATIVE_INT32)[1], 3);
+        EXPECT_EQ(h5::read_all<double>(b.get(), "/replicas/threads", H5T_NATIVE_DOUBLE)[1], 2.5);
     }
 
     // Another campaign's spec is refused by check_existing.

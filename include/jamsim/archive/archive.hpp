@@ -95,8 +95,9 @@ class Archive {
     /// checkpoint, whose rows so far are in the archive).
     void mark_running(std::int64_t replica, int rank, bool keep_rows = false);
     /// Its rows, final configuration and bookkeeping, then status done. `threads`: the
-    /// kernel's threads when it ended (/replicas/threads, where the archive has the column).
-    void write_done(std::int64_t replica, const ReplicaResult& result, int rank, int threads);
+    /// kernel's mean threads over its run, weighted by time (/replicas/threads, where the
+    /// archive has the column).
+    void write_done(std::int64_t replica, const ReplicaResult& result, int rank, double threads);
     /// A running replica's rows so far and its progress (fraction of steps) at a checkpoint:
     /// readers see them while its status is still 1 (running), i.e. partial. Rows before
     /// `from_row` are in the archive already and are not written again.

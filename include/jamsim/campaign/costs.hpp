@@ -10,8 +10,6 @@
 
 namespace jamsim {
 
-/// Every replica's estimated seconds on one thread of this machine, and where the
-/// throughput comes from (in words).
 /// Seconds of probes a dry run spends calibrating by default (--probe-seconds).
 inline constexpr double kDefaultProbeSeconds = 30.0;
 
@@ -26,6 +24,8 @@ struct ExtrapolatedGroup {
     std::string from;    ///< where its throughput comes from, in words
 };
 
+/// Every replica's estimated seconds on one thread of this machine, and where the
+/// throughput comes from (in words).
 struct ReplicaSeconds {
     std::vector<double> seconds;
     std::vector<double> serial;  ///< the part of `seconds` in samples (serial: threads leave it)

@@ -126,7 +126,8 @@ struct RankWork {
 std::vector<int> lend_cores(const std::vector<RankCores>& cores, const std::vector<RankWork>& work);
 
 /// The most threads a replica of N disks gains from: the pair loop's blocks (it shares out
-/// whole blocks: 4 at N = 16384, 16 at 65536, 32 from 131072), and 2 for the contact solve.
+/// whole blocks: 4 at N = 16384, 16 at 65536, 32 from 131072), and 2 for the contact solve
+/// from 4096 disks on (its solve's two threads).
 int useful_threads(ThreadScaling kernel, std::int64_t n);
 
 /// The ranks in the order the farm hands out its first replicas: the first rank of every
