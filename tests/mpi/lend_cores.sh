@@ -6,7 +6,7 @@
 #     while it runs, `jamsim status` says the run is live (the archive's lock);
 #  2. a rate ladder of N = 8192 on 2 unbound ranks x 1 thread: while one rank runs the ladder
 #     the other lends its core (the log says so), and the archive holds the same bits as on
-#     1 rank x 1 thread.
+#     1 rank x 1 thread, and /replicas/threads records the lent core (time-weighted).
 set -uo pipefail
 jamsim=$1 work=$2 compare=$3 data=$4
 mpirun=${MPIEXEC:-mpiexec}
@@ -49,4 +49,14 @@ timeout 300 "$mpirun" -n 1 "$jamsim" run "$data/lend_ladder.toml" -o ref.h5 --th
 timeout 300 "$mpirun" -n 2 --bind-to none "$jamsim" run "$data/lend_ladder.toml" -o lend.h5 --threads 1 > lend.log 2>&1 ||
   { cat lend.log; exit 1; }
 grep -q "now on 2 threads, 1 lent by idle ranks of its node" lend.log || { cat lend.log; echo "FAIL: no core lent"; exit 1; }
-/usr/bin/python3 "$compare" ref.h5 lend.h5
+/usr/bin/python3 "$compare" ref.h5 lend.h5 || exit 1
+# The threads each replica ran on, weighted by time: one on 1 rank x 1 thread; between 1 and 2
+# with a lent core, and above 1 for the replicas that had it.
+/usr/bin/python3 - ref.h5 lend.h5 <<'PY'
+import sys
+import h5py
+ref, lend = (h5py.File(p, "r")["replicas/threads"][...] for p in sys.argv[1:3])
+assert (ref == 1).all(), f"1 rank x 1 thread: /replicas/threads = {ref}"
+assert ((lend >= 1) & (lend <= 2)).all() and lend.max() > 1, f"with a lent core: /replicas/threads = {lend}"
+print(f"ok: threads {ref.tolist()} on 1 x 1, {[round(t, 3) for t in lend]} with a lent core")
+PY
