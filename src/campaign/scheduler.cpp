@@ -1,6 +1,7 @@
 #include "jamsim/campaign/scheduler.hpp"
 
 #include "jamsim/neighbor/force_blocks.hpp"
+#include "jamsim/parallel/threads.hpp"
 
 #include <algorithm>
 #include <array>
@@ -205,7 +206,7 @@ template <std::size_t K> double interpolated(const std::array<std::pair<double, 
 
 double SpeedupModel::fraction(ThreadScaling kernel, std::int64_t n) const {
     if (serial_fraction >= 0) return std::min(1.0, serial_fraction);
-    if (n < 4096) return 1.0;  // parallel_for's kThreadedLoopMin: every loop on one thread
+    if (n < static_cast<std::int64_t>(kThreadedLoopMin)) return 1.0;  // every loop on one thread
     switch (kernel) {
     case ThreadScaling::minimiser: return interpolated(kMinimiserFraction, n);
     case ThreadScaling::contact_solve: return interpolated(kContactSolveFraction, n);
@@ -244,10 +245,9 @@ std::vector<int> lend_cores(const std::vector<RankCores>& cores, const std::vect
 }
 
 int useful_threads(ThreadScaling kernel, std::int64_t n) {
-    const int blocks = n <= 0 ? 1 : static_cast<int>(ForceBlocks::block_count(static_cast<std::size_t>(n)));
-    // CD0's solve takes 2 threads from kThreadedLoopMin (4096) disks on, whatever the blocks.
-    if (kernel == ThreadScaling::contact_solve) return n >= 4096 ? 2 : 1;
-    return blocks;
+    // CD0's solve takes 2 threads from kThreadedLoopMin disks on, whatever the blocks.
+    if (kernel == ThreadScaling::contact_solve) return n >= static_cast<std::int64_t>(kThreadedLoopMin) ? 2 : 1;
+    return n <= 0 ? 1 : static_cast<int>(ForceBlocks::block_count(static_cast<std::size_t>(n)));
 }
 
 double seconds_on_threads(const SimulatedReplica& r, const SpeedupModel& model, int threads) {
@@ -298,12 +298,12 @@ std::pair<double, double> run_with_lending(const std::vector<SimulatedReplica>& 
             left[w] = 1.0;
         }
         std::vector<RankWork> work(cores.size());
-        for (std::size_t w = 0; w < at.size(); ++w)
-            if (at[w] >= 0)
-                work[w] = {.running = true,
-                           .priority = scheduler.critical_path(at[w]),
-                           .useful = useful_threads(replicas[static_cast<std::size_t>(at[w])].kernel,
-                                                    replicas[static_cast<std::size_t>(at[w])].n)};
+        for (std::size_t w = 0; w < at.size(); ++w) {
+            if (at[w] < 0) continue;
+            const SimulatedReplica& r = replicas[static_cast<std::size_t>(at[w])];
+            work[w] = {
+                .running = true, .priority = scheduler.critical_path(at[w]), .useful = useful_threads(r.kernel, r.n)};
+        }
         const std::vector<int> t = lend_cores(cores, work);
         std::vector<double> rate(cores.size(), 0.0);  // fraction per second
         double step = -1;

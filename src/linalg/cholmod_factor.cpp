@@ -339,6 +339,9 @@ void backward_one(const cholmod_factor& L, double* y) {
 // The paired solve's passes: row r of `y` holds (x, y) as one SIMD pair, so each entry of L is
 // read once per pass for both right-hand sides.
 
+/// Whether the solve of n rows takes two threads (the split halves, the pipelined pass).
+bool two_threads(int n) { return kernel_threads() > 1 && static_cast<std::size_t>(n) >= kThreadedLoopMin; }
+
 /// y = P b, both halves.
 void permute_in(const cholmod_factor& L, const double* b_x, const double* b_y, double* y) {
     const auto* perm = static_cast<const int*>(L.Perm);
@@ -435,7 +438,7 @@ void CholmodUpdatedFactor::solve(const double* b_x, const double* b_y, double* u
     Impl& m = *impl_;
     const ScopeTimer timer(m.counts.solve_seconds, m.timing);
     const int n = m.n;
-    if (kernel_threads() > 1 && static_cast<std::size_t>(n) >= kThreadedLoopMin) {
+    if (two_threads(n)) {
         m.xy.resize(2 * static_cast<std::size_t>(n));
         double* const yx = m.xy.data();
         double* const yy = yx + n;
@@ -460,7 +463,7 @@ int CholmodUpdatedFactor::follow_and_solve(std::span<const ContactPair> pairs, s
                                            const double* b_x, const double* b_y, double* u_x, double* u_y) {
     Impl& m = *impl_;
     const int n = m.n;
-    if (kernel_threads() < 2 || static_cast<std::size_t>(n) < kThreadedLoopMin) {
+    if (!two_threads(n)) {
         const int changes = follow(pairs, in_contact);
         solve(b_x, b_y, u_x, u_y);
         return changes;
