@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <functional>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -208,7 +209,16 @@ struct SweepColumns {
     }
 };
 
+/// A column of the second group with rows in the top (split_tree): its first such entry and
+/// the first in the top's second half (split_step's tails).
+struct SplitTail {
+    int column, first, second_half;
+};
+
 }  // namespace factor_kernels
+
+/// Whether the factor's loops over n rows take two threads (the split sweep and solves).
+inline bool two_threads(int n) { return kernel_threads() > 1 && static_cast<std::size_t>(n) >= kThreadedLoopMin; }
 
 struct CholmodUpdatedFactor::Impl {
     using ScopeTimer = factor_kernels::ScopeTimer;
@@ -287,7 +297,29 @@ struct CholmodUpdatedFactor::Impl {
     /// (follow_and_solve): in its last pass it stores j before it takes column j (every column
     /// below j is then final: the union ascends, and no other column changes), and n at its
     /// end, each with release order.
-    void sweep(std::span<const std::pair<int, int>> rows, std::size_t n_up, std::atomic<int>* done_below = nullptr);
+    void sweep(std::span<const std::pair<int, int>> rows, std::size_t n_up);
+    /// One pass of the sweep (changes [start, start + kSweepRank) of `rows`): the union of
+    /// their paths, the workspace, the union's places by column group (group_slots), each
+    /// change's α set to ±1. On two threads (split_usable) the groups 0 and 1 of a pass can
+    /// run side by side (each change's α is then written by its own group's thread; see
+    /// take_alpha), and the top after both.
+    struct Pass {
+        std::size_t start = 0;
+        int rank = 0;           // changes in the pass
+        std::size_t slots = 0;  // rows of the workspace
+    };
+    Pass plan_pass(std::span<const std::pair<int, int>> rows, std::size_t n_up, std::size_t start, double* alpha);
+    /// A planned pass: on two threads the groups side by side, then the top.
+    void run_pass(const Pass& pass, std::span<const std::pair<int, int>> rows, double* alpha);
+    void sweep_group(int group, const Pass& pass, double* alpha, factor_kernels::SweepColumns& cols);
+    /// α of the pass's changes that start in `group`, copied `from` → `to`.
+    void take_alpha(const Pass& pass, std::span<const std::pair<int, int>> rows, int group, const double* from,
+                    double* to) const;
+    /// The second thread's counts and failure added to `columns`.
+    void merge_second_columns();
+    /// The columns at workspace places `places` (ascending) with the coefficient arrays of
+    /// `cols` (one per thread).
+    void sweep_slots(std::span<const int> places, std::size_t slots, double* alpha, factor_kernels::SweepColumns& cols);
 
     /// follow's bookkeeping: the contact flags taken over, the changes since the factor's
     /// contact set found, those outside L's pattern applied by CHOLMOD (which allocates their
@@ -301,15 +333,39 @@ struct CholmodUpdatedFactor::Impl {
     /// exactly zero here) for its entries: into step_p, step_beta, step_w (Second = 0) or
     /// step_p2, step_beta2, step_w2 (1, the second column of a pair) of `columns`. Returns how
     /// many.
-    template <int Second> int column_pivots(int j, std::size_t slot, std::size_t slots, double* alpha);
+    template <int Second>
+    int column_pivots(factor_kernels::SweepColumns& cols, int j, std::size_t slot, std::size_t slots, double* alpha);
+    void find_etree_if_stale() {
+        if (etree.size() != static_cast<std::size_t>(n)) find_etree();
+    }
 
     /// The elimination tree of L's pattern: a column's parent is its first row below the
     /// diagonal (−1 at a root). Cleared whenever the pattern may change.
     std::vector<int> etree;
     void find_etree();
     std::vector<std::uint8_t> nests_next;  // column j + 1's rows are column j's after its first
-    std::vector<int> slot_of;              // sweep: a row's place in the workspace
-    factor_kernels::SweepColumns columns;  // the sweep's entry updates and their coefficients
+    /// The tree's split for two threads (split_tree): columns [0, split_mid) are group 0,
+    /// [split_mid, split_top) group 1 (no column's parent crosses from one to the other), and
+    /// [split_top, n) the top, which holds every ancestor of both. The top is chosen to minimise
+    /// the estimated sweep time (top + the heavier group), the groups to halve the sweep and
+    /// the passes over L. Postordered columns make each group a set of whole subtrees. Without
+    /// a split, split_mid = split_top = n.
+    void split_tree();
+    int split_mid = 0, split_top = 0;
+    std::vector<factor_kernels::SplitTail> split_tails;  // group 1's columns with rows in the top
+    static constexpr int kTopGroup = 2;
+    int group_of(int j) const { return j < split_mid ? 0 : j < split_top ? 1 : kTopGroup; }
+    /// Whether the sweep and the solves run split over two threads.
+    bool split_usable() const { return two_threads(n) && split_top < n && split_mid < split_top; }
+    std::vector<int> group_slots[3];  // a pass's workspace places by column group
+    /// Steps of follow_and_solve and solve on two threads (cholmod_solve.cpp): the last
+    /// pass of the sweep (`last`, α in `alpha`; none for a solve alone) and the solve of
+    /// both right-hand sides, the groups side by side.
+    void split_step(const Pass* last, std::span<const std::pair<int, int>> rows, double* alpha, const double* b_x,
+                    const double* b_y, double* u_x, double* u_y);
+    std::vector<int> slot_of;  // sweep: a row's place in the workspace
+    factor_kernels::SweepColumns columns;         // the sweep's entry updates and their coefficients
+    factor_kernels::SweepColumns second_columns;  // the same, for the second thread's group
 
     /// LDLᵀ ← LDLᵀ ± W Wᵀ, W's columns P (e_i − e_j) for the listed pairs (all at once).
     void modify(bool update, std::span<const ContactPair> pairs, const std::vector<std::size_t>& which);

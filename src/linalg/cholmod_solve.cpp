@@ -1,0 +1,336 @@
+// The solves of the updated CD0 factor (cholmod_factor.hpp): x = Pᵀ L⁻ᵀ D⁻¹ L⁻¹ P b for the
+// x and y right-hand sides, on one thread or split over two along the elimination tree
+// (Impl::split_tree), and follow_and_solve, which runs the last pass of the sweep and the solve
+// in one split step.
+#include <omp.h>
+
+#include "cholmod_factor_impl.hpp"
+
+namespace jamsim::linalg {
+
+using factor_kernels::load;
+using factor_kernels::Pair;
+using factor_kernels::ScopeTimer;
+using factor_kernels::store;
+using factor_kernels::SplitTail;
+
+namespace {
+
+// The paired passes: row r of `y` holds (x, y) as one SIMD pair, so each entry of L is read
+// once per pass for both right-hand sides. The single passes (`_one`) do the same operations
+// on one half, so give the same bits.
+
+/// y = P b, both halves, rows [from, to).
+void permute_in(const cholmod_factor& L, const double* b_x, const double* b_y, double* y, int from, int to) {
+    const auto* perm = static_cast<const int*>(L.Perm);
+    for (int k = from; k < to; ++k) {
+        y[2 * k] = b_x[perm[k]];
+        y[2 * k + 1] = b_y[perm[k]];
+    }
+}
+
+/// u = the rows of y through pinv (row of each disk), disks [from, to): sequential stores and
+/// one (x, y) load per disk, where storing through perm wrote two scattered lines per row.
+void permute_out(const int* pinv, const double* y, double* u_x, double* u_y, int from, int to) {
+    for (int i = from; i < to; ++i) {
+        const Pair xi = load(y + 2 * pinv[i]);
+        u_x[i] = xi[0];
+        u_y[i] = xi[1];
+    }
+}
+
+/// Where column j's entries in rows from `row` on begin (rows ascend; these are few).
+inline int rows_from(const int* Li, int begin, int end, int row) {
+    while (end > begin + 1 && Li[end - 1] >= row) --end;
+    return end;
+}
+
+/// L z = y in place for columns [from, to), their entries in rows [row_from, row_to) only
+/// (each column's updates in row order; with the whole range, the forward pass). (No test for
+/// a zero y_j: few columns have one, even at φ = 0.80, where the test cost more than it
+/// saved; skipping one gives the same bits.)
+void forward_columns(const cholmod_factor& L, double* y, int from, int to, int row_from, int row_to) {
+    const auto n = static_cast<int>(L.n);
+    const auto* Lp = static_cast<const int*>(L.p);
+    const auto* Li = static_cast<const int*>(L.i);
+    const auto* Lnz = static_cast<const int*>(L.nz);
+    const auto* Lx = static_cast<const double*>(L.x);
+    for (int j = from; j < to; ++j) {
+        const Pair yj = load(y + 2 * j);
+        const int begin = Lp[j], end = begin + Lnz[j];
+        const int stop = row_to < n ? rows_from(Li, begin, end, row_to) : end;
+        const int first = row_from > 0 ? rows_from(Li, begin, stop, row_from) : begin + 1;
+        for (int p = first; p < stop; ++p) {
+            double* at = y + 2 * Li[p];
+            store(at, load(at) - Lx[p] * yj);
+        }
+    }
+}
+
+/// forward_columns' updates of the top's rows from group 1's columns (split_tails, ascending
+/// columns): half 0 those in the top's first rows, half 1 the others.
+void forward_tails(const cholmod_factor& L, double* y, std::span<const SplitTail> tails, int half) {
+    const auto* Lp = static_cast<const int*>(L.p);
+    const auto* Li = static_cast<const int*>(L.i);
+    const auto* Lnz = static_cast<const int*>(L.nz);
+    const auto* Lx = static_cast<const double*>(L.x);
+    for (const SplitTail& tail : tails) {
+        const Pair yj = load(y + 2 * tail.column);
+        const int from = half == 0 ? tail.first : tail.second_half;
+        const int to = half == 0 ? tail.second_half : Lp[tail.column] + Lnz[tail.column];
+        for (int p = from; p < to; ++p) {
+            double* at = y + 2 * Li[p];
+            store(at, load(at) - Lx[p] * yj);
+        }
+    }
+}
+
+/// Lᵀ x = D⁻¹ z in place for columns [from, to), from the last down (those above `to` done),
+/// row by row of Lᵀ, each row's D⁻¹ applied as it is reached: the pivot Lx[begin] is then the
+/// next entry of the downward stream, where a pass of its own read one scattered cache line
+/// per column (0.3 ms of a step at N = 65536). The same operations in the same order per row,
+/// so the same bits.
+void backward_columns(const cholmod_factor& L, double* y, int from, int to) {
+    const auto* Lp = static_cast<const int*>(L.p);
+    const auto* Li = static_cast<const int*>(L.i);
+    const auto* Lnz = static_cast<const int*>(L.nz);
+    const auto* Lx = static_cast<const double*>(L.x);
+    for (int j = to - 1; j >= from; --j) {
+        const int begin = Lp[j], end = begin + Lnz[j];
+        // Four partial sums (independent chains; a fixed order, so deterministic). Each
+        // column is read from its end down, so that the whole pass walks L's arrays downwards
+        // as one stream the hardware prefetcher follows: read upwards within columns taken in
+        // reverse, the short columns defeat it and at N = 65536 (L far larger than the cache)
+        // this pass took twice as long as the forward one.
+        Pair s0{0.0, 0.0}, s1{0.0, 0.0}, s2{0.0, 0.0}, s3{0.0, 0.0};
+        int p = end;
+        for (; p - 4 >= begin + 1; p -= 4) {
+            s0 += Lx[p - 1] * load(y + 2 * Li[p - 1]);
+            s1 += Lx[p - 2] * load(y + 2 * Li[p - 2]);
+            s2 += Lx[p - 3] * load(y + 2 * Li[p - 3]);
+            s3 += Lx[p - 4] * load(y + 2 * Li[p - 4]);
+        }
+        for (; p > begin + 1; --p) s0 += Lx[p - 1] * load(y + 2 * Li[p - 1]);
+        store(y + 2 * j, load(y + 2 * j) / Lx[begin] - ((s0 + s1) + (s2 + s3)));
+    }
+}
+
+/// L z = y in place for one right-hand side: forward_columns' operations on one half.
+void forward_one(const cholmod_factor& L, double* y) {
+    const auto n = static_cast<int>(L.n);
+    const auto* Lp = static_cast<const int*>(L.p);
+    const auto* Li = static_cast<const int*>(L.i);
+    const auto* Lnz = static_cast<const int*>(L.nz);
+    const auto* Lx = static_cast<const double*>(L.x);
+    for (int j = 0; j < n; ++j) {
+        const double yj = y[j];
+        const int begin = Lp[j], end = begin + Lnz[j];
+        for (int p = begin + 1; p < end; ++p) y[Li[p]] = y[Li[p]] - Lx[p] * yj;
+    }
+}
+
+/// Lᵀ x = D⁻¹ z in place for one right-hand side: backward_columns' operations on one half.
+void backward_one(const cholmod_factor& L, double* y) {
+    const auto n = static_cast<int>(L.n);
+    const auto* Lp = static_cast<const int*>(L.p);
+    const auto* Li = static_cast<const int*>(L.i);
+    const auto* Lnz = static_cast<const int*>(L.nz);
+    const auto* Lx = static_cast<const double*>(L.x);
+    for (int j = n - 1; j >= 0; --j) {
+        const int begin = Lp[j], end = begin + Lnz[j];
+        double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+        int p = end;
+        for (; p - 4 >= begin + 1; p -= 4) {
+            s0 += Lx[p - 1] * y[Li[p - 1]];
+            s1 += Lx[p - 2] * y[Li[p - 2]];
+            s2 += Lx[p - 3] * y[Li[p - 3]];
+            s3 += Lx[p - 4] * y[Li[p - 4]];
+        }
+        for (; p > begin + 1; --p) s0 += Lx[p - 1] * y[Li[p - 1]];
+        y[j] = y[j] / Lx[begin] - ((s0 + s1) + (s2 + s3));
+    }
+}
+
+/// u = Pᵀ L⁻ᵀ D⁻¹ L⁻¹ P b for one right-hand side, `y` of n its workspace.
+void solve_one(const cholmod_factor& L, const int* pinv, const double* b, double* u, double* y) {
+    const auto* perm = static_cast<const int*>(L.Perm);
+    for (std::size_t k = 0; k < L.n; ++k) y[k] = b[perm[k]];
+    forward_one(L, y);
+    backward_one(L, y);
+    for (std::size_t i = 0; i < L.n; ++i) u[i] = y[pinv[i]];
+}
+
+inline void pause() {
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+}
+
+}  // namespace
+
+void CholmodUpdatedFactor::solve(const double* b, double* x) {
+    const auto n = static_cast<std::size_t>(impl_->n);
+    solve(b, b + n, x, x + n);
+}
+
+void CholmodUpdatedFactor::solve(const double* b_x, const double* b_y, double* u_x, double* u_y) {
+    // On several threads (and n of at least kThreadedLoopMin) the elimination tree's two
+    // subtree groups side by side (split_step); without a split, the two right-hand sides side
+    // by side, one per thread, each reading all of L.
+    Impl& m = *impl_;
+    const ScopeTimer timer(m.counts.solve_seconds, m.timing);
+    const int n = m.n;
+    m.find_etree_if_stale();
+    if (m.split_usable()) {
+        ++m.counts.split_solves;
+        m.split_step(nullptr, {}, nullptr, b_x, b_y, u_x, u_y);
+        return;
+    }
+    if (two_threads(n)) {
+        m.xy.resize(2 * static_cast<std::size_t>(n));
+        double* const yx = m.xy.data();
+        double* const yy = yx + n;
+        ++m.counts.split_solves;
+#pragma omp parallel sections num_threads(2)
+        {
+#pragma omp section
+            solve_one(*m.L, m.pinv.data(), b_x, u_x, yx);
+#pragma omp section
+            solve_one(*m.L, m.pinv.data(), b_y, u_y, yy);
+        }
+        return;
+    }
+    m.xy.resize(2 * static_cast<std::size_t>(n));
+    permute_in(*m.L, b_x, b_y, m.xy.data(), 0, n);
+    forward_columns(*m.L, m.xy.data(), 0, n, 0, n);
+    backward_columns(*m.L, m.xy.data(), 0, n);
+    permute_out(m.pinv.data(), m.xy.data(), u_x, u_y, 0, n);
+}
+
+int CholmodUpdatedFactor::follow_and_solve(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,
+                                           const double* b_x, const double* b_y, double* u_x, double* u_y) {
+    Impl& m = *impl_;
+    m.find_etree_if_stale();
+    if (!m.split_usable()) {
+        const int changes = follow(pairs, in_contact);
+        solve(b_x, b_y, u_x, u_y);
+        return changes;
+    }
+    std::pair<int, std::size_t> gathered;
+    {
+        const ScopeTimer timer(m.counts.upkeep_seconds, m.timing);
+        gathered = m.gather_changes(pairs, in_contact);
+    }
+    const auto [changes, n_up] = gathered;
+    const std::span<const std::pair<int, int>> rows = m.sweep_rows;
+    bool solved = true;
+    if (rows.empty()) {  // nothing to sweep: the solve alone
+        solve(b_x, b_y, u_x, u_y);
+        return changes;
+    }
+    {
+        // The sweep's passes but the last as in follow; the last one and the solve in one
+        // step, timed as upkeep (the solve hides in it).
+        const ScopeTimer timer(m.counts.upkeep_seconds, m.timing);
+        double alpha[Impl::kSweepRank];
+        std::size_t start = 0;
+        for (; start + Impl::kSweepRank < rows.size(); start += Impl::kSweepRank)
+            m.run_pass(m.plan_pass(rows, n_up, start, alpha), rows, alpha);
+        const Impl::Pass last = m.plan_pass(rows, n_up, start, alpha);
+        if (m.split_usable()) {
+            m.split_step(&last, rows, alpha, b_x, b_y, u_x, u_y);
+        } else {  // fill outside the pattern (gather_changes) changed the tree: no split now
+            m.run_pass(last, rows, alpha);
+            solved = false;
+        }
+    }
+    if (!solved && !m.columns.failed) solve(b_x, b_y, u_x, u_y);
+    if (std::exchange(m.columns.failed, false)) {  // as in follow: start afresh, and solve again
+        ++m.counts.refactored;
+        factorize(pairs, in_contact);
+        solve(b_x, b_y, u_x, u_y);
+        return changes;
+    }
+    ++m.counts.pipelined_solves;
+    return changes;
+}
+
+void CholmodUpdatedFactor::Impl::split_step(const Pass* last, std::span<const std::pair<int, int>> rows,
+                                            double* alpha, const double* b_x, const double* b_y, double* u_x,
+                                            double* u_y) {
+    // Columns [0, mid) are group 0, [mid, top) group 1, [top, n) the top (split_tree). Rows of
+    // a group's column lie in its group or the top, so each thread takes its group's sweep and
+    // passes; the top's rows are where they meet:
+    //  - forward: a top row takes its updates from group 0's columns, then group 1's (their
+    //    `tails`, held back until group 0 is done, then taken by both threads, each for half
+    //    of the top's rows), then the top's, each in column order, as in one ascending pass;
+    //  - backward: the top first, then both groups side by side, reading the top's rows.
+    // Thread 1 also sweeps the top (after both groups' sweeps) and takes the top's passes.
+    // Every entry gets the same operations in the same order as on one thread: the same bits.
+    const int mid = split_mid, top = split_top;
+    xy.resize(2 * static_cast<std::size_t>(n));
+    double* const y = xy.data();
+    const cholmod_factor& F = *L;
+    enum : int { kSwept0 = 1, kForward0 = 2, kForward1 = 4, kTails0 = 8, kBackTop = 16 };
+    std::atomic<int> done{0};
+    auto mark = [&](int bit) { done.fetch_or(bit, std::memory_order_release); };
+    auto wait = [&](int bit) {
+        while (!(done.load(std::memory_order_acquire) & bit)) pause();
+    };
+    double alpha_second[kSweepRank];  // thread 1's α: its own copy (the threads would share cache lines)
+    if (last) std::copy(alpha, alpha + last->rank, alpha_second);
+#pragma omp parallel num_threads(2)
+    {
+        const int thread = omp_get_thread_num();
+        const int team = omp_get_num_threads();
+        if (team == 1) {  // a team of one (nested or limited OpenMP): one thread's order
+            if (last) {
+                sweep_group(0, *last, alpha, columns);
+                sweep_group(1, *last, alpha_second, second_columns);
+                take_alpha(*last, rows, 1, alpha_second, alpha);
+                sweep_group(kTopGroup, *last, alpha, columns);
+            }
+            permute_in(F, b_x, b_y, y, 0, n);
+            forward_columns(F, y, 0, n, 0, n);
+            backward_columns(F, y, 0, n);
+        } else if (thread == 0) {
+            if (last) {
+                sweep_group(0, *last, alpha, columns);
+                mark(kSwept0);
+            }
+            permute_in(F, b_x, b_y, y, 0, mid);
+            permute_in(F, b_x, b_y, y, top, n);
+            forward_columns(F, y, 0, mid, 0, n);
+            mark(kForward0);
+            wait(kForward1);  // the tails' columns final, and their y_j
+            forward_tails(F, y, split_tails, 0);
+            mark(kTails0);
+            wait(kBackTop);
+            backward_columns(F, y, 0, mid);
+        } else {
+            if (last) sweep_group(1, *last, alpha_second, second_columns);
+            permute_in(F, b_x, b_y, y, mid, top);
+            forward_columns(F, y, mid, top, 0, top);
+            mark(kForward1);
+            if (last) {
+                wait(kSwept0);
+                take_alpha(*last, rows, 0, alpha, alpha_second);
+                sweep_group(kTopGroup, *last, alpha_second, second_columns);
+            }
+            wait(kForward0);
+            forward_tails(F, y, split_tails, 1);
+            wait(kTails0);
+            forward_columns(F, y, top, n, 0, n);
+            backward_columns(F, y, top, n);
+            mark(kBackTop);
+            backward_columns(F, y, mid, top);
+        }
+#pragma omp barrier
+        const int from = static_cast<int>(static_cast<long>(n) * thread / team);
+        const int to = static_cast<int>(static_cast<long>(n) * (thread + 1) / team);
+        permute_out(pinv.data(), y, u_x, u_y, from, to);
+    }
+    if (last) merge_second_columns();
+}
+
+}  // namespace jamsim::linalg
