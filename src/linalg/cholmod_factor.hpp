@@ -27,10 +27,12 @@ namespace jamsim::linalg {
 ///    after `adopt`, goes through cholmod_updown, which allocates the fill;
 ///  - `solve` applies A⁻¹ to both right-hand sides (n × 2, column major) in one pass over L
 ///    for both.
-/// Deterministic (fixed ordering), and the same bits on any number of threads: the updates
-/// run on one thread, and on several `solve` takes the x and y halves side by side (each
-/// with the operations of the paired pass on its half), and `follow_and_solve` runs the
-/// solve's forward pass behind the sweep on a second thread.
+/// Deterministic (fixed ordering), and the same bits on any number of threads. On two threads
+/// or more (n of at least kThreadedLoopMin) the elimination tree is split into two groups of
+/// subtrees and the top above them (Impl::split_tree): `follow` sweeps the groups side by side,
+/// `solve` and `follow_and_solve` also split their passes over L along it. Every entry gets the
+/// operations of one thread in the same order. (Without a split, `solve` takes the x and y
+/// halves side by side.)
 class CholmodUpdatedFactor {
   public:
     enum class Ordering { metis, amd };
@@ -59,9 +61,10 @@ class CholmodUpdatedFactor {
     /// Updates the factor to `in_contact`; returns the number of contacts formed or broken.
     int follow(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact);
     /// `follow`, then `solve`, with the same bits: on two threads or more (n of at least
-    /// kThreadedLoopMin, changes to sweep) the solve's forward pass runs on a second thread
-    /// behind the sweep, each column as soon as the sweep is past it, and the backward pass
-    /// after it (the update and the forward pass each read most of L, 22 MB at N = 65536).
+    /// kThreadedLoopMin, changes to sweep) the sweep's last pass and the solve run as one
+    /// split step (cholmod_solve.cpp), each thread's passes over L starting as soon as the
+    /// columns they read are final (the update and each pass read most of L, 22 MB at
+    /// N = 65536).
     int follow_and_solve(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,
                          const double* b_x, const double* b_y, double* u_x, double* u_y);
     /// (u_x, u_y) = A⁻¹ (b_x, b_y), each of n; no input may overlap an output.
@@ -82,10 +85,10 @@ class CholmodUpdatedFactor {
     /// its solves, for benchmarks.
     /// `block_updates`: entry updates (entries × changes) made by the consecutive-row kernels
     /// on whole blocks of rows, the part that `Vectors` selects.
-    /// `split_solves`: solves whose x and y halves ran side by side on two threads;
-    /// `pipelined_solves`: follow_and_solve calls whose forward pass ran behind the sweep.
+    /// `split_solves`: solves on two threads (split along the tree, or x and y side by side);
+    /// `split_steps`: follow_and_solve calls whose sweep and solve ran split along the tree.
     struct Counts {
-        long swept = 0, filled = 0, refactored = 0, block_updates = 0, split_solves = 0, pipelined_solves = 0;
+        long swept = 0, filled = 0, refactored = 0, block_updates = 0, split_solves = 0, split_steps = 0;
         double upkeep_seconds = 0, solve_seconds = 0;
     };
     Counts counts() const;

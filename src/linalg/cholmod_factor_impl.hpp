@@ -293,10 +293,7 @@ struct CholmodUpdatedFactor::Impl {
     /// column after column). Sets sweep_failed when a downdate meets a pivot that is not
     /// positive (the caller refactors).
     static constexpr int kSweepRank = factor_kernels::SweepColumns::kRank;
-    /// With `done_below`, for a solve's forward pass that follows the sweep on another thread
-    /// (follow_and_solve): in its last pass it stores j before it takes column j (every column
-    /// below j is then final: the union ascends, and no other column changes), and n at its
-    /// end, each with release order.
+    /// On two threads (split_usable), each pass's two groups side by side (run_pass).
     void sweep(std::span<const std::pair<int, int>> rows, std::size_t n_up);
     /// One pass of the sweep (changes [start, start + kSweepRank) of `rows`): the union of
     /// their paths, the workspace, the union's places by column group (group_slots), each

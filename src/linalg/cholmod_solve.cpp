@@ -251,7 +251,7 @@ int CholmodUpdatedFactor::follow_and_solve(std::span<const ContactPair> pairs, s
         solve(b_x, b_y, u_x, u_y);
         return changes;
     }
-    ++m.counts.pipelined_solves;
+    ++m.counts.split_steps;
     return changes;
 }
 

@@ -266,11 +266,12 @@ TEST(CholmodFactor, WideVectorKernelsGiveTheBaselineBits) {
     }
 }
 
-// On several threads the solve takes the x and y halves side by side, and follow_and_solve runs
-// the forward pass behind the sweep: the factor must give the one-thread bits on 2, 3 and 4
-// threads (oversubscribed here), through fresh factors, many changes per step (more than one
-// sweep pass), a relabelling that adds candidate pairs outside the pattern, and few changes.
-// 8192 points: n reaches the threaded solve and the pipeline (both counted).
+// On several threads the factor splits its elimination tree into two groups of subtrees and a
+// top: follow sweeps the groups side by side, solve and follow_and_solve split their passes
+// over L along it. The factor must give the one-thread bits on 2, 3 and 4 threads
+// (oversubscribed here), through fresh factors, many changes per step (more than one sweep
+// pass), a relabelling that adds candidate pairs outside the pattern (fill, which changes the
+// tree), and few changes. 8192 points: n reaches the threaded paths (both counted).
 TEST(CholmodFactor, UpdatesAndSolvesGiveTheSameBitsOnAnyThreadCount) {
     const int n = 8192;
     std::mt19937_64 pattern_rng(23);
@@ -283,7 +284,7 @@ TEST(CholmodFactor, UpdatesAndSolvesGiveTheSameBitsOnAnyThreadCount) {
     }
     struct Outcome {
         std::vector<double> solutions;
-        long split_solves = 0, pipelined_solves = 0;
+        long split_solves = 0, split_steps = 0;
     };
     const auto run = [&](int threads) {
         const int before = jamsim::kernel_threads();
@@ -307,7 +308,7 @@ TEST(CholmodFactor, UpdatesAndSolvesGiveTheSameBitsOnAnyThreadCount) {
             if (++steps % 2 == 0) {  // follow then solve
                 factor.follow(list, in_contact);
                 factor.solve(b.data(), x.data());
-            } else {  // both at once: on several threads the forward pass behind the sweep
+            } else {  // both at once: on several threads one split step
                 factor.follow_and_solve(list, in_contact, b.data(), b.data() + n, x.data(), x.data() + n);
             }
             out.solutions.insert(out.solutions.end(), x.begin(), x.end());
@@ -317,18 +318,18 @@ TEST(CholmodFactor, UpdatesAndSolvesGiveTheSameBitsOnAnyThreadCount) {
         if (!factor.adopt(second, relabelled)) factor.factorize(second, in_contact);
         for (int s = 0; s < 4; ++s) step(second, s < 2 ? 0.01 : 0.0005);
         out.split_solves = factor.counts().split_solves;
-        out.pipelined_solves = factor.counts().pipelined_solves;
+        out.split_steps = factor.counts().split_steps;
         jamsim::set_kernel_threads(before);
         return out;
     };
     const Outcome one = run(1);
     EXPECT_EQ(one.split_solves, 0);
-    EXPECT_EQ(one.pipelined_solves, 0);
+    EXPECT_EQ(one.split_steps, 0);
     for (const int t : {2, 3, 4}) {
         SCOPED_TRACE("threads " + std::to_string(t));
         const Outcome many = run(t);
         EXPECT_GT(many.split_solves, 0);
-        EXPECT_GT(many.pipelined_solves, 0);
+        EXPECT_GT(many.split_steps, 0);
         ASSERT_EQ(one.solutions.size(), many.solutions.size());
         EXPECT_EQ(std::memcmp(one.solutions.data(), many.solutions.data(), one.solutions.size() * sizeof(double)), 0);
     }
