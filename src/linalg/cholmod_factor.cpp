@@ -1,6 +1,5 @@
 #include "cholmod_factor_impl.hpp"
 
-
 namespace jamsim::linalg {
 
 using factor_kernels::ScopeTimer;

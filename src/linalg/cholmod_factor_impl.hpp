@@ -360,7 +360,7 @@ struct CholmodUpdatedFactor::Impl {
     /// both right-hand sides, the groups side by side.
     void split_step(const Pass* last, std::span<const std::pair<int, int>> rows, double* alpha, const double* b_x,
                     const double* b_y, double* u_x, double* u_y);
-    std::vector<int> slot_of;  // sweep: a row's place in the workspace
+    std::vector<int> slot_of;                     // sweep: a row's place in the workspace
     factor_kernels::SweepColumns columns;         // the sweep's entry updates and their coefficients
     factor_kernels::SweepColumns second_columns;  // the same, for the second thread's group
 

@@ -11,8 +11,8 @@ namespace jamsim::linalg {
 using factor_kernels::load;
 using factor_kernels::Pair;
 using factor_kernels::ScopeTimer;
-using factor_kernels::store;
 using factor_kernels::SplitTail;
+using factor_kernels::store;
 
 namespace {
 
@@ -255,9 +255,8 @@ int CholmodUpdatedFactor::follow_and_solve(std::span<const ContactPair> pairs, s
     return changes;
 }
 
-void CholmodUpdatedFactor::Impl::split_step(const Pass* last, std::span<const std::pair<int, int>> rows,
-                                            double* alpha, const double* b_x, const double* b_y, double* u_x,
-                                            double* u_y) {
+void CholmodUpdatedFactor::Impl::split_step(const Pass* last, std::span<const std::pair<int, int>> rows, double* alpha,
+                                            const double* b_x, const double* b_y, double* u_x, double* u_y) {
     // Columns [0, mid) are group 0, [mid, top) group 1, [top, n) the top (split_tree). Rows of
     // a group's column lie in its group or the top, so each thread takes its group's sweep and
     // passes; the top's rows are where they meet:

@@ -15,9 +15,8 @@ using factor_kernels::ColumnChanges;
 using factor_kernels::SweepColumns;
 
 template <int Second>
-[[gnu::always_inline]] inline int CholmodUpdatedFactor::Impl::column_pivots(SweepColumns& cols, int j,
-                                                                            std::size_t slot, std::size_t slots,
-                                                                            double* alpha) {
+[[gnu::always_inline]] inline int CholmodUpdatedFactor::Impl::column_pivots(SweepColumns& cols, int j, std::size_t slot,
+                                                                            std::size_t slots, double* alpha) {
     double* const ps = Second ? cols.step_p2 : cols.step_p;
     double* const betas = Second ? cols.step_beta2 : cols.step_beta;
     double** const ws = Second ? cols.step_w2 : cols.step_w;
@@ -55,8 +54,8 @@ template <int Second>
 }
 
 CholmodUpdatedFactor::Impl::Pass CholmodUpdatedFactor::Impl::plan_pass(std::span<const std::pair<int, int>> rows,
-                                                                        std::size_t n_up, std::size_t start,
-                                                                        double* alpha) {
+                                                                       std::size_t n_up, std::size_t start,
+                                                                       double* alpha) {
     const auto un = static_cast<std::size_t>(n);
     if (on_path.size() != un) {
         on_path.assign(un, 0);
@@ -300,8 +299,7 @@ void CholmodUpdatedFactor::Impl::split_tree() {
         entries_below += Lnz[m - 1];
         inside += crossing[m];
         if (inside != 0) continue;
-        const double gap =
-            std::abs(sweep_below / sweep_total - 0.5) + std::abs(entries_below / entries_total - 0.5);
+        const double gap = std::abs(sweep_below / sweep_total - 0.5) + std::abs(entries_below / entries_total - 0.5);
         if (gap < best_gap) {
             best_gap = gap;
             split_mid = static_cast<int>(m);

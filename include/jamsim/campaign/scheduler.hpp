@@ -90,10 +90,10 @@ class Scheduler {
 ///  - minimiser (CG): 2.83×, 2.91× and 3.49× at N = 16384 on 4, 8 and 16 threads (4 blocks),
 ///    3.10×, 4.48× and 6.91× at 65536: f = 0.10 at both (1.82× to 6.40× on 2 to 16 threads
 ///    at 65536, where 2 threads measured 2.38×);
-///  - contact_solve (CD0): about 1.38× at N = 16384 and 1.46× at 65536 on 2 threads, with the
-///    solve's forward pass behind the factor's update (tests/README.md "CD0 on threads", the
-///    2-core VM): f = 0.45 and 0.37, on at most 2 threads (the update runs on one thread, the
-///    solve on two; the older code gained nothing past 2 on the 16-core Xeon).
+///  - contact_solve (CD0): about 1.38× at N = 16384 and 1.46× at 65536 on 2 threads (medians,
+///    tests/README.md "CD0 on threads", the 2-core VM): f = 0.45 and 0.37, on at most 2
+///    threads (the factor splits its elimination tree in two; the older code gained nothing
+///    past 2 on the 16-core Xeon).
 /// Below 4096 disks the kernel's loops run on one thread (f = 1). `serial_fraction` >= 0
 /// replaces the tables with one fraction for every N and kernel (the thread caps stay).
 struct SpeedupModel {
