@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <functional>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -242,7 +241,6 @@ struct CholmodUpdatedFactor::Impl {
     }
     std::vector<std::uint8_t> factored;  // contact set the factor represents
     std::vector<double> xy;              // solve: the permuted right-hand sides, interleaved
-    std::vector<double> halves;          // follow_and_solve: the x half, then the y half
     // Workspace of `sweep`: one column per change over the rows of the union of the changes'
     // elimination-tree paths, that union, and per column of L which changes pass through it.
     std::vector<double> w;
@@ -290,7 +288,7 @@ struct CholmodUpdatedFactor::Impl {
     /// run as contiguous vector loops (`by_runs`). Two columns of a supernode (the second's
     /// rows are the first's after its first) take their changes together, row by row, so
     /// that each workspace entry is loaded and stored once for both (the same bits as
-    /// column after column). Sets sweep_failed when a downdate meets a pivot that is not
+    /// column after column). Sets columns.failed when a downdate meets a pivot that is not
     /// positive (the caller refactors).
     static constexpr int kSweepRank = factor_kernels::SweepColumns::kRank;
     /// On two threads (split_usable), each pass's two groups side by side (run_pass).
@@ -328,12 +326,14 @@ struct CholmodUpdatedFactor::Impl {
     /// Column j's pivot (at workspace place `slot`) through its changes in turn, the changes
     /// passed on to its parent, and the coefficients of the changes (those whose w is not
     /// exactly zero here) for its entries: into step_p, step_beta, step_w (Second = 0) or
-    /// step_p2, step_beta2, step_w2 (1, the second column of a pair) of `columns`. Returns how
+    /// step_p2, step_beta2, step_w2 (1, the second column of a pair) of `cols`. Returns how
     /// many.
     template <int Second>
     int column_pivots(factor_kernels::SweepColumns& cols, int j, std::size_t slot, std::size_t slots, double* alpha);
+    /// The tree after a change of L's pattern, and its split once two threads may use it.
     void find_etree_if_stale() {
         if (etree.size() != static_cast<std::size_t>(n)) find_etree();
+        if (!split_computed && two_threads(n)) split_tree();
     }
 
     /// The elimination tree of L's pattern: a column's parent is its first row below the
@@ -345,24 +345,28 @@ struct CholmodUpdatedFactor::Impl {
     /// [split_mid, split_top) group 1 (no column's parent crosses from one to the other), and
     /// [split_top, n) the top, which holds every ancestor of both. The top is chosen to minimise
     /// the estimated sweep time (top + the heavier group), the groups to halve the sweep and
-    /// the passes over L. Postordered columns make each group a set of whole subtrees. Without
-    /// a split, split_mid = split_top = n.
+    /// the passes over L. The crossing check alone makes each group a set of whole subtrees
+    /// (postorder, which fill may break, is not assumed). Without a split, split_mid = split_top
+    /// = n. Computed with the tree on two threads only (split_computed).
     void split_tree();
     int split_mid = 0, split_top = 0;
     std::vector<factor_kernels::SplitTail> split_tails;  // group 1's columns with rows in the top
     static constexpr int kTopGroup = 2;
     int group_of(int j) const { return j < split_mid ? 0 : j < split_top ? 1 : kTopGroup; }
     /// Whether the sweep and the solves run split over two threads.
-    bool split_usable() const { return two_threads(n) && split_top < n && split_mid < split_top; }
+    bool split_usable() const { return two_threads(n) && split_computed && split_top < n && split_mid < split_top; }
+    bool split_computed = false;
     std::vector<int> group_slots[3];  // a pass's workspace places by column group
     /// Steps of follow_and_solve and solve on two threads (cholmod_solve.cpp): the last
     /// pass of the sweep (`last`, α in `alpha`; none for a solve alone) and the solve of
     /// both right-hand sides, the groups side by side.
     void split_step(const Pass* last, std::span<const std::pair<int, int>> rows, double* alpha, const double* b_x,
                     const double* b_y, double* u_x, double* u_y);
-    std::vector<int> slot_of;                     // sweep: a row's place in the workspace
-    factor_kernels::SweepColumns columns;         // the sweep's entry updates and their coefficients
-    factor_kernels::SweepColumns second_columns;  // the same, for the second thread's group
+    std::vector<int> slot_of;  // sweep: a row's place in the workspace
+    // The sweep's entry updates and their coefficients, and the same for the second thread
+    // (each on cache lines of its own: each thread writes its own on every column).
+    alignas(64) factor_kernels::SweepColumns columns;
+    alignas(64) factor_kernels::SweepColumns second_columns;
 
     /// LDLᵀ ← LDLᵀ ± W Wᵀ, W's columns P (e_i − e_j) for the listed pairs (all at once).
     void modify(bool update, std::span<const ContactPair> pairs, const std::vector<std::size_t>& which);

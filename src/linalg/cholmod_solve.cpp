@@ -4,6 +4,8 @@
 // in one split step.
 #include <omp.h>
 
+#include <thread>
+
 #include "cholmod_factor_impl.hpp"
 
 namespace jamsim::linalg {
@@ -39,18 +41,10 @@ void permute_out(const int* pinv, const double* y, double* u_x, double* u_y, int
     }
 }
 
-/// Where column j's entries in rows from `row` on begin (rows ascend; these are few).
-inline int rows_from(const int* Li, int begin, int end, int row) {
-    while (end > begin + 1 && Li[end - 1] >= row) --end;
-    return end;
-}
-
-/// L z = y in place for columns [from, to), their entries in rows [row_from, row_to) only
-/// (each column's updates in row order; with the whole range, the forward pass). (No test for
-/// a zero y_j: few columns have one, even at φ = 0.80, where the test cost more than it
-/// saved; skipping one gives the same bits.)
-void forward_columns(const cholmod_factor& L, double* y, int from, int to, int row_from, int row_to) {
-    const auto n = static_cast<int>(L.n);
+/// L z = y in place for columns [from, to) (with all columns, the forward pass). (No test for
+/// a zero y_j: few columns have one, even at φ = 0.80, where the test cost more than it saved;
+/// skipping one gives the same bits.)
+void forward_columns(const cholmod_factor& L, double* y, int from, int to) {
     const auto* Lp = static_cast<const int*>(L.p);
     const auto* Li = static_cast<const int*>(L.i);
     const auto* Lnz = static_cast<const int*>(L.nz);
@@ -58,9 +52,27 @@ void forward_columns(const cholmod_factor& L, double* y, int from, int to, int r
     for (int j = from; j < to; ++j) {
         const Pair yj = load(y + 2 * j);
         const int begin = Lp[j], end = begin + Lnz[j];
-        const int stop = row_to < n ? rows_from(Li, begin, end, row_to) : end;
-        const int first = row_from > 0 ? rows_from(Li, begin, stop, row_from) : begin + 1;
-        for (int p = first; p < stop; ++p) {
+        for (int p = begin + 1; p < end; ++p) {
+            double* at = y + 2 * Li[p];
+            store(at, load(at) - Lx[p] * yj);
+        }
+    }
+}
+
+/// forward_columns over columns [from, to) but for the entries from each tail's `first` on
+/// (split_tails, ascending columns; the other columns whole).
+void forward_heads(const cholmod_factor& L, double* y, int from, int to, std::span<const SplitTail> tails) {
+    const auto* Lp = static_cast<const int*>(L.p);
+    const auto* Li = static_cast<const int*>(L.i);
+    const auto* Lnz = static_cast<const int*>(L.nz);
+    const auto* Lx = static_cast<const double*>(L.x);
+    auto tail = tails.begin();
+    for (int j = from; j < to; ++j) {
+        const Pair yj = load(y + 2 * j);
+        const int begin = Lp[j];
+        int end = begin + Lnz[j];
+        if (tail != tails.end() && tail->column == j) end = (tail++)->first;
+        for (int p = begin + 1; p < end; ++p) {
             double* at = y + 2 * Li[p];
             store(at, load(at) - Lx[p] * yj);
         }
@@ -160,7 +172,14 @@ void solve_one(const cholmod_factor& L, const int* pinv, const double* b, double
     for (std::size_t i = 0; i < L.n; ++i) u[i] = y[pinv[i]];
 }
 
-inline void pause() {
+/// A wait's spin: the processor's pause, and past kSpins of them the thread's time slice given
+/// up (when the two threads share a core, oversubscribed, each hand-over would else cost one).
+inline void pause(int& spins) {
+    constexpr int kSpins = 4096;
+    if (++spins > kSpins) {
+        std::this_thread::yield();
+        return;
+    }
 #if defined(__x86_64__) || defined(__i386__)
     __builtin_ia32_pause();
 #endif
@@ -202,7 +221,7 @@ void CholmodUpdatedFactor::solve(const double* b_x, const double* b_y, double* u
     }
     m.xy.resize(2 * static_cast<std::size_t>(n));
     permute_in(*m.L, b_x, b_y, m.xy.data(), 0, n);
-    forward_columns(*m.L, m.xy.data(), 0, n, 0, n);
+    forward_columns(*m.L, m.xy.data(), 0, n);
     backward_columns(*m.L, m.xy.data(), 0, n);
     permute_out(m.pinv.data(), m.xy.data(), u_x, u_y, 0, n);
 }
@@ -251,7 +270,7 @@ int CholmodUpdatedFactor::follow_and_solve(std::span<const ContactPair> pairs, s
         solve(b_x, b_y, u_x, u_y);
         return changes;
     }
-    ++m.counts.split_steps;
+    if (solved) ++m.counts.split_steps;
     return changes;
 }
 
@@ -274,7 +293,7 @@ void CholmodUpdatedFactor::Impl::split_step(const Pass* last, std::span<const st
     std::atomic<int> done{0};
     auto mark = [&](int bit) { done.fetch_or(bit, std::memory_order_release); };
     auto wait = [&](int bit) {
-        while (!(done.load(std::memory_order_acquire) & bit)) pause();
+        for (int spins = 0; !(done.load(std::memory_order_acquire) & bit);) pause(spins);
     };
     double alpha_second[kSweepRank];  // thread 1's α: its own copy (the threads would share cache lines)
     if (last) std::copy(alpha, alpha + last->rank, alpha_second);
@@ -290,7 +309,7 @@ void CholmodUpdatedFactor::Impl::split_step(const Pass* last, std::span<const st
                 sweep_group(kTopGroup, *last, alpha, columns);
             }
             permute_in(F, b_x, b_y, y, 0, n);
-            forward_columns(F, y, 0, n, 0, n);
+            forward_columns(F, y, 0, n);
             backward_columns(F, y, 0, n);
         } else if (thread == 0) {
             if (last) {
@@ -299,7 +318,7 @@ void CholmodUpdatedFactor::Impl::split_step(const Pass* last, std::span<const st
             }
             permute_in(F, b_x, b_y, y, 0, mid);
             permute_in(F, b_x, b_y, y, top, n);
-            forward_columns(F, y, 0, mid, 0, n);
+            forward_columns(F, y, 0, mid);
             mark(kForward0);
             wait(kForward1);  // the tails' columns final, and their y_j
             forward_tails(F, y, split_tails, 0);
@@ -309,7 +328,7 @@ void CholmodUpdatedFactor::Impl::split_step(const Pass* last, std::span<const st
         } else {
             if (last) sweep_group(1, *last, alpha_second, second_columns);
             permute_in(F, b_x, b_y, y, mid, top);
-            forward_columns(F, y, mid, top, 0, top);
+            forward_heads(F, y, mid, top, split_tails);
             mark(kForward1);
             if (last) {
                 wait(kSwept0);
@@ -319,7 +338,7 @@ void CholmodUpdatedFactor::Impl::split_step(const Pass* last, std::span<const st
             wait(kForward0);
             forward_tails(F, y, split_tails, 1);
             wait(kTails0);
-            forward_columns(F, y, top, n, 0, n);
+            forward_columns(F, y, top, n);
             backward_columns(F, y, top, n);
             mark(kBackTop);
             backward_columns(F, y, mid, top);

@@ -4,9 +4,6 @@
 
 #include <omp.h>
 
-#include <cstdio>
-#include <cstdlib>
-#include <functional>
 #include <queue>
 
 namespace jamsim::linalg {
@@ -62,7 +59,7 @@ CholmodUpdatedFactor::Impl::Pass CholmodUpdatedFactor::Impl::plan_pass(std::span
         union_bits.assign((un + 63) / 64, 0);
         slot_of.assign(un, 0);
     }
-    if (etree.size() != un) find_etree();
+    find_etree_if_stale();
     columns.slot_rows.resize(un);
     second_columns.consecutive_kernel = columns.consecutive_kernel;
     second_columns.consecutive2_kernel = columns.consecutive2_kernel;
@@ -219,12 +216,16 @@ void CholmodUpdatedFactor::Impl::find_etree() {
         if (len < 2 || Li[Lp[j] + 1] != j + 1 || Lnz[j + 1] != len) continue;
         nests_next[static_cast<std::size_t>(j)] = std::equal(Li + Lp[j] + 2, Li + Lp[j] + 1 + len, Li + Lp[j + 1] + 1);
     }
-    split_tree();
+    // The split for two threads: afresh with the tree (find_etree_if_stale).
+    split_computed = false;
+    split_mid = split_top = n;
+    split_tails.clear();
 }
 
 void CholmodUpdatedFactor::Impl::split_tree() {
     const auto* Lnz = static_cast<const int*>(L->nz);
     const auto un = static_cast<std::size_t>(n);
+    split_computed = true;
     split_mid = split_top = n;  // no split: every column in the first group's place (see group_of)
     split_tails.clear();
     // A column's share of a sweep: its entries times the columns below it (a change starts
@@ -246,29 +247,30 @@ void CholmodUpdatedFactor::Impl::split_tree() {
                 children[static_cast<std::size_t>(next[static_cast<std::size_t>(up)]++)] = static_cast<int>(j);
     }
     // The top: cut the heaviest subtree (its root to the top, its children in its place)
-    // while the estimate top + max(heaviest, half of the rest) falls; the best cut seen.
+    // while the estimate top + max(heaviest, half of the rest) falls; the best cut seen. The
+    // top is every column from the lowest cut column on (see below), so it is priced so.
+    std::vector<double> from_here(un + 1, 0.0);  // Σ own over columns [j, n)
+    for (std::size_t j = un; j-- > 0;) from_here[j] = from_here[j + 1] + own[j];
     using Entry = std::pair<double, int>;
     std::priority_queue<Entry> heaviest;
-    double rest = 0, top = 0;
     for (std::size_t j = 0; j < un; ++j)
-        if (etree[j] < 0) {
-            heaviest.emplace(subtree[j], static_cast<int>(j));
-            rest += subtree[j];
-        }
+        if (etree[j] < 0) heaviest.emplace(subtree[j], static_cast<int>(j));
     std::vector<int> cut;
-    double best = rest;
+    const double total = from_here[0];
+    double best = total;
     std::size_t best_cuts = 0;
-    while (!heaviest.empty() && heaviest.top().first > rest / 64) {
+    int lowest_cut = n;
+    while (!heaviest.empty() && heaviest.top().first > (total - from_here[static_cast<std::size_t>(lowest_cut)]) / 64) {
         const int j = heaviest.top().second;
         heaviest.pop();
         cut.push_back(j);
-        top += own[static_cast<std::size_t>(j)];
-        rest -= own[static_cast<std::size_t>(j)];
+        lowest_cut = std::min(lowest_cut, j);
         for (int k = first_child[static_cast<std::size_t>(j)]; k < first_child[static_cast<std::size_t>(j) + 1]; ++k) {
             const int child = children[static_cast<std::size_t>(k)];
             heaviest.emplace(subtree[static_cast<std::size_t>(child)], child);
         }
-        const double estimate = top + std::max(heaviest.empty() ? 0.0 : heaviest.top().first, rest / 2);
+        const double top = from_here[static_cast<std::size_t>(lowest_cut)];
+        const double estimate = top + std::max(heaviest.empty() ? 0.0 : heaviest.top().first, (total - top) / 2);
         if (estimate < best) {
             best = estimate;
             best_cuts = cut.size();

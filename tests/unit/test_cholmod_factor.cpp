@@ -2,6 +2,7 @@
 // contact set (many changes at once, contacts formed outside the factor's pattern after a
 // relabelling), its solves must match a dense solve of the current matrix.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -325,9 +326,21 @@ TEST(CholmodFactor, UpdatesAndSolvesGiveTheSameBitsOnAnyThreadCount) {
     const Outcome one = run(1);
     EXPECT_EQ(one.split_solves, 0);
     EXPECT_EQ(one.split_steps, 0);
-    for (const int t : {2, 3, 4}) {
-        SCOPED_TRACE("threads " + std::to_string(t));
-        const Outcome many = run(t);
+    // 2 to 4 threads, and 2 threads asked for inside a parallel region that allows no nested
+    // one: the factor's regions then get a team of one thread, which must take every part.
+    const auto run_in_team_of_one = [&] {
+        Outcome out;
+        const int levels = omp_get_max_active_levels();
+        omp_set_max_active_levels(1);
+#pragma omp parallel num_threads(2)
+#pragma omp single
+        out = run(2);
+        omp_set_max_active_levels(levels);
+        return out;
+    };
+    for (const int t : {2, 3, 4, 0}) {
+        SCOPED_TRACE(t > 0 ? "threads " + std::to_string(t) : std::string("a team of one"));
+        const Outcome many = t > 0 ? run(t) : run_in_team_of_one();
         EXPECT_GT(many.split_solves, 0);
         EXPECT_GT(many.split_steps, 0);
         ASSERT_EQ(one.solutions.size(), many.solutions.size());
