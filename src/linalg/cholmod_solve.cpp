@@ -22,6 +22,19 @@ namespace {
 // once per pass for both right-hand sides. The single passes (`_one`) do the same operations
 // on one half, so give the same bits.
 
+/// L's column arrays (simplicial: column j's entries at [Lp[j], Lp[j] + Lnz[j]), the diagonal
+/// first, rows ascending), for `const auto [Lp, Li, Lnz, Lx] = columns_of(L)`.
+struct ColumnArrays {
+    const int* p;
+    const int* i;
+    const int* nz;
+    const double* x;
+};
+ColumnArrays columns_of(const cholmod_factor& L) {
+    return {static_cast<const int*>(L.p), static_cast<const int*>(L.i), static_cast<const int*>(L.nz),
+            static_cast<const double*>(L.x)};
+}
+
 /// y = P b, both halves, rows [from, to).
 void permute_in(const cholmod_factor& L, const double* b_x, const double* b_y, double* y, int from, int to) {
     const auto* perm = static_cast<const int*>(L.Perm);
@@ -45,10 +58,7 @@ void permute_out(const int* pinv, const double* y, double* u_x, double* u_y, int
 /// a zero y_j: few columns have one, even at φ = 0.80, where the test cost more than it saved;
 /// skipping one gives the same bits.)
 void forward_columns(const cholmod_factor& L, double* y, int from, int to) {
-    const auto* Lp = static_cast<const int*>(L.p);
-    const auto* Li = static_cast<const int*>(L.i);
-    const auto* Lnz = static_cast<const int*>(L.nz);
-    const auto* Lx = static_cast<const double*>(L.x);
+    const auto [Lp, Li, Lnz, Lx] = columns_of(L);
     for (int j = from; j < to; ++j) {
         const Pair yj = load(y + 2 * j);
         const int begin = Lp[j], end = begin + Lnz[j];
@@ -62,10 +72,7 @@ void forward_columns(const cholmod_factor& L, double* y, int from, int to) {
 /// forward_columns over columns [from, to) but for the entries from each tail's `first` on
 /// (split_tails, ascending columns; the other columns whole).
 void forward_heads(const cholmod_factor& L, double* y, int from, int to, std::span<const SplitTail> tails) {
-    const auto* Lp = static_cast<const int*>(L.p);
-    const auto* Li = static_cast<const int*>(L.i);
-    const auto* Lnz = static_cast<const int*>(L.nz);
-    const auto* Lx = static_cast<const double*>(L.x);
+    const auto [Lp, Li, Lnz, Lx] = columns_of(L);
     auto tail = tails.begin();
     for (int j = from; j < to; ++j) {
         const Pair yj = load(y + 2 * j);
@@ -82,10 +89,7 @@ void forward_heads(const cholmod_factor& L, double* y, int from, int to, std::sp
 /// forward_columns' updates of the top's rows from group 1's columns (split_tails, ascending
 /// columns): half 0 those in the top's first rows, half 1 the others.
 void forward_tails(const cholmod_factor& L, double* y, std::span<const SplitTail> tails, int half) {
-    const auto* Lp = static_cast<const int*>(L.p);
-    const auto* Li = static_cast<const int*>(L.i);
-    const auto* Lnz = static_cast<const int*>(L.nz);
-    const auto* Lx = static_cast<const double*>(L.x);
+    const auto [Lp, Li, Lnz, Lx] = columns_of(L);
     for (const SplitTail& tail : tails) {
         const Pair yj = load(y + 2 * tail.column);
         const int from = half == 0 ? tail.first : tail.second_half;
@@ -103,10 +107,7 @@ void forward_tails(const cholmod_factor& L, double* y, std::span<const SplitTail
 /// per column (0.3 ms of a step at N = 65536). The same operations in the same order per row,
 /// so the same bits.
 void backward_columns(const cholmod_factor& L, double* y, int from, int to) {
-    const auto* Lp = static_cast<const int*>(L.p);
-    const auto* Li = static_cast<const int*>(L.i);
-    const auto* Lnz = static_cast<const int*>(L.nz);
-    const auto* Lx = static_cast<const double*>(L.x);
+    const auto [Lp, Li, Lnz, Lx] = columns_of(L);
     for (int j = to - 1; j >= from; --j) {
         const int begin = Lp[j], end = begin + Lnz[j];
         // Four partial sums (independent chains; a fixed order, so deterministic). Each
@@ -130,10 +131,7 @@ void backward_columns(const cholmod_factor& L, double* y, int from, int to) {
 /// L z = y in place for one right-hand side: forward_columns' operations on one half.
 void forward_one(const cholmod_factor& L, double* y) {
     const auto n = static_cast<int>(L.n);
-    const auto* Lp = static_cast<const int*>(L.p);
-    const auto* Li = static_cast<const int*>(L.i);
-    const auto* Lnz = static_cast<const int*>(L.nz);
-    const auto* Lx = static_cast<const double*>(L.x);
+    const auto [Lp, Li, Lnz, Lx] = columns_of(L);
     for (int j = 0; j < n; ++j) {
         const double yj = y[j];
         const int begin = Lp[j], end = begin + Lnz[j];
@@ -144,10 +142,7 @@ void forward_one(const cholmod_factor& L, double* y) {
 /// Lᵀ x = D⁻¹ z in place for one right-hand side: backward_columns' operations on one half.
 void backward_one(const cholmod_factor& L, double* y) {
     const auto n = static_cast<int>(L.n);
-    const auto* Lp = static_cast<const int*>(L.p);
-    const auto* Li = static_cast<const int*>(L.i);
-    const auto* Lnz = static_cast<const int*>(L.nz);
-    const auto* Lx = static_cast<const double*>(L.x);
+    const auto [Lp, Li, Lnz, Lx] = columns_of(L);
     for (int j = n - 1; j >= 0; --j) {
         const int begin = Lp[j], end = begin + Lnz[j];
         double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
