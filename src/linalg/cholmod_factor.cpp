@@ -43,6 +43,9 @@ CholmodUpdatedFactor::CholmodUpdatedFactor(std::size_t n, double delta, Ordering
     m.columns.consecutive_kernel = kernels.one;
     m.columns.consecutive2_kernel = kernels.two;
     m.columns.vector_kernels = kernels.name;
+    m.second_columns.consecutive_kernel = kernels.one;
+    m.second_columns.consecutive2_kernel = kernels.two;
+    m.second_columns.vector_kernels = kernels.name;
     cholmod_start(&m.c);
     m.c.print = 0;
     m.c.error_handler = nullptr;

@@ -306,15 +306,14 @@ struct CholmodUpdatedFactor::Impl {
     Pass plan_pass(std::span<const std::pair<int, int>> rows, std::size_t n_up, std::size_t start, double* alpha);
     /// A planned pass: on two threads the groups side by side, then the top.
     void run_pass(const Pass& pass, std::span<const std::pair<int, int>> rows, double* alpha);
+    /// The pass's columns of `group` (its workspace places, ascending) with the coefficient
+    /// arrays of `cols` (one per thread).
     void sweep_group(int group, const Pass& pass, double* alpha, factor_kernels::SweepColumns& cols);
     /// α of the pass's changes that start in `group`, copied `from` → `to`.
     void take_alpha(const Pass& pass, std::span<const std::pair<int, int>> rows, int group, const double* from,
                     double* to) const;
     /// The second thread's counts and failure added to `columns`.
     void merge_second_columns();
-    /// The columns at workspace places `places` (ascending) with the coefficient arrays of
-    /// `cols` (one per thread).
-    void sweep_slots(std::span<const int> places, std::size_t slots, double* alpha, factor_kernels::SweepColumns& cols);
 
     /// follow's bookkeeping: the contact flags taken over, the changes since the factor's
     /// contact set found, those outside L's pattern applied by CHOLMOD (which allocates their

@@ -24,7 +24,7 @@ template <int Second>
     if (const int up = etree[static_cast<std::size_t>(j)]; up >= 0) {
         auto& above = on_path[static_cast<std::size_t>(up)];
         // A subtree's root passes its changes to the top of the tree, whose columns the
-        // other subtree's root may reach at the same time (sweep_slots).
+        // other subtree's root may reach at the same time (run_pass, split_step).
         if (group_of(up) != group_of(j))
             std::atomic_ref<std::uint64_t>(above).fetch_or(here, std::memory_order_relaxed);
         else
@@ -61,8 +61,6 @@ CholmodUpdatedFactor::Impl::Pass CholmodUpdatedFactor::Impl::plan_pass(std::span
     }
     find_etree_if_stale();
     columns.slot_rows.resize(un);
-    second_columns.consecutive_kernel = columns.consecutive_kernel;
-    second_columns.consecutive2_kernel = columns.consecutive2_kernel;
     second_columns.slot_rows.resize(un);
     auto parent = [&](int j) { return etree[static_cast<std::size_t>(j)]; };
     const int rank = static_cast<int>(std::min<std::size_t>(kSweepRank, rows.size() - start));
@@ -146,11 +144,8 @@ void CholmodUpdatedFactor::Impl::merge_second_columns() {
 }
 
 void CholmodUpdatedFactor::Impl::sweep_group(int group, const Pass& pass, double* alpha, SweepColumns& cols) {
-    sweep_slots(group_slots[group], pass.slots, alpha, cols);
-}
-
-void CholmodUpdatedFactor::Impl::sweep_slots(std::span<const int> places, std::size_t slots, double* alpha,
-                                             SweepColumns& cols) {
+    const std::span<const int> places = group_slots[group];
+    const std::size_t slots = pass.slots;
     const auto* Lp = static_cast<const int*>(L->p);
     const auto* Li = static_cast<const int*>(L->i);
     const auto* Lnz = static_cast<const int*>(L->nz);
@@ -255,15 +250,12 @@ void CholmodUpdatedFactor::Impl::split_tree() {
     std::priority_queue<Entry> heaviest;
     for (std::size_t j = 0; j < un; ++j)
         if (etree[j] < 0) heaviest.emplace(subtree[j], static_cast<int>(j));
-    std::vector<int> cut;
     const double total = from_here[0];
     double best = total;
-    std::size_t best_cuts = 0;
-    int lowest_cut = n;
+    int lowest_cut = n, top_from = n;  // the lowest column cut so far, and in the best cut
     while (!heaviest.empty() && heaviest.top().first > (total - from_here[static_cast<std::size_t>(lowest_cut)]) / 64) {
         const int j = heaviest.top().second;
         heaviest.pop();
-        cut.push_back(j);
         lowest_cut = std::min(lowest_cut, j);
         for (int k = first_child[static_cast<std::size_t>(j)]; k < first_child[static_cast<std::size_t>(j) + 1]; ++k) {
             const int child = children[static_cast<std::size_t>(k)];
@@ -273,15 +265,14 @@ void CholmodUpdatedFactor::Impl::split_tree() {
         const double estimate = top + std::max(heaviest.empty() ? 0.0 : heaviest.top().first, (total - top) / 2);
         if (estimate < best) {
             best = estimate;
-            best_cuts = cut.size();
+            top_from = lowest_cut;
         }
     }
-    if (best_cuts == 0) return;
+    if (top_from == n) return;
     // The top as the columns from the lowest cut column on (postordered: above every
     // subtree below the cut); the groups as the columns below it, split where no column's
     // parent crosses (postordered: between two subtrees), halving the work (sweep and
     // passes over L, each as a share of its whole).
-    const int top_from = *std::min_element(cut.begin(), cut.begin() + static_cast<std::ptrdiff_t>(best_cuts));
     const auto k_top = static_cast<std::size_t>(top_from);
     std::vector<int> crossing(k_top + 1, 0);  // boundaries m with some j < m <= parent(j) < top_from
     for (std::size_t j = 0; j < k_top; ++j)
