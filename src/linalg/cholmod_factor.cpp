@@ -124,7 +124,8 @@ void CholmodUpdatedFactor::analyse(std::span<const ContactPair> pairs) {
                 m.pair_slot[static_cast<std::size_t>(col[t].second - 1)] = s;
         }
     }
-    m.etree.clear();  // a new L: its tree and split afresh
+    m.etree.clear();                  // a new L: its tree and split afresh
+    m.split_mid = m.split_top = m.n;  // and no split kept (find_etree)
     m.L = cholmod_analyze(m.A, &m.c);
     if (!m.L) m.fail("cholmod_analyze");
     const auto* perm = static_cast<const int*>(m.L->Perm);
@@ -225,7 +226,8 @@ void CholmodUpdatedFactor::factorize(std::span<const ContactPair> pairs, std::sp
         v[m.diag_slot[static_cast<std::size_t>(pairs[k].j)]] += w;
     }
     m.n_contacts = m.contacts.size();
-    m.etree.clear();  // the pattern may change, and a failure leaves none to split
+    m.etree.clear();                  // the pattern may change, and a failure leaves none to split
+    m.split_mid = m.split_top = m.n;  // and no split kept (find_etree)
     if (!cholmod_factorize(m.A, m.L, &m.c) || m.c.status != CHOLMOD_OK) m.fail("cholmod_factorize");
     m.factored.assign(in_contact.begin(), in_contact.end());
     m.have_factor = true;

@@ -346,9 +346,13 @@ struct CholmodUpdatedFactor::Impl {
     /// the estimated sweep time (top + the heavier group), the groups to halve the sweep and
     /// the passes over L. The crossing check alone makes each group a set of whole subtrees
     /// (postorder, which fill may break, is not assumed). Without a split, split_mid = split_top
-    /// = n. Computed with the tree on two threads only (split_computed).
+    /// = n. Computed with the tree on two threads only (split_computed); a split that still
+    /// holds after fill is kept, and a new L (analysis, factorisation) resets it.
     void split_tree();
+    void choose_split();      // split_tree's choice of split_mid and split_top
+    void find_split_tails();  // and of split_tails
     int split_mid = 0, split_top = 0;
+    int kept_mid = 0, kept_top = 0;                      // the split before fill changed the tree (n: none)
     std::vector<factor_kernels::SplitTail> split_tails;  // group 1's columns with rows in the top
     static constexpr int kTopGroup = 2;
     int group_of(int j) const { return j < split_mid ? 0 : j < split_top ? 1 : kTopGroup; }

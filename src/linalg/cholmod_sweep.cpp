@@ -211,18 +211,38 @@ void CholmodUpdatedFactor::Impl::find_etree() {
         if (len < 2 || Li[Lp[j] + 1] != j + 1 || Lnz[j + 1] != len) continue;
         nests_next[static_cast<std::size_t>(j)] = std::equal(Li + Lp[j] + 2, Li + Lp[j] + 1 + len, Li + Lp[j + 1] + 1);
     }
-    // The split for two threads: afresh with the tree (find_etree_if_stale).
+    // The split for two threads: checked again with the tree (find_etree_if_stale); kept when
+    // it still holds (fill changes a few columns' parents), its tails found afresh.
     split_computed = false;
-    split_mid = split_top = n;
+    kept_mid = std::exchange(split_mid, n);
+    kept_top = std::exchange(split_top, n);
     split_tails.clear();
 }
 
 void CholmodUpdatedFactor::Impl::split_tree() {
+    split_computed = true;
+    split_tails.clear();
+    // The split chosen for this L before fill changed its tree, if no parent crosses yet
+    // (choosing afresh costs about as much as a step at N = 65536, and fill comes every few
+    // dozen steps); else afresh.
+    bool holds = kept_mid < kept_top && kept_top < n;
+    for (int j = 0; holds && j < kept_mid; ++j) {
+        const int up = etree[static_cast<std::size_t>(j)];
+        holds = up < kept_mid || up >= kept_top;
+    }
+    if (holds) {
+        split_mid = kept_mid;
+        split_top = kept_top;
+    } else {
+        choose_split();
+    }
+    if (split_mid < split_top && split_top < n) find_split_tails();
+}
+
+void CholmodUpdatedFactor::Impl::choose_split() {
     const auto* Lnz = static_cast<const int*>(L->nz);
     const auto un = static_cast<std::size_t>(n);
-    split_computed = true;
     split_mid = split_top = n;  // no split: every column in the first group's place (see group_of)
-    split_tails.clear();
     // A column's share of a sweep: its entries times the columns below it (a change starts
     // at any of them alike); a subtree's, the sum over its columns.
     std::vector<double> below(un, 1.0), own(un), subtree(un);
@@ -303,8 +323,13 @@ void CholmodUpdatedFactor::Impl::split_tree() {
         return;
     }
     split_top = top_from;
+}
+
+void CholmodUpdatedFactor::Impl::find_split_tails() {
     // Group 1's columns with entries in the top's rows (near the top of its subtrees): where
     // those entries begin, and where those in the top's second half (by entries) begin.
+    const auto* Lnz = static_cast<const int*>(L->nz);
+    const auto un = static_cast<std::size_t>(n);
     const auto* Lp = static_cast<const int*>(L->p);
     const auto* Li = static_cast<const int*>(L->i);
     std::vector<long> per_row(un - static_cast<std::size_t>(split_top), 0);

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "../../src/linalg/cholmod_factor.hpp"
+#include "jamsim/linalg/contact_solver.hpp"
 #include "jamsim/parallel/threads.hpp"
 
 using jamsim::linalg::CholmodUpdatedFactor;
@@ -345,5 +346,43 @@ TEST(CholmodFactor, UpdatesAndSolvesGiveTheSameBitsOnAnyThreadCount) {
         EXPECT_GT(many.split_steps, 0);
         ASSERT_EQ(one.solutions.size(), many.solutions.size());
         EXPECT_EQ(std::memcmp(one.solutions.data(), many.solutions.data(), one.solutions.size() * sizeof(double)), 0);
+    }
+}
+
+// The residual check splits its two components over two threads: its verdict must be the
+// one thread's even at the edge, where one ulp of rtol decides. The edge is found on one
+// thread by bisection over the doubles; two threads must agree on both sides of it.
+TEST(ContactResidual, SameVerdictOnAnyThreadCountAtTheEdge) {
+    const int n = 8192;
+    std::mt19937_64 rng(31);
+    const std::vector<ContactPair> contacts = binned_neighbour_pairs(n, 0.015, rng);
+    std::normal_distribution<double> g;
+    std::vector<double> bx(static_cast<std::size_t>(n)), by(bx.size()), ux(bx.size()), uy(bx.size()), scratch;
+    for (std::size_t i = 0; i < bx.size(); ++i) {
+        bx[i] = g(rng);
+        by[i] = 3 * g(rng);  // a larger ‖b_y‖: the edge is set by x, then by y (below)
+        ux[i] = g(rng);
+        uy[i] = g(rng);
+    }
+    const auto within = [&](double rtol, int threads) {
+        const int before = jamsim::kernel_threads();
+        jamsim::set_kernel_threads(threads);
+        const bool ok = jamsim::linalg::contact_residual_within(bx, by, ux, uy, kDelta, contacts, rtol, scratch);
+        jamsim::set_kernel_threads(before);
+        return ok;
+    };
+    for (int trial = 0; trial < 2; ++trial) {
+        if (trial == 1) std::swap(bx, by);  // the other component decides the edge
+        double lo = 0, hi = 1e6;            // within(lo) false, within(hi) true, on one thread
+        ASSERT_FALSE(within(lo, 1));
+        ASSERT_TRUE(within(hi, 1));
+        while (std::nextafter(lo, hi) < hi) {
+            const double mid = lo + (hi - lo) / 2;
+            (within(mid, 1) ? hi : lo) = mid == lo || mid == hi ? std::nextafter(lo, hi) : mid;
+        }
+        for (const int threads : {2, 3}) {
+            EXPECT_TRUE(within(hi, threads)) << threads << " threads, trial " << trial;
+            EXPECT_FALSE(within(lo, threads)) << threads << " threads, trial " << trial;
+        }
     }
 }
