@@ -75,9 +75,12 @@ void print_extrapolated(const std::vector<ExtrapolatedGroup>& groups, double tot
     constexpr std::size_t kShown = 10;
     for (std::size_t k = 0; k < groups.size() && k < kShown; ++k) {
         const ExtrapolatedGroup& g = groups[k];
-        std::printf("  %-6s N = %-7lld phi = %-8g %6lld replicas %5.1f%% of the work, from the %s\n", g.model.c_str(),
+        std::printf("  %-6s N = %-7lld phi = %-8g %6lld replicas %5.1f%% of the work, from the %s", g.model.c_str(),
                     static_cast<long long>(g.n), g.phi, static_cast<long long>(g.replicas),
                     100.0 * g.seconds / std::max(1e-300, total_seconds), g.from.c_str());
+        if (g.probe_budget > 0)  // a minimisation extrapolated in N can be several times off
+            std::printf(" (measuring it needs --probe-seconds %.0f or more)", std::ceil(g.probe_budget / 10) * 10);
+        std::printf("\n");
     }
     if (groups.size() > kShown) {
         double rest = 0;

@@ -33,6 +33,7 @@ struct Calibration {
     /// work that threads do not shorten, and that the kernel's probe leaves out).
     std::map<CostGroup, double> per_sample;
     int recorded = 0, probed = 0;  ///< groups from an earlier run's archive, from probes
+    double spent = 0;              ///< wall seconds of the probes
     /// Minimisations: (N, seconds per cost unit) of probes at sizes below the campaign's (its
     /// replicas at N / 2 and N / 4), for the growth with N when the campaign's own sizes are
     /// too costly to probe more than one of.
@@ -293,6 +294,7 @@ Calibration calibrate(const CampaignSpec& spec, const std::string& archive, doub
         }
     }
     out.probed = static_cast<int>(probed.size());
+    out.spent = spent;
     return out;
 }
 
@@ -345,6 +347,11 @@ ReplicaSeconds replica_seconds(const CampaignSpec& spec, const std::string& arch
         const auto [it, added] = unmeasured.emplace(cost_group(p), out.extrapolated.size());
         if (added) out.extrapolated.push_back({.model = p.model, .n = p.n, .phi = p.phi, .from = rates.basis(p)});
         ExtrapolatedGroup& g = out.extrapolated[it->second];
+        // A probe runs when it takes under a third of the budget and under what is left of it:
+        // three of them after the probes so far, twice over (the estimate is extrapolated, and
+        // a larger budget probes more seeds at the smaller sizes first).
+        if (model_of(p).kind != ModelKind::Dynamics)
+            g.probe_budget = std::max(g.probe_budget, 2 * (rates.spent + 3 * out.seconds.back()));
         ++g.replicas;
         g.seconds += out.seconds.back();
     }

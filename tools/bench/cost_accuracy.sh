@@ -4,11 +4,12 @@
 # estimate of `jamsim run --dry-run` (throughput calibrated on this machine), then the campaign
 # run on one rank; measured = the sum of its replicas' wall times (core-seconds), per N and in
 # all. Prints a Markdown table. Not a test: timings depend on the machine and its load.
+# PROBE_SECONDS=S gives the dry run `--probe-seconds S`.
 #   tools/bench/cost_accuracy.sh [JAMSIM] [CAMPAIGN.toml ...]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 if [[ ${1:-} == -h || ${1:-} == --help ]]; then
-  sed -n '2,7p' "$0" | sed 's/^# \{0,1\}//'
+  sed -n '2,8p' "$0" | sed 's/^# \{0,1\}//'
   exit 0
 fi
 jamsim=${1:-$root/build/release/jamsim}
@@ -23,7 +24,7 @@ echo "|---|---|---:|---:|---:|---:|---:|"
 for spec in "${campaigns[@]}"; do
   name=$(basename "$spec" .toml)
   out="$work/$name.h5"
-  "$jamsim" run --dry-run "$spec" -o "$out" > "$work/$name.plan" 2>/dev/null
+  "$jamsim" run --dry-run ${PROBE_SECONDS:+--probe-seconds "$PROBE_SECONDS"} "$spec" -o "$out" > "$work/$name.plan" 2>/dev/null
   "$jamsim" run "$spec" -o "$out" --progress lines > "$work/$name.log" 2>&1 || { cat "$work/$name.log" >&2; exit 1; }
   /usr/bin/python3 - "$out" "$name" "$work/$name.plan" <<'PY'
 import re
