@@ -79,7 +79,7 @@ void print_extrapolated(const std::vector<ExtrapolatedGroup>& groups, double tot
                     static_cast<long long>(g.n), g.phi, static_cast<long long>(g.replicas),
                     100.0 * g.seconds / std::max(1e-300, total_seconds), g.from.c_str());
         if (g.probe_budget > 0)  // a minimisation extrapolated in N can be several times off
-            std::printf(" (measuring it needs --probe-seconds %.0f or more)", std::ceil(g.probe_budget / 10) * 10);
+            std::printf(" (--probe-seconds %.0f would probe it)", std::ceil(g.probe_budget / 10) * 10);
         std::printf("\n");
     }
     if (groups.size() > kShown) {

@@ -62,8 +62,8 @@ struct Calibration {
     /// phi); else the size measured nearest (a group, or a probe below the campaign's sizes)
     /// scaled by the model's growth with N: a power law in N of the seconds per cost unit,
     /// fitted to every size measured (a minimisation's iterations grow with N, which its cost
-    /// estimate does not count; none with one size); else nominal.
-    double seconds_per_cost(const ReplicaParams& p) const {
+    /// estimate does not count; `one_size_growth` with one size); else nominal.
+    double seconds_per_cost(const ReplicaParams& p, double one_size_growth = 0.0) const {
         if (const auto it = measured.find(cost_group(p)); it != measured.end()) return it->second;
         double same_n = 0;
         int n_count = 0;
@@ -85,7 +85,9 @@ struct Calibration {
         const auto nearest = *std::min_element(by_size.begin(), by_size.end(), [&](const auto& a, const auto& b) {
             return std::abs(a.first - log_n) < std::abs(b.first - log_n);
         });
-        const double slope = straight_line(by_size).second;
+        const bool one_size = std::all_of(by_size.begin(), by_size.end(),
+                                          [&](const auto& point) { return point.first == by_size.front().first; });
+        const double slope = one_size ? one_size_growth : straight_line(by_size).second;
         return std::exp(nearest.second + slope * (log_n - nearest.first));
     }
 
@@ -340,6 +342,9 @@ ReplicaSeconds replica_seconds(const CampaignSpec& spec, const std::string& arch
                        .source = describe_source(calibrate, rates, spec, probe_seconds),
                        .extrapolated = {}};
     std::map<CostGroup, std::size_t> unmeasured;  // group -> its index in out.extrapolated
+    // The probes a budget must pay for before each unmeasured minimisation group's (probes
+    // run in the campaign's order): three of its replicas and of every such group before it.
+    double probes_before = rates.spent;
     for (const ReplicaParams& p : spec.replicas) {
         out.serial.push_back(rates.sample_seconds(p));
         out.seconds.push_back(estimated_cost(p) * rates.seconds_per_cost(p) + out.serial.back());
@@ -348,10 +353,14 @@ ReplicaSeconds replica_seconds(const CampaignSpec& spec, const std::string& arch
         if (added) out.extrapolated.push_back({.model = p.model, .n = p.n, .phi = p.phi, .from = rates.basis(p)});
         ExtrapolatedGroup& g = out.extrapolated[it->second];
         // A probe runs when it takes under a third of the budget and under what is left of it:
-        // three of them after the probes so far, twice over (the estimate is extrapolated, and
-        // a larger budget probes more seeds at the smaller sizes first).
-        if (model_of(p).kind != ModelKind::Dynamics)
-            g.probe_budget = std::max(g.probe_budget, 2 * (rates.spent + 3 * out.seconds.back()));
+        // the budget named pays for the probes so far and three replicas of this group and of
+        // every unmeasured one before it, twice over (a larger budget probes more seeds at the
+        // smaller sizes first), each replica priced with growth N^1 where one size was measured
+        // (no growth fitted: the estimate itself has none, and minimisations grew N^0.6-1).
+        if (added && model_of(p).kind != ModelKind::Dynamics) {
+            probes_before += 3 * (estimated_cost(p) * rates.seconds_per_cost(p, 1.0) + out.serial.back());
+            g.probe_budget = 2 * probes_before;
+        }
         ++g.replicas;
         g.seconds += out.seconds.back();
     }

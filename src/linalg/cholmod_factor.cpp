@@ -29,7 +29,8 @@ void CholmodUpdatedFactor::Impl::modify(bool update, std::span<const ContactPair
     }
     Wp[k] = static_cast<int>(2 * k);
     const int ok = cholmod_updown(update ? 1 : 0, W, L, &c);
-    etree.clear();  // an update may have added fill
+    etree.clear();           // an update may have added fill
+    split_computed = false;  // its tails (offsets into L) are stale until find_etree_if_stale
     cholmod_free_sparse(&W, &c);
     if (!ok || c.status != CHOLMOD_OK) fail("cholmod_updown");
 }

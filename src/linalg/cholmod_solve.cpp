@@ -253,7 +253,7 @@ int CholmodUpdatedFactor::follow_and_solve(std::span<const ContactPair> pairs, s
         const Impl::Pass last = m.plan_pass(rows, n_up, start, alpha);
         if (m.split_usable()) {
             m.split_step(&last, rows, alpha, b_x, b_y, u_x, u_y);
-        } else {  // fill outside the pattern (gather_changes) changed the tree: no split now
+        } else {  // fill outside the pattern (gather_changes) changed the tree and broke the split
             m.run_pass(last, rows, alpha);
             solved = false;
         }

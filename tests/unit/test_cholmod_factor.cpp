@@ -380,9 +380,21 @@ TEST(ContactResidual, SameVerdictOnAnyThreadCountAtTheEdge) {
             const double mid = lo + (hi - lo) / 2;
             (within(mid, 1) ? hi : lo) = mid == lo || mid == hi ? std::nextafter(lo, hi) : mid;
         }
-        for (const int threads : {2, 3}) {
-            EXPECT_TRUE(within(hi, threads)) << threads << " threads, trial " << trial;
-            EXPECT_FALSE(within(lo, threads)) << threads << " threads, trial " << trial;
-        }
+        // Two threads, and a team of one (a region that allows no nested one), which takes
+        // both components itself.
+        const auto in_team_of_one = [&](double rtol) {
+            bool ok = false;
+            const int levels = omp_get_max_active_levels();
+            omp_set_max_active_levels(1);
+#pragma omp parallel num_threads(2)
+#pragma omp single
+            ok = within(rtol, 2);
+            omp_set_max_active_levels(levels);
+            return ok;
+        };
+        EXPECT_TRUE(within(hi, 2)) << "trial " << trial;
+        EXPECT_FALSE(within(lo, 2)) << "trial " << trial;
+        EXPECT_TRUE(in_team_of_one(hi)) << "trial " << trial;
+        EXPECT_FALSE(in_team_of_one(lo)) << "trial " << trial;
     }
 }

@@ -22,9 +22,10 @@ struct ExtrapolatedGroup {
     std::int64_t replicas = 0;
     double seconds = 0;  ///< its replicas' estimated seconds on one thread
     std::string from;    ///< where its throughput comes from, in words
-    /// A minimisation's group: a probe budget (--probe-seconds) that measures it: twice the
-    /// probes so far and three of its replicas by this estimate (0: dynamics, whose probes are
-    /// short: a group past the budget is measured by a little more).
+    /// A minimisation's group: a probe budget (--probe-seconds) that would probe it: 2 × (the
+    /// probes so far + three replicas of it and of every unmeasured minimisation group before
+    /// it), an estimate itself (0: dynamics, whose probes are short: a group past the budget
+    /// is measured by a little more).
     double probe_budget = 0;
 };
 

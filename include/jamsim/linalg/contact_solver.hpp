@@ -16,7 +16,8 @@ struct ContactPair {
 
 /// Whether ‖b − A u‖ ≤ rtol ‖b‖ for both right-hand sides, with (A u)_i = δ u_i +
 /// Σ_{j in contact} (u_i − u_j): the true-residual check of the backends that update a factor.
-/// `scratch` holds the residual (resized to 2N, (x, y) per disk).
+/// `scratch` holds the residual (resized to 2N: (x, y) per disk on one thread; all x, then all
+/// y, when two threads take one component each).
 bool contact_residual_within(std::span<const double> bx, std::span<const double> by, std::span<const double> ux,
                              std::span<const double> uy, double delta, std::span<const ContactPair> contacts,
                              double rtol, std::vector<double>& scratch);
