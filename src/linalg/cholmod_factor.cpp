@@ -41,12 +41,11 @@ CholmodUpdatedFactor::CholmodUpdatedFactor(std::size_t n, double delta, Ordering
     m.n = static_cast<int>(n);
     m.delta = delta;
     const factor_kernels::WideKernels kernels = factor_kernels::choose_kernels(vectors);
-    m.columns.consecutive_kernel = kernels.one;
-    m.columns.consecutive2_kernel = kernels.two;
-    m.columns.vector_kernels = kernels.name;
-    m.second_columns.consecutive_kernel = kernels.one;
-    m.second_columns.consecutive2_kernel = kernels.two;
-    m.second_columns.vector_kernels = kernels.name;
+    for (factor_kernels::SweepColumns* cols : {&m.columns, &m.second_columns}) {  // one per thread
+        cols->consecutive_kernel = kernels.one;
+        cols->consecutive2_kernel = kernels.two;
+        cols->vector_kernels = kernels.name;
+    }
     cholmod_start(&m.c);
     m.c.print = 0;
     m.c.error_handler = nullptr;

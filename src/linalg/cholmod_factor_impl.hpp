@@ -216,6 +216,19 @@ struct SplitTail {
 
 }  // namespace factor_kernels
 
+/// L's column arrays, read-only (simplicial: column j's entries at [Lp[j], Lp[j] + Lnz[j]), the
+/// diagonal first, rows ascending), for `const auto [Lp, Li, Lnz, Lx] = columns_of(L)`.
+struct ColumnArrays {
+    const int* p;
+    const int* i;
+    const int* nz;
+    const double* x;
+};
+inline ColumnArrays columns_of(const cholmod_factor& L) {
+    return {static_cast<const int*>(L.p), static_cast<const int*>(L.i), static_cast<const int*>(L.nz),
+            static_cast<const double*>(L.x)};
+}
+
 /// Whether the factor's loops over n rows take two threads (the split sweep and solves).
 inline bool two_threads(int n) { return kernel_threads() > 1 && static_cast<std::size_t>(n) >= kThreadedLoopMin; }
 
@@ -270,9 +283,7 @@ struct CholmodUpdatedFactor::Impl {
         a = pinv[static_cast<std::size_t>(pair.i)];
         b = pinv[static_cast<std::size_t>(pair.j)];
         if (a > b) std::swap(a, b);
-        const auto* Lp = static_cast<const int*>(L->p);
-        const auto* Li = static_cast<const int*>(L->i);
-        const auto* Lnz = static_cast<const int*>(L->nz);
+        const auto [Lp, Li, Lnz, Lx] = columns_of(*L);
         const int* first = Li + Lp[a] + 1;
         const int* last = Li + Lp[a] + Lnz[a];
         return std::binary_search(first, last, b);  // CHOLMOD keeps columns sorted
@@ -357,7 +368,9 @@ struct CholmodUpdatedFactor::Impl {
     static constexpr int kTopGroup = 2;
     int group_of(int j) const { return j < split_mid ? 0 : j < split_top ? 1 : kTopGroup; }
     /// Whether the sweep and the solves run split over two threads.
-    bool split_usable() const { return two_threads(n) && split_computed && split_top < n && split_mid < split_top; }
+    bool split_usable() const { return two_threads(n) && split_computed && is_split(split_mid, split_top); }
+    /// Whether (mid, top) splits the columns into two groups and a top (n: none).
+    bool is_split(int mid, int top) const { return mid < top && top < n; }
     bool split_computed = false;
     std::vector<int> group_slots[3];  // a pass's workspace places by column group
     /// Steps of follow_and_solve and solve on two threads (cholmod_solve.cpp): the last

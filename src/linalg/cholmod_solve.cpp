@@ -22,19 +22,6 @@ namespace {
 // once per pass for both right-hand sides. The single passes (`_one`) do the same operations
 // on one half, so give the same bits.
 
-/// L's column arrays (simplicial: column j's entries at [Lp[j], Lp[j] + Lnz[j]), the diagonal
-/// first, rows ascending), for `const auto [Lp, Li, Lnz, Lx] = columns_of(L)`.
-struct ColumnArrays {
-    const int* p;
-    const int* i;
-    const int* nz;
-    const double* x;
-};
-ColumnArrays columns_of(const cholmod_factor& L) {
-    return {static_cast<const int*>(L.p), static_cast<const int*>(L.i), static_cast<const int*>(L.nz),
-            static_cast<const double*>(L.x)};
-}
-
 /// y = P b, both halves, rows [from, to).
 void permute_in(const cholmod_factor& L, const double* b_x, const double* b_y, double* y, int from, int to) {
     const auto* perm = static_cast<const int*>(L.Perm);

@@ -200,9 +200,7 @@ void CholmodUpdatedFactor::Impl::sweep_group(int group, const Pass& pass, double
 }
 
 void CholmodUpdatedFactor::Impl::find_etree() {
-    const auto* Lp = static_cast<const int*>(L->p);
-    const auto* Li = static_cast<const int*>(L->i);
-    const auto* Lnz = static_cast<const int*>(L->nz);
+    const auto [Lp, Li, Lnz, Lx] = columns_of(*L);
     etree.resize(static_cast<std::size_t>(n));
     for (int j = 0; j < n; ++j) etree[static_cast<std::size_t>(j)] = Lnz[j] > 1 ? Li[Lp[j] + 1] : -1;
     nests_next.assign(static_cast<std::size_t>(n), 0);
@@ -225,7 +223,7 @@ void CholmodUpdatedFactor::Impl::split_tree() {
     // The split chosen for this L before fill changed its tree, if no parent crosses yet
     // (choosing afresh costs about as much as a step at N = 65536, and fill comes every few
     // dozen steps); else afresh.
-    bool holds = kept_mid < kept_top && kept_top < n;
+    bool holds = is_split(kept_mid, kept_top);
     for (int j = 0; holds && j < kept_mid; ++j) {
         const int up = etree[static_cast<std::size_t>(j)];
         holds = up < kept_mid || up >= kept_top;
@@ -236,7 +234,7 @@ void CholmodUpdatedFactor::Impl::split_tree() {
     } else {
         choose_split();
     }
-    if (split_mid < split_top && split_top < n) find_split_tails();
+    if (is_split(split_mid, split_top)) find_split_tails();
 }
 
 void CholmodUpdatedFactor::Impl::choose_split() {
@@ -328,10 +326,8 @@ void CholmodUpdatedFactor::Impl::choose_split() {
 void CholmodUpdatedFactor::Impl::find_split_tails() {
     // Group 1's columns with entries in the top's rows (near the top of its subtrees): where
     // those entries begin, and where those in the top's second half (by entries) begin.
-    const auto* Lnz = static_cast<const int*>(L->nz);
+    const auto [Lp, Li, Lnz, Lx] = columns_of(*L);
     const auto un = static_cast<std::size_t>(n);
-    const auto* Lp = static_cast<const int*>(L->p);
-    const auto* Li = static_cast<const int*>(L->i);
     std::vector<long> per_row(un - static_cast<std::size_t>(split_top), 0);
     long entries = 0;
     for (int j = split_mid; j < split_top; ++j) {

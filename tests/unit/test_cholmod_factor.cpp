@@ -6,6 +6,8 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <string>
 #include <memory>
 #include <cstring>
@@ -373,13 +375,17 @@ TEST(ContactResidual, SameVerdictOnAnyThreadCountAtTheEdge) {
     };
     for (int trial = 0; trial < 2; ++trial) {
         if (trial == 1) std::swap(bx, by);  // the other component decides the edge
-        double lo = 0, hi = 1e6;            // within(lo) false, within(hi) true, on one thread
-        ASSERT_FALSE(within(lo, 1));
-        ASSERT_TRUE(within(hi, 1));
-        while (std::nextafter(lo, hi) < hi) {
-            const double mid = lo + (hi - lo) / 2;
-            (within(mid, 1) ? hi : lo) = mid == lo || mid == hi ? std::nextafter(lo, hi) : mid;
+        // Bisection over the bit patterns of positive doubles (ordered as the doubles are) to
+        // two neighbours: within(lo) false, within(hi) true, on one thread.
+        const auto as_double = [](std::uint64_t bits) { return std::bit_cast<double>(bits); };
+        std::uint64_t lo_bits = std::bit_cast<std::uint64_t>(0.0), hi_bits = std::bit_cast<std::uint64_t>(1e6);
+        ASSERT_FALSE(within(as_double(lo_bits), 1));
+        ASSERT_TRUE(within(as_double(hi_bits), 1));
+        while (hi_bits - lo_bits > 1) {
+            const std::uint64_t mid = lo_bits + (hi_bits - lo_bits) / 2;
+            (within(as_double(mid), 1) ? hi_bits : lo_bits) = mid;
         }
+        const double lo = as_double(lo_bits), hi = as_double(hi_bits);
         // Two threads, and a team of one (a region that allows no nested one), which takes
         // both components itself.
         const auto in_team_of_one = [&](double rtol) {
