@@ -109,7 +109,7 @@ struct Calibration {
             for (const auto& [n, rate] : it->second) other_sizes.insert(static_cast<std::int64_t>(n));
         if (other_sizes.empty()) return "nominal rate";
         for (const std::int64_t n : other_sizes) sizes += (sizes.empty() ? "" : ", ") + std::to_string(n);
-        return "scaled in N from N = " + sizes;
+        return "nearest size measured, scaled by the growth fitted to N = " + sizes;
     }
 
     static std::string show(double x) {

@@ -41,36 +41,49 @@ void permute_out(const int* pinv, const double* y, double* u_x, double* u_y, int
     }
 }
 
-/// L z = y in place for columns [from, to) (with all columns, the forward pass). (No test for
-/// a zero y_j: few columns have one, even at φ = 0.80, where the test cost more than it saved;
-/// skipping one gives the same bits.)
-void forward_columns(const cholmod_factor& L, double* y, int from, int to) {
-    const auto [Lp, Li, Lnz, Lx] = columns_of(L);
-    for (int j = from; j < to; ++j) {
-        const Pair yj = load(y + 2 * j);
-        const int begin = Lp[j], end = begin + Lnz[j];
-        for (int p = begin + 1; p < end; ++p) {
-            double* at = y + 2 * Li[p];
-            store(at, load(at) - Lx[p] * yj);
-        }
-    }
-}
+}  // namespace
 
-/// forward_columns over columns [from, to) but for the entries from each tail's `first` on
-/// (split_tails, ascending columns; the other columns whole).
-void forward_heads(const cholmod_factor& L, double* y, int from, int to, std::span<const SplitTail> tails) {
+void ForwardPass::run_to(int column) {
+    // (No test for a zero y_j: few columns have one, even at φ = 0.80, where the test cost
+    // more than it saved; skipping one gives the same bits.)
     const auto [Lp, Li, Lnz, Lx] = columns_of(L);
-    auto tail = tails.begin();
-    for (int j = from; j < to; ++j) {
+    for (int j = next; j < column; ++j) {
         const Pair yj = load(y + 2 * j);
         const int begin = Lp[j];
         int end = begin + Lnz[j];
-        if (tail != tails.end() && tail->column == j) end = (tail++)->first;
+        if (nests && nests[j] && j + 1 < column && (tails.empty() || tails.front().column > j + 1)) {
+            // Column j + 1 nests in j (its rows are j's after the first): j's first entry
+            // gives y_{j+1}, then both columns row by row, each row's y loaded and stored once
+            // for both (j's update before j + 1's, as column after column: the same bits).
+            double* at = y + 2 * (j + 1);
+            const Pair yj1 = load(at) - Lx[begin + 1] * yj;
+            store(at, yj1);
+            const int shift = Lp[j + 1] - begin - 1;  // column j + 1's entry on j's row at p: p + shift
+            for (int p = begin + 2; p < end; ++p) {
+                at = y + 2 * Li[p];
+                store(at, (load(at) - Lx[p] * yj) - Lx[p + shift] * yj1);
+            }
+            ++j;
+            continue;
+        }
+        if (!tails.empty() && tails.front().column == j) {
+            end = tails.front().first;
+            tails = tails.subspan(1);
+        }
         for (int p = begin + 1; p < end; ++p) {
             double* at = y + 2 * Li[p];
             store(at, load(at) - Lx[p] * yj);
         }
     }
+    next = std::max(next, column);
+}
+
+namespace {
+
+/// L z = y in place for columns [from, to) (with all columns, the forward pass); `nests`:
+/// ForwardPass::nests.
+void forward_columns(const cholmod_factor& L, const std::uint8_t* nests, double* y, int from, int to) {
+    ForwardPass{.L = L, .y = y, .next = from, .nests = nests}.run_to(to);
 }
 
 /// forward_columns' updates of the top's rows from group 1's columns (split_tails, ascending
@@ -203,7 +216,7 @@ void CholmodUpdatedFactor::solve(const double* b_x, const double* b_y, double* u
     }
     m.xy.resize(2 * static_cast<std::size_t>(n));
     permute_in(*m.L, b_x, b_y, m.xy.data(), 0, n);
-    forward_columns(*m.L, m.xy.data(), 0, n);
+    forward_columns(*m.L, m.nests_next.data(), m.xy.data(), 0, n);
     backward_columns(*m.L, m.xy.data(), 0, n);
     permute_out(m.pinv.data(), m.xy.data(), u_x, u_y, 0, n);
 }
@@ -212,7 +225,8 @@ int CholmodUpdatedFactor::follow_and_solve(std::span<const ContactPair> pairs, s
                                            const double* b_x, const double* b_y, double* u_x, double* u_y) {
     Impl& m = *impl_;
     m.find_etree_if_stale();
-    if (!m.split_usable()) {
+    // Two threads but no split: follow's sweep, then the solve (a right-hand side per thread).
+    if (!m.split_usable() && two_threads(m.n)) {
         const int changes = follow(pairs, in_contact);
         solve(b_x, b_y, u_x, u_y);
         return changes;
@@ -224,7 +238,7 @@ int CholmodUpdatedFactor::follow_and_solve(std::span<const ContactPair> pairs, s
     }
     const auto [changes, n_up] = gathered;
     const std::span<const std::pair<int, int>> rows = m.sweep_rows;
-    bool solved = true;
+    bool solved = true, split = false;
     if (rows.empty()) {  // nothing to sweep: the solve alone
         solve(b_x, b_y, u_x, u_y);
         return changes;
@@ -240,6 +254,14 @@ int CholmodUpdatedFactor::follow_and_solve(std::span<const ContactPair> pairs, s
         const Impl::Pass last = m.plan_pass(rows, n_up, start, alpha);
         if (m.split_usable()) {
             m.split_step(&last, rows, alpha, b_x, b_y, u_x, u_y);
+            split = true;
+        } else if (!two_threads(m.n)) {  // one thread: the forward pass behind the sweep too
+            double alpha_second[Impl::kSweepRank];
+            std::copy(alpha, alpha + last.rank, alpha_second);
+            m.xy.resize(2 * static_cast<std::size_t>(m.n));
+            m.one_thread_step(&last, rows, alpha, alpha_second, b_x, b_y, m.xy.data());
+            permute_out(m.pinv.data(), m.xy.data(), u_x, u_y, 0, m.n);
+            m.merge_second_columns();
         } else {  // fill outside the pattern (gather_changes) changed the tree and broke the split
             m.run_pass(last, rows, alpha);
             solved = false;
@@ -252,7 +274,7 @@ int CholmodUpdatedFactor::follow_and_solve(std::span<const ContactPair> pairs, s
         solve(b_x, b_y, u_x, u_y);
         return changes;
     }
-    if (solved) ++m.counts.split_steps;
+    if (split) ++m.counts.split_steps;
     return changes;
 }
 
@@ -284,23 +306,17 @@ void CholmodUpdatedFactor::Impl::split_step(const Pass* last, std::span<const st
         const int thread = omp_get_thread_num();
         const int team = omp_get_num_threads();
         if (team == 1) {  // a team of one (nested or limited OpenMP): one thread's order
-            if (last) {
-                sweep_group(0, *last, alpha, columns);
-                sweep_group(1, *last, alpha_second, second_columns);
-                take_alpha(*last, rows, 1, alpha_second, alpha);
-                sweep_group(kTopGroup, *last, alpha, columns);
-            }
-            permute_in(F, b_x, b_y, y, 0, n);
-            forward_columns(F, y, 0, n);
-            backward_columns(F, y, 0, n);
+            one_thread_step(last, rows, alpha, alpha_second, b_x, b_y, y);
         } else if (thread == 0) {
+            // Group 0's sweep first, whole: thread 1 waits for it to sweep the top. (Thread 1,
+            // which also takes the top's passes, runs its forward pass behind its sweep.)
             if (last) {
                 sweep_group(0, *last, alpha, columns);
                 mark(kSwept0);
             }
             permute_in(F, b_x, b_y, y, 0, mid);
             permute_in(F, b_x, b_y, y, top, n);
-            forward_columns(F, y, 0, mid);
+            forward_columns(F, nests_next.data(), y, 0, mid);
             mark(kForward0);
             wait(kForward1);  // the tails' columns final, and their y_j
             forward_tails(F, y, split_tails, 0);
@@ -308,9 +324,10 @@ void CholmodUpdatedFactor::Impl::split_step(const Pass* last, std::span<const st
             wait(kBackTop);
             backward_columns(F, y, 0, mid);
         } else {
-            if (last) sweep_group(1, *last, alpha_second, second_columns);
             permute_in(F, b_x, b_y, y, mid, top);
-            forward_heads(F, y, mid, top, split_tails);
+            ForwardPass forward{.L = F, .y = y, .next = mid, .tails = split_tails, .nests = nests_next.data()};
+            if (last) sweep_group(1, *last, alpha_second, second_columns, &forward);
+            forward.run_to(top);
             mark(kForward1);
             if (last) {
                 wait(kSwept0);
@@ -320,7 +337,7 @@ void CholmodUpdatedFactor::Impl::split_step(const Pass* last, std::span<const st
             wait(kForward0);
             forward_tails(F, y, split_tails, 1);
             wait(kTails0);
-            forward_columns(F, y, top, n);
+            forward_columns(F, nests_next.data(), y, top, n);
             backward_columns(F, y, top, n);
             mark(kBackTop);
             backward_columns(F, y, mid, top);
@@ -331,6 +348,22 @@ void CholmodUpdatedFactor::Impl::split_step(const Pass* last, std::span<const st
         permute_out(pinv.data(), y, u_x, u_y, from, to);
     }
     if (last) merge_second_columns();
+}
+
+void CholmodUpdatedFactor::Impl::one_thread_step(const Pass* last, std::span<const std::pair<int, int>> rows,
+                                                 double* alpha, double* alpha_second, const double* b_x,
+                                                 const double* b_y, double* y) {
+    const cholmod_factor& F = *L;
+    permute_in(F, b_x, b_y, y, 0, n);
+    ForwardPass forward{.L = F, .y = y, .next = 0, .nests = nests_next.data()};
+    if (last) {
+        sweep_group(0, *last, alpha, columns, &forward);
+        sweep_group(1, *last, alpha_second, second_columns, &forward);
+        take_alpha(*last, rows, 1, alpha_second, alpha);
+        sweep_group(kTopGroup, *last, alpha, columns, &forward);
+    }
+    forward.run_to(n);
+    backward_columns(F, y, 0, n);
 }
 
 }  // namespace jamsim::linalg

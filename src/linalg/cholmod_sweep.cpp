@@ -143,60 +143,69 @@ void CholmodUpdatedFactor::Impl::merge_second_columns() {
     columns.block_updates += std::exchange(second_columns.block_updates, 0);
 }
 
-void CholmodUpdatedFactor::Impl::sweep_group(int group, const Pass& pass, double* alpha, SweepColumns& cols) {
+void CholmodUpdatedFactor::Impl::sweep_group(int group, const Pass& pass, double* alpha, SweepColumns& cols,
+                                             ForwardPass* forward) {
     const std::span<const int> places = group_slots[group];
-    const std::size_t slots = pass.slots;
+    for (std::size_t k = 0; k < places.size();) {
+        const int j = path_union[static_cast<std::size_t>(places[k])];
+        if (forward) forward->run_to(j);
+        const int swept = sweep_at(places, k, pass.slots, alpha, cols);
+        if (forward) forward->run_to(j + swept);
+        k += static_cast<std::size_t>(swept);
+    }
+}
+
+int CholmodUpdatedFactor::Impl::sweep_at(std::span<const int> places, std::size_t k, std::size_t slots, double* alpha,
+                                         SweepColumns& cols) {
     const auto* Lp = static_cast<const int*>(L->p);
     const auto* Li = static_cast<const int*>(L->i);
     const auto* Lnz = static_cast<const int*>(L->nz);
     auto* Lx = static_cast<double*>(L->x);
-    for (std::size_t k = 0; k < places.size(); ++k) {
-        const auto slot = static_cast<std::size_t>(places[k]);
-        const int j = path_union[slot];
-        // The pivot's recurrence, change after change; then each entry of the column
-        // takes every change in turn (its arithmetic is that of one change at a time).
-        const int begin = Lp[j];
-        const int count = column_pivots<0>(cols, j, slot, slots, alpha);
-        const int len = Lnz[j] - 1;  // entries below the diagonal
-        double* l = Lx + begin + 1;
-        // Column j + 1 nests in column j (a supernode: its rows are j's after the
-        // first) and is next in the union: after j's first entry (row j + 1, which
-        // gives j + 1 its pivots) both columns take their changes row by row, each
-        // workspace entry loaded and stored once for both. Every entry gets the same
-        // operations in the same order as column after column, so the same bits.
-        if (nests_next[static_cast<std::size_t>(j)] && k + 1 < places.size() &&
-            static_cast<std::size_t>(places[k + 1]) == slot + 1 && path_union[slot + 1] == j + 1) {
-            if (count > 0) cols.apply_entry(l[0], static_cast<int>(slot) + 1, count);
-            const int count2 = column_pivots<1>(cols, j + 1, slot + 1, slots, alpha);
-            ++k;
-            if (count == 0 && count2 == 0) continue;
-            const int len2 = len - 1;
-            const int* rows_j = Li + begin + 2;
-            int* slots_j = cols.slot_rows.data();
-            for (int e = 0; e < len2; ++e) slots_j[e] = slot_of[static_cast<std::size_t>(rows_j[e])];
-            double* l2 = Lx + Lp[j + 1] + 1;
-            if (count > 0 && count == count2 && std::equal(cols.step_w, cols.step_w + count, cols.step_w2)) {
-                cols.apply_pair(l + 1, l2, slots_j, len2, count);
-                continue;
-            }
-            // Different changes in the two columns (another child of j + 1 brings its
-            // own): column after column, the second column's coefficients moved into
-            // the first's arrays, which the single-column kernels read.
-            if (count > 0) cols.apply_column(l + 1, slots_j, len2, count);
-            if (count2 > 0) {
-                std::copy(cols.step_p2, cols.step_p2 + count2, cols.step_p);
-                std::copy(cols.step_beta2, cols.step_beta2 + count2, cols.step_beta);
-                std::copy(cols.step_w2, cols.step_w2 + count2, cols.step_w);
-                cols.apply_column(l2, slots_j, len2, count2);
-            }
-            continue;
-        }
-        if (count == 0 || len == 0) continue;
-        const int* rows_j = Li + begin + 1;
+    const auto slot = static_cast<std::size_t>(places[k]);
+    const int j = path_union[slot];
+    // The pivot's recurrence, change after change; then each entry of the column
+    // takes every change in turn (its arithmetic is that of one change at a time).
+    const int begin = Lp[j];
+    const int count = column_pivots<0>(cols, j, slot, slots, alpha);
+    const int len = Lnz[j] - 1;  // entries below the diagonal
+    double* l = Lx + begin + 1;
+    // Column j + 1 nests in column j (a supernode: its rows are j's after the
+    // first) and is next in the union: after j's first entry (row j + 1, which
+    // gives j + 1 its pivots) both columns take their changes row by row, each
+    // workspace entry loaded and stored once for both. Every entry gets the same
+    // operations in the same order as column after column, so the same bits.
+    if (nests_next[static_cast<std::size_t>(j)] && k + 1 < places.size() &&
+        static_cast<std::size_t>(places[k + 1]) == slot + 1 && path_union[slot + 1] == j + 1) {
+        if (count > 0) cols.apply_entry(l[0], static_cast<int>(slot) + 1, count);
+        const int count2 = column_pivots<1>(cols, j + 1, slot + 1, slots, alpha);
+        if (count == 0 && count2 == 0) return 2;
+        const int len2 = len - 1;
+        const int* rows_j = Li + begin + 2;
         int* slots_j = cols.slot_rows.data();
-        for (int e = 0; e < len; ++e) slots_j[e] = slot_of[static_cast<std::size_t>(rows_j[e])];
-        cols.apply_column(l, slots_j, len, count);
+        for (int e = 0; e < len2; ++e) slots_j[e] = slot_of[static_cast<std::size_t>(rows_j[e])];
+        double* l2 = Lx + Lp[j + 1] + 1;
+        if (count > 0 && count == count2 && std::equal(cols.step_w, cols.step_w + count, cols.step_w2)) {
+            cols.apply_pair(l + 1, l2, slots_j, len2, count);
+            return 2;
+        }
+        // Different changes in the two columns (another child of j + 1 brings its
+        // own): column after column, the second column's coefficients moved into
+        // the first's arrays, which the single-column kernels read.
+        if (count > 0) cols.apply_column(l + 1, slots_j, len2, count);
+        if (count2 > 0) {
+            std::copy(cols.step_p2, cols.step_p2 + count2, cols.step_p);
+            std::copy(cols.step_beta2, cols.step_beta2 + count2, cols.step_beta);
+            std::copy(cols.step_w2, cols.step_w2 + count2, cols.step_w);
+            cols.apply_column(l2, slots_j, len2, count2);
+        }
+        return 2;
     }
+    if (count == 0 || len == 0) return 1;
+    const int* rows_j = Li + begin + 1;
+    int* slots_j = cols.slot_rows.data();
+    for (int e = 0; e < len; ++e) slots_j[e] = slot_of[static_cast<std::size_t>(rows_j[e])];
+    cols.apply_column(l, slots_j, len, count);
+    return 1;
 }
 
 void CholmodUpdatedFactor::Impl::find_etree() {
