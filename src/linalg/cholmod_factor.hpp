@@ -60,11 +60,12 @@ class CholmodUpdatedFactor {
     void factorize(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact);
     /// Updates the factor to `in_contact`; returns the number of contacts formed or broken.
     int follow(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact);
-    /// `follow`, then `solve`, with the same bits: on two threads or more (n of at least
-    /// kThreadedLoopMin, changes to sweep) the sweep's last pass and the solve run as one
-    /// split step (cholmod_solve.cpp), each thread's passes over L starting as soon as the
-    /// columns they read are final (the update and each pass read most of L, 22 MB at
-    /// N = 65536).
+    /// `follow`, then `solve`, with the same bits: the sweep's last pass and the solve run as
+    /// one step (cholmod_solve.cpp), the forward pass right behind the sweep (reading each
+    /// column it changed while in the cache); on two threads or more (n of at least
+    /// kThreadedLoopMin) split along the elimination tree, each thread's passes over L
+    /// starting as soon as the columns they read are final (the update and each pass read
+    /// most of L, 22 MB at N = 65536).
     int follow_and_solve(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,
                          const double* b_x, const double* b_y, double* u_x, double* u_y);
     /// (u_x, u_y) = A⁻¹ (b_x, b_y), each of n; no input may overlap an output.
@@ -82,7 +83,8 @@ class CholmodUpdatedFactor {
     /// formed outside L's pattern (CHOLMOD's update, which allocates their fill), and fresh
     /// factorisations after a downdate met a pivot that was not positive.
     /// Also the wall-clock seconds spent keeping the factor (factorize, adopt, follow) and in
-    /// its solves, for benchmarks.
+    /// its solves, for benchmarks (follow_and_solve's solve, which runs inside its sweep's last
+    /// pass, counts as keeping).
     /// `block_updates`: entry updates (entries × changes) made by the consecutive-row kernels
     /// on whole blocks of rows, the part that `Vectors` selects.
     /// `split_solves`: solves on two threads (split along the tree, or x and y side by side);

@@ -233,7 +233,8 @@ inline ColumnArrays columns_of(const cholmod_factor& L) {
 /// L), column by column as far as asked: the sweep runs it right behind itself
 /// (sweep_group), so that a column it has just changed is read again while in the cache
 /// (the sweep's union of paths holds about 44% of L's entries at N = 65536). Columns in
-/// ascending order, each column's entries in order: the same operations and bits as one pass.
+/// ascending order, so every row of y takes its updates in the order of one pass: the same
+/// operations and bits.
 struct ForwardPass {
     const cholmod_factor& L;
     double* y;

@@ -1,7 +1,7 @@
 // The solves of the updated CD0 factor (cholmod_factor.hpp): x = Pᵀ L⁻ᵀ D⁻¹ L⁻¹ P b for the
 // x and y right-hand sides, on one thread or split over two along the elimination tree
 // (Impl::split_tree), and follow_and_solve, which runs the last pass of the sweep and the solve
-// in one split step.
+// as one step (one_thread_step; split_step on two threads), the forward pass behind the sweep.
 #include <omp.h>
 
 #include <thread>

@@ -139,7 +139,9 @@ void CholmodUpdatedFactor::Impl::run_pass(const Pass& pass, std::span<const std:
 }
 
 void CholmodUpdatedFactor::Impl::merge_second_columns() {
-    columns.failed = columns.failed || std::exchange(second_columns.failed, false);
+    // The second thread's flag always taken (and cleared), even when the first failed too: a
+    // flag left set would make the next step start afresh where one thread does not.
+    if (std::exchange(second_columns.failed, false)) columns.failed = true;
     columns.block_updates += std::exchange(second_columns.block_updates, 0);
 }
 

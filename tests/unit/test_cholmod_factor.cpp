@@ -351,6 +351,64 @@ TEST(CholmodFactor, UpdatesAndSolvesGiveTheSameBitsOnAnyThreadCount) {
     }
 }
 
+// A downdate that loses positive definiteness (a substrate drag δ near round-off, contacts
+// breaking by the hundred) marks the sweep failed and the factor starts afresh. When both
+// subtree groups fail in one split step, both flags must be taken and cleared: a flag left
+// behind would start the next step afresh where one thread does not. The thread count
+// changes between steps (2, 1, 3, 1, ...); the solutions and the fresh starts must be one
+// thread's throughout.
+TEST(CholmodFactor, FailedDowndatesGiveTheOneThreadBitsWhenThreadsChange) {
+    const int n = 8192;
+    std::mt19937_64 pattern_rng(37);
+    const std::vector<ContactPair> pairs = binned_neighbour_pairs(n, 0.015, pattern_rng);
+    std::vector<std::int32_t> labels(static_cast<std::size_t>(n));
+    for (int i = 0; i < n; ++i) labels[static_cast<std::size_t>(i)] = i;
+    struct Outcome {
+        std::vector<double> solutions;
+        long refactored = 0, split_steps = 0;
+    };
+    const auto run = [&](bool changing) {
+        const int before = jamsim::kernel_threads();
+        std::mt19937_64 rng(41);
+        CholmodUpdatedFactor factor(static_cast<std::size_t>(n), 1e-15, CholmodUpdatedFactor::Ordering::metis);
+        std::vector<std::uint8_t> in_contact(pairs.size(), 1);
+        factor.adopt(pairs, labels);
+        factor.factorize(pairs, in_contact);
+        Outcome out;
+        std::normal_distribution<double> g;
+        std::uniform_int_distribution<int> disk(0, n - 1);
+        std::bernoulli_distribution breaks(0.005);
+        std::vector<std::uint8_t> isolated(static_cast<std::size_t>(n));
+        std::vector<double> b(2 * static_cast<std::size_t>(n)), x(b.size());
+        for (int s = 0; s < 16; ++s) {
+            jamsim::set_kernel_threads(changing ? (s % 2 == 1 ? 1 : 2 + s % 4 / 2) : 1);
+            // Downdates only: 0.5% of the contacts broken at random, and on every third step
+            // every contact of 12 disks anywhere (an isolated disk's pivot falls to δ, below
+            // the round-off of the downdates that take it there: both groups fail).
+            std::fill(isolated.begin(), isolated.end(), 0);
+            if (s % 3 == 0)
+                for (int k = 0; k < 12; ++k) isolated[static_cast<std::size_t>(disk(rng))] = 1;
+            for (std::size_t k = 0; k < pairs.size(); ++k)
+                if (isolated[static_cast<std::size_t>(pairs[k].i)] || isolated[static_cast<std::size_t>(pairs[k].j)] ||
+                    breaks(rng))
+                    in_contact[k] = 0;
+            for (double& v : b) v = g(rng);
+            factor.follow_and_solve(pairs, in_contact, b.data(), b.data() + n, x.data(), x.data() + n);
+            out.solutions.insert(out.solutions.end(), x.begin(), x.end());
+        }
+        out.refactored = factor.counts().refactored;
+        out.split_steps = factor.counts().split_steps;
+        jamsim::set_kernel_threads(before);
+        return out;
+    };
+    const Outcome one = run(false), changing = run(true);
+    EXPECT_GT(one.refactored, 1);  // failures happened (and were recovered from) more than once
+    EXPECT_GT(changing.split_steps, 0);
+    EXPECT_EQ(one.refactored, changing.refactored);
+    ASSERT_EQ(one.solutions.size(), changing.solutions.size());
+    EXPECT_EQ(std::memcmp(one.solutions.data(), changing.solutions.data(), one.solutions.size() * sizeof(double)), 0);
+}
+
 // The residual check splits its two components over two threads: its verdict must be the
 // one thread's even at the edge, where one ulp of rtol decides. The edge is found on one
 // thread by bisection over the doubles; two threads must agree on both sides of it.
