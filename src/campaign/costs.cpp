@@ -14,6 +14,7 @@
 #include "jamsim/archive/archive.hpp"
 #include "jamsim/archive/archive_file_check.hpp"
 #include "jamsim/campaign/scheduler.hpp"
+#include "jamsim/campaign/size_growth.hpp"
 #include "jamsim/parallel/threads.hpp"
 #include "jamsim/run/model_registry.hpp"
 #include "jamsim/run/replica.hpp"
@@ -29,6 +30,7 @@ CostGroup cost_group(const ReplicaParams& p) { return {p.model, p.n, p.phi}; }
 /// Seconds per estimated cost unit on this machine, per group, and where they come from.
 struct Calibration {
     std::map<CostGroup, double> measured;  ///< groups measured (recorded or probed)
+    std::map<CostGroup, double> replicas;  ///< how many replicas each measured group's rate is over
     /// Probed groups: seconds of one sample per disk (the sampled observables, g_y: serial
     /// work that threads do not shorten, and that the kernel's probe leaves out).
     std::map<CostGroup, double> per_sample;
@@ -37,7 +39,7 @@ struct Calibration {
     /// Minimisations: (N, seconds per cost unit) of probes at sizes below the campaign's (its
     /// replicas at N / 2 and N / 4), for the growth with N when the campaign's own sizes are
     /// too costly to probe more than one of.
-    std::map<std::string, std::vector<std::pair<double, double>>> size_probes;
+    std::map<std::string, std::vector<SizeRate>> size_probes;
 
     /// Seconds of p's samples: its group's probe, else the mean per disk of its model's
     /// probed groups, else 0 (nominal; and groups recorded from an archive, whose wall times
@@ -59,36 +61,41 @@ struct Calibration {
     }
 
     /// A group measured; else the mean of the model's measured groups at the same N (other
-    /// phi); else the size measured nearest (a group, or a probe below the campaign's sizes)
-    /// scaled by the model's growth with N: a power law in N of the seconds per cost unit,
-    /// fitted to every size measured (a minimisation's iterations grow with N, which its cost
-    /// estimate does not count; `one_size_growth` with one size); else nominal.
-    double seconds_per_cost(const ReplicaParams& p, double one_size_growth = 0.0) const {
+    /// phi); else, for a minimisation, its sizes measured (groups, and probes below the
+    /// campaign's sizes) carried to N by extrapolate_in_n with `prior` (a minimisation's
+    /// iterations grow with N, which its cost estimate does not count); for dynamics, the size
+    /// measured nearest scaled by a power law in N fitted to every size measured (none with
+    /// one size); else nominal.
+    double seconds_per_cost(const ReplicaParams& p, const GrowthPrior& prior = {}) const {
         if (const auto it = measured.find(cost_group(p)); it != measured.end()) return it->second;
         double same_n = 0;
         int n_count = 0;
-        std::vector<std::pair<double, double>> by_size;  // (log N, log rate) of the model's groups
+        std::vector<SizeRate> sizes;  // the model's measured groups at other N
         for (const auto& [group, rate] : measured) {
             if (std::get<0>(group) != p.model) continue;
-            by_size.emplace_back(std::log(static_cast<double>(std::get<1>(group))), std::log(rate));
+            const auto n = static_cast<double>(std::get<1>(group));
+            sizes.push_back({.n = n, .seconds_per_cost = rate, .replicas = replicas.at(group)});
             if (std::get<1>(group) == p.n) {
                 same_n += rate;
                 ++n_count;
             }
         }
         if (n_count > 0) return same_n / n_count;
-        if (const auto it = size_probes.find(p.model); it != size_probes.end())
-            for (const auto& [n, rate] : it->second) by_size.emplace_back(std::log(n), std::log(rate));
-        if (by_size.empty()) return 1.0 / kNominalEvaluationsPerSecond;
+        if (model_of(p).kind == ModelKind::Minimisation) {
+            if (const auto it = size_probes.find(p.model); it != size_probes.end())
+                sizes.insert(sizes.end(), it->second.begin(), it->second.end());
+            if (sizes.empty()) return 1.0 / kNominalEvaluationsPerSecond;
+            return extrapolate_in_n(sizes, static_cast<double>(p.n), prior).seconds_per_cost;
+        }
+        if (sizes.empty()) return 1.0 / kNominalEvaluationsPerSecond;
         // The size measured nearest in N, scaled by the growth fitted to every size measured.
+        std::vector<std::pair<double, double>> by_size;  // (log N, log rate)
+        for (const SizeRate& s : sizes) by_size.emplace_back(std::log(s.n), std::log(s.seconds_per_cost));
         const double log_n = std::log(static_cast<double>(p.n));
         const auto nearest = *std::min_element(by_size.begin(), by_size.end(), [&](const auto& a, const auto& b) {
             return std::abs(a.first - log_n) < std::abs(b.first - log_n);
         });
-        const bool one_size = std::all_of(by_size.begin(), by_size.end(),
-                                          [&](const auto& point) { return point.first == by_size.front().first; });
-        const double slope = one_size ? one_size_growth : straight_line(by_size).second;
-        return std::exp(nearest.second + slope * (log_n - nearest.first));
+        return std::exp(nearest.second + straight_line(by_size).second * (log_n - nearest.first));
     }
 
     /// For a group not measured: what seconds_per_cost takes its throughput from, in words
@@ -106,10 +113,12 @@ struct Calibration {
         }
         if (!same_n.empty()) return "mean of phi " + same_n + " at this N";
         if (const auto it = size_probes.find(p.model); it != size_probes.end())
-            for (const auto& [n, rate] : it->second) other_sizes.insert(static_cast<std::int64_t>(n));
+            for (const SizeRate& size : it->second) other_sizes.insert(static_cast<std::int64_t>(size.n));
         if (other_sizes.empty()) return "nominal rate";
         for (const std::int64_t n : other_sizes) sizes += (sizes.empty() ? "" : ", ") + std::to_string(n);
-        return "nearest size measured, scaled by the growth fitted to N = " + sizes;
+        return model_of(p).kind == ModelKind::Minimisation
+                   ? "sizes measured (N = " + sizes + "), carried along their growth in N weighed against N^0.5"
+                   : "nearest size measured, scaled by the growth fitted to N = " + sizes;
     }
 
     static std::string show(double x) {
@@ -175,18 +184,21 @@ double probe_smaller_sizes(const CampaignSpec& spec, double budget, double spent
             if (q.n < 256) continue;
             // Three seeds per size: a minimisation's cost varies from seed to seed, and the
             // growth is extrapolated from these sizes.
-            double seconds = 0, cost = 0;
+            double seconds = 0, cost = 0, seeds = 0;
             for (std::uint64_t k = 0; k < 3; ++k) {
                 q.seed = first->seed + k;
                 if (estimated_cost(q) * out.seconds_per_cost(q) > budget - spent) break;
                 try {
                     seconds += probe(q, spent).second;
                     cost += estimated_cost(q);
+                    ++seeds;
                 } catch (const std::exception&) {
                     break;  // a probe that fails leaves this size to the others
                 }
             }
-            if (seconds > 0 && cost > 0) out.size_probes[model].emplace_back(static_cast<double>(q.n), seconds / cost);
+            if (seconds > 0 && cost > 0)
+                out.size_probes[model].push_back(
+                    {.n = static_cast<double>(q.n), .seconds_per_cost = seconds / cost, .replicas = seeds});
         }
     }
     return spent;
@@ -204,6 +216,7 @@ Calibration calibrate(const CampaignSpec& spec, const std::string& archive, doub
     Calibration out;
     // Rates recorded by earlier runs of this campaign (or of the archive's campaign, grown).
     std::map<CostGroup, std::pair<double, double>> recorded;  // group -> (seconds, cost)
+    std::map<CostGroup, double> recorded_replicas;
     std::error_code ec;
     if (!archive.empty() && std::filesystem::exists(archive, ec) && diagnose_archive_file(archive).empty()) try {
             const StoredCampaign stored = read_stored_campaign(archive);
@@ -224,12 +237,15 @@ Calibration calibrate(const CampaignSpec& spec, const std::string& archive, doub
                 const int on = std::max(1, static_cast<int>(std::lround(threads[r])));
                 seconds += wall[r] * SpeedupModel{}.speedup(model_of(p).thread_scaling, p.n, on);
                 cost += estimated_cost(p);
+                ++recorded_replicas[cost_group(p)];
             }
         } catch (const std::exception&) {
             recorded.clear();  // an archive that cannot be read: probes instead
+            recorded_replicas.clear();
         }
     for (const auto& [group, sums] : recorded) {
         out.measured[group] = sums.first / sums.second;
+        out.replicas[group] = recorded_replicas[group];
         ++out.recorded;
     }
     // Minimisations first at sizes below the campaign's: their growth with N, so that a
@@ -289,7 +305,7 @@ Calibration calibrate(const CampaignSpec& spec, const std::string& archive, doub
                 sum_seconds += seconds;
                 sum_costs += cost;
                 out.measured[key] = sum_seconds / sum_costs;
-                ++probes[key];
+                out.replicas[key] = ++probes[key];
             }
         } catch (const std::exception&) {
             // a probe that fails (a replica that would fail) leaves its group to the others
@@ -326,8 +342,8 @@ std::string describe_source(bool calibrate, const Calibration& rates, const Camp
            std::to_string(groups.size() - measured) + " of the " + std::to_string(groups.size()) +
            " groups not measured (past the probes' " + Calibration::show(budget) +
            " s budget, --probe-seconds) take the mean of the measured groups "
-           "of their model and N, else the nearest size measured scaled by their model's growth with N "
-           "fitted to its measured sizes" +
+           "of their model and N, else their model's sizes measured carried along its growth with N "
+           "(minimisations: the growth fitted weighed against N^0.5)" +
            (rates.size_probes.empty() ? std::string()
                                       : " (minimisations also probed below the campaign's sizes, for that growth)");
 }
@@ -355,10 +371,11 @@ ReplicaSeconds replica_seconds(const CampaignSpec& spec, const std::string& arch
         // A probe runs when it takes under a third of the budget and under what is left of it:
         // the budget named pays for the probes so far and three replicas of this group and of
         // every unmeasured one before it, twice over (a larger budget probes more seeds at the
-        // smaller sizes first), each replica priced with growth N^1 where one size was measured
-        // (no growth fitted: the estimate itself has none, and minimisations grew N^0.6-1).
+        // smaller sizes first), each replica priced with the growth weighed against N^1 rather
+        // than N^0.5 (a budget that falls short probes nothing more: err on the large side).
         if (added && model_of(p).kind != ModelKind::Dynamics) {
-            probes_before += 3 * (estimated_cost(p) * rates.seconds_per_cost(p, 1.0) + out.serial.back());
+            probes_before +=
+                3 * (estimated_cost(p) * rates.seconds_per_cost(p, GrowthPrior{.slope = 1.0}) + out.serial.back());
             g.probe_budget = 2 * probes_before;
         }
         ++g.replicas;
