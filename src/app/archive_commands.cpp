@@ -97,8 +97,9 @@ CLI::App* add_merge_command(CLI::App& app, int& argc, char**& argv) {
                  "campaigns that differ only in their sweeps (the output holds the union of their replicas)");
     cmd->add_option("-o,--output", *output,
                     "Merged archive (created, or completed if it exists); without -o the first "
-                    "archive named is the output");
-    cmd->add_option("archives", *shards, "[OUTPUT] then the archives to merge")->required();
+                    "archive named is the output")
+        ->type_name("FILE");
+    cmd->add_option("archives", *shards, "[OUTPUT] then the archives to merge")->required()->type_name("FILE");
     cmd->callback([output, shards, &argc, &argv] {
         int rc = 1;
         try {
@@ -123,7 +124,7 @@ CLI::App* add_merge_command(CLI::App& app, int& argc, char**& argv) {
 CLI::App* add_status_command(CLI::App& app) {
     auto path = std::make_shared<std::string>();
     auto* cmd = app.add_subcommand("status", "Summarise a campaign archive (also while running)");
-    cmd->add_option("archive", *path, "Campaign archive (HDF5)")->required();
+    cmd->add_option("archive", *path, "Campaign archive (HDF5)")->required()->type_name("FILE");
     cmd->callback([path] {
         int rc = 1;
         try {

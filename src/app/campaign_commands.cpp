@@ -119,8 +119,8 @@ int print_outcome(const CampaignSpec& spec, const RunDecision& d, const RunOutco
                 "continued from checkpoints; archive writes took %.2f%% of rank time)\n",
                 spec.name.c_str(), o.wall_seconds, d.output.c_str(), static_cast<long long>(o.failed),
                 static_cast<long long>(o.resumed), 100.0 * o.io_share);
-    std::printf("%lld replicas ran in this run, %lld finished before were kept\n", static_cast<long long>(o.ran),
-                static_cast<long long>(o.skipped));
+    std::printf("%s ran in this run, %lld finished before were kept\n",
+                counted(static_cast<long long>(o.ran), "replica").c_str(), static_cast<long long>(o.skipped));
     std::printf("inspect with: jamsim status %s\n", d.output.c_str());
     return 0;
 }
@@ -198,8 +198,8 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
 CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
     auto opt = std::make_shared<RunOptions>();
     auto* cmd = app.add_subcommand("run", "Run a campaign over MPI ranks into one HDF5 archive");
-    cmd->add_option("campaign", opt->spec_path, "Campaign file (TOML)")->required();
-    cmd->add_option("-o,--output", opt->output, "Archive path (overrides [campaign] output)");
+    cmd->add_option("campaign", opt->spec_path, "Campaign file (TOML)")->required()->type_name("FILE");
+    cmd->add_option("-o,--output", opt->output, "Archive path (overrides [campaign] output)")->type_name("FILE");
     cmd->add_flag("--dry-run", opt->dry_run, "List replicas and costs; write nothing");
     add_threads_option(*cmd);
     cmd->add_option_function<std::string>(
@@ -214,7 +214,8 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
                opt->progress_interval = v;
            },
            "Seconds between progress lines when not on a terminal")
-        ->default_str("10");
+        ->default_str("10")
+        ->type_name("SECONDS");
     cmd->add_flag("--retry-failed", opt->retry_failed,
                   "Run the failed replicas of an existing archive again (after a fix to the code "
                   "or the machine; the campaign itself cannot change)");
@@ -228,7 +229,8 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
            },
            "Save each running replica's state at its first checkpoint step after this long "
            "(0: at every checkpoint step; [run] checkpoint_steps sets the steps)")
-        ->default_str("300s");
+        ->default_str("300s")
+        ->type_name("DURATION");
     cmd->add_option("--max-replicas", opt->max_replicas,
                     "Refuse a campaign of more replicas (a typo in seeds or a sweep list)")
         ->check(CLI::Validator(
@@ -251,7 +253,8 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
            },
            "Refuse a campaign whose archive would be larger (the free space of its filesystem is "
            "checked as well)")
-        ->default_str("1T");
+        ->default_str("1T")
+        ->type_name("SIZE");
     cmd->add_option("--ranks", opt->plan.ranks, "--dry-run: ranks of the planned run")
         ->check(CLI::PositiveNumber)
         ->default_str("1");
@@ -261,23 +264,27 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
     add_serial_fraction_option(*cmd, opt->plan.serial_fraction);
     add_probe_seconds_option(*cmd, opt->plan.probe_seconds);
     cmd->add_option_function<std::string>(
-        "--time-limit",
-        [opt](const std::string& v) {
-            opt->plan.time_limit = parse_duration(v);
-            if (!(opt->plan.time_limit > 0))
-                throw CLI::ValidationError("jamsim run: --time-limit = " + v +
-                                           " is not allowed: a duration > 0 such as 3600, 90min or 24h");
-        },
-        "--dry-run: a task's time limit, to count the requeues it needs");
+           "--time-limit",
+           [opt](const std::string& v) {
+               opt->plan.time_limit = parse_duration(v);
+               if (!(opt->plan.time_limit > 0))
+                   throw CLI::ValidationError("jamsim run: --time-limit = " + v +
+                                              " is not allowed: a duration > 0 such as 3600, 90min or 24h");
+           },
+           "--dry-run: a task's time limit, to count the requeues it needs")
+        ->type_name("DURATION");
     cmd->add_flag("--summary", opt->plan.summary,
                   "--dry-run: one line per (model, N) with its work, longest replica and archive share, "
                   "instead of one per replica (`jamsim plan --costs` needs the full listing)");
-    cmd->add_flag("!--no-calibrate", opt->plan.calibrate,
-                  "--dry-run: nominal throughput instead of a short probe per model and N");
+    cmd->add_flag_callback(
+        "--no-calibrate", [opt] { opt->plan.calibrate = false; },
+        "--dry-run: nominal throughput instead of a short probe per model and N");
     cmd->add_option("--shard", opt->shard,
                     "K/N: run only replicas with id % N == K, rate ladders whole (ladder k % N == K; merge shards "
-                    "with jamsim merge)");
+                    "with jamsim merge)")
+        ->type_name("K/N");
     cmd->add_option("--progress", opt->progress, "auto (redraw on a terminal), lines (log files) or redraw")
+        ->type_name("MODE")
         ->check(CLI::IsMember({"auto", "lines", "redraw"}))
         ->capture_default_str();
     cmd->callback([opt, &argc, &argv] {

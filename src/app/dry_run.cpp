@@ -93,8 +93,8 @@ void print_extrapolated(const std::vector<ExtrapolatedGroup>& groups, double tot
 }  // namespace
 
 void print_dry_run(const CampaignSpec& spec, const std::string& output, const DryRunPlan& plan) {
-    std::printf("campaign %s: %zu replicas -> %s (dry run: nothing written)\n", spec.name.c_str(), spec.replicas.size(),
-                output.c_str());
+    std::printf("campaign %s: %s -> %s (dry run: nothing written)\n", spec.name.c_str(),
+                counted(static_cast<long long>(spec.replicas.size()), "replica").c_str(), output.c_str());
     const ReplicaSeconds estimate = replica_seconds(spec, output, plan.calibrate, plan.probe_seconds);
     double total = 0, largest = 0;
     for (const double seconds : estimate.seconds) {

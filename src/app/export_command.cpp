@@ -190,16 +190,19 @@ CLI::App* add_export_command(CLI::App& app) {
     auto opt = std::make_shared<ExportOptions>();
     auto* cmd =
         app.add_subcommand("export", "Write finished replicas' final configurations as LAMMPS data or H5MD files");
-    cmd->add_option("archive", opt->archive, "Campaign archive (HDF5)")->required();
+    cmd->add_option("archive", opt->archive, "Campaign archive (HDF5)")->required()->type_name("FILE");
     cmd->add_option("-r,--replica", opt->replicas,
                     "Replica ids: 3, 0,2,5, 4-7 or done (every finished replica); repeatable")
-        ->required();
+        ->required()
+        ->type_name("IDS");
     cmd->add_option("-o,--output", opt->output,
                     "Output file; {id} is replaced by the replica id (required for several replicas)")
-        ->required();
+        ->required()
+        ->type_name("FILE");
     cmd->add_option("--format", opt->format,
                     "lammps (data file, atom_style sphere) or h5md; default from the name: .h5md or .h5 -> h5md, "
-                    "else lammps");
+                    "else lammps")
+        ->type_name("FORMAT");
     cmd->callback([opt] {
         int rc = 1;
         try {

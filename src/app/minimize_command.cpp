@@ -67,9 +67,11 @@ CLI::App* add_minimize_command(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--max-iterations", opt->criteria.max_iterations, "Give up after this many iterations")
         ->capture_default_str();
-    cmd->add_flag("!--no-split", opt->criteria.split_positions,
-                  "Plain positions instead of base + offset (for comparison)");
-    cmd->add_option("--lammps-data", opt->lammps_data, "Also write the start configuration here (LAMMPS data file)");
+    cmd->add_flag_callback(
+        "--no-split", [opt] { opt->criteria.split_positions = false; },
+        "Plain positions instead of base + offset (for comparison)");
+    cmd->add_option("--lammps-data", opt->lammps_data, "Also write the start configuration here (LAMMPS data file)")
+        ->type_name("FILE");
     cmd->callback([opt] {
         if (opt->n < 8 || opt->n % 2) throw CLI::ValidationError("--N", "an even number >= 8");
         if (!(opt->phi > 0 && opt->phi < 1)) throw CLI::ValidationError("--phi", "0 < phi < 1");

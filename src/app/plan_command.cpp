@@ -91,8 +91,10 @@ int plan(const PlanOptions& opt, int& argc, char**& argv) {
     for (const double s : estimate.seconds) work += s;
     const SimulatedRun serial = simulate_schedule(simulated_replicas(spec, estimate.seconds, estimate.serial, 1, model),
                                                   spec.predecessor, 1, 1);
-    std::printf("campaign %s: %zu replicas in %zu chains, %.4g core-hours on one thread (%s)\n", spec.name.c_str(),
-                spec.replicas.size(), chains.members.size(), work / 3600, estimate.source.c_str());
+    std::printf("campaign %s: %s in %s, %.4g core-hours on one thread (%s)\n", spec.name.c_str(),
+                counted(static_cast<long long>(spec.replicas.size()), "replica").c_str(),
+                counted(static_cast<long long>(chains.members.size()), "chain").c_str(), work / 3600,
+                estimate.source.c_str());
     if (serial.longest_chain >= 0)
         std::printf("longest chain on one thread: %s, %s\n", duration(serial.critical_path).c_str(),
                     describe_chain(spec, chains, serial.longest_chain).c_str());
@@ -149,24 +151,29 @@ CLI::App* add_plan_command(CLI::App& app, int& argc, char**& argv) {
     auto* cmd = app.add_subcommand(
         "plan", "A campaign's wall time on K nodes of C cores (the farm's scheduler simulated on the dry run's "
                 "per-replica costs): makespan, its bound, cores left idle");
-    cmd->add_option("campaign", opt->spec_path, "Campaign file (TOML)")->required();
+    cmd->add_option("campaign", opt->spec_path, "Campaign file (TOML)")->required()->type_name("FILE");
     cmd->add_option_function<std::string>(
            "--nodes", [opt](const std::string& v) { opt->nodes = positive_list("--nodes", v); },
            "Node counts, comma-separated")
-        ->default_str("1,4,16,64");
+        ->default_str("1,4,16,64")
+        ->type_name("LIST");
     cmd->add_option("--cores-per-node", opt->cores_per_node, "Cores of each node")
         ->check(CLI::Range(1, 1'000'000))
         ->capture_default_str();
     cmd->add_option_function<std::string>(
            "--threads", [opt](const std::string& v) { opt->threads = positive_list("--threads", v); },
            "Threads per rank (each a divisor of the cores per node), comma-separated")
-        ->default_str("1");
+        ->default_str("1")
+        ->type_name("LIST");
     cmd->add_option("--costs", opt->costs,
                     "The output of `jamsim run --dry-run CAMPAIGN` saved to a file: its per-replica seconds, "
-                    "instead of probing again");
-    cmd->add_option("-o,--output", opt->output, "The archive whose finished replicas calibrate the throughput");
-    cmd->add_flag("!--no-calibrate", opt->estimate.calibrate,
-                  "Nominal throughput instead of a short probe per model and N");
+                    "instead of probing again")
+        ->type_name("FILE");
+    cmd->add_option("-o,--output", opt->output, "The archive whose finished replicas calibrate the throughput")
+        ->type_name("FILE");
+    cmd->add_flag_callback(
+        "--no-calibrate", [opt] { opt->estimate.calibrate = false; },
+        "Nominal throughput instead of a short probe per model and N");
     add_serial_fraction_option(*cmd, opt->estimate.serial_fraction);
     add_probe_seconds_option(*cmd, opt->estimate.probe_seconds);
     cmd->callback([opt, &argc, &argv] {

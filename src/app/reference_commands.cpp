@@ -2,6 +2,7 @@
 // campaigns/README.md and `--help` cannot drift from the code (a test compares the two).
 #include "reference_commands.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -104,15 +105,39 @@ void print_template() {
                 "its own: seeds = [4, 9])\n");
 }
 
+/// The keys a model reads besides its own list (ModelInfo::parameters), from uses_parameter
+/// over the settings that switch keys on (rate > 0 or 0, a rate ladder, frames, stored
+/// initial states), in the parameter table's order; a key read at one kind of rate only says
+/// which ("strain (at rate > 0), time (at rate 0)").
+std::string keys_read_besides_own(const ModelInfo& m) {
+    ReplicaParams sheared, at_rest;
+    sheared.model = at_rest.model = std::string(m.name);
+    sheared.rate = 1e-4;
+    at_rest.rate = 0.0;
+    for (ReplicaParams* q : {&sheared, &at_rest}) {
+        q->initial = "initial.h5";
+        q->frame_interval = 1.0;
+        q->rate_ladder = "down";
+    }
+    std::string out;
+    for (const auto& info : parameters()) {
+        if (info.key == "model" || std::find(m.parameters.begin(), m.parameters.end(), info.key) != m.parameters.end())
+            continue;
+        const bool when_sheared = uses_parameter(sheared, info.key), at_rate_0 = uses_parameter(at_rest, info.key);
+        if (!when_sheared && !at_rate_0) continue;
+        out += (out.empty() ? "" : ", ") + std::string(info.key);
+        if (when_sheared != at_rate_0) out += when_sheared ? " (at rate > 0)" : " (at rate 0)";
+    }
+    return out;
+}
+
 void print_models() {
     for (const auto& m : models()) {
         std::string reads;
         for (auto key : m.parameters) reads += (reads.empty() ? "" : ", ") + std::string(key);
-        std::printf("%-14s %s: %s\n%14s reads %s (and N, phi, seed, alpha, size_ratio, skin%s)\n",
-                    std::string(m.name).c_str(), m.kind == ModelKind::Dynamics ? "dynamics" : "minimisation",
-                    std::string(m.summary).c_str(), "", reads.empty() ? "nothing else" : reads.c_str(),
-                    m.kind == ModelKind::Dynamics ? "; rate, transient, sample_interval, strain or at rate 0 time"
-                                                  : "");
+        std::printf("%-14s %s: %s\n%14s reads %s (and %s)\n", std::string(m.name).c_str(),
+                    m.kind == ModelKind::Dynamics ? "dynamics" : "minimisation", std::string(m.summary).c_str(), "",
+                    reads.empty() ? "nothing else" : reads.c_str(), keys_read_besides_own(m).c_str());
     }
 }
 

@@ -86,8 +86,9 @@ void run(const ReplicaOptions& opt) {
     }
     const ReplicaResult result = run_replica(params, {.initial = initial ? &*initial : nullptr});
     write_replica_file(opt.output, params, result);
-    const double p = mean_after(result.series, &Sample::pressure, params.transient);
-    const double s = mean_after(result.series, &Sample::shear_stress, params.transient);
+    const bool by_time = runs_in_time(params);  // the transient is a time (τ) at rate 0
+    const double p = mean_after(result.series, &Sample::pressure, params.transient, by_time);
+    const double s = mean_after(result.series, &Sample::shear_stress, params.transient, by_time);
     const double steps_per_s =
         static_cast<double>(result.force_evaluations) * static_cast<double>(params.n) / result.wall_seconds;
     std::printf("replica %s N=%lld phi=%.6g rate=%.6g: %zu samples, %.2f s on %d thread%s, %.3g particle-force-"
@@ -96,7 +97,8 @@ void run(const ReplicaOptions& opt) {
                 result.wall_seconds, kernel_threads(), kernel_threads() == 1 ? "" : "s", steps_per_s);
     std::printf("mean pressure     <p>     = %.10g\n", p);
     std::printf("mean shear stress <sigma> = %.10g\n", s);
-    std::printf("(averages over strain >= %g; written to %s)\n", params.transient, opt.output.c_str());
+    std::printf("(averages over %s >= %g; written to %s)\n", by_time ? "time" : "strain", params.transient,
+                opt.output.c_str());
 }
 
 }  // namespace
@@ -112,11 +114,16 @@ CLI::App* add_replica_command(CLI::App& app) {
         help += "; allowed: " + std::string(info.allowed);
         if (info.key == "model") help += " (" + model_list() + ")";
         const std::string key(info.key);
+        // Read as text (for one message naming the option and what is allowed), typed in --help.
+        const char* type = !is_numeric(info)                                             ? "TEXT"
+                           : std::holds_alternative<double ReplicaParams::*>(info.field) ? "NUMBER"
+                                                                                         : "INT";
         cmd->add_option_function<std::string>(
                std::string(info.flag), [opt, key](const std::string& v) { opt->given[key] = v; }, help)
-            ->default_str(default_text(info));
+            ->default_str(default_text(info))
+            ->type_name(type);
     }
-    cmd->add_option("-o,--output", opt->output, "Output HDF5 file")->required();
+    cmd->add_option("-o,--output", opt->output, "Output HDF5 file")->required()->type_name("FILE");
     add_threads_option(*cmd);
     cmd->callback([opt] { run(*opt); });
     return cmd;

@@ -28,8 +28,9 @@ void print_shards(const CampaignSpec& spec, const Chains& chains, const std::vec
     const auto requeues = [&](double seconds) {
         return plan.time_limit > 0 ? static_cast<int>(std::max(0.0, std::ceil(seconds / usable) - 1.0)) : 0;
     };
-    std::printf("shards: %d Slurm tasks of %d ranks x %d threads, rate ladders kept whole (chain %% %d):\n",
-                plan.shards, plan.ranks, plan.threads, plan.shards);
+    std::printf("shards: %s of %s x %s, rate ladders kept whole (chain %% %d):\n",
+                counted(plan.shards, "Slurm task").c_str(), counted(plan.ranks, "rank").c_str(),
+                counted(plan.threads, "thread").c_str(), plan.shards);
     std::printf("%6s %7s %9s %14s %14s %14s %9s\n", "shard", "chains", "replicas", "work (core-h)", "critical path",
                 "makespan", "requeues");
     double worst = 0;
@@ -50,10 +51,11 @@ void print_shards(const CampaignSpec& spec, const Chains& chains, const std::vec
     }
     std::printf("wall time with every task running at once: about %s (%.0f s)\n", duration(worst).c_str(), worst);
     if (plan.time_limit > 0)
-        std::printf("%d shards on %d ranks each, time limit %s (warning %.0f s before): the busiest task needs "
-                    "about %s, %d requeues\n",
-                    plan.shards, plan.ranks, duration(plan.time_limit).c_str(), lead, duration(worst).c_str(),
-                    requeues(worst));
+        std::printf("%d shard%s on %d rank%s each, time limit %s (warning %.0f s before): the busiest task needs "
+                    "about %s, %d requeue%s\n",
+                    plan.shards, plan.shards == 1 ? "" : "s", plan.ranks, plan.ranks == 1 ? "" : "s",
+                    duration(plan.time_limit).c_str(), lead, duration(worst).c_str(), requeues(worst),
+                    requeues(worst) == 1 ? "" : "s");
 }
 
 }  // namespace
@@ -70,19 +72,20 @@ void print_wall_time(const CampaignSpec& spec, const std::vector<double>& second
     const int cores = plan.ranks * plan.threads;
     std::printf("threads: %d per rank; a replica's speed-up on them: %s\n", plan.threads,
                 describe_speedup(plan.speedup).c_str());
-    std::printf("critical path: %s (%.0f s) on %d threads: %s, %s on one thread\n", duration(run.critical_path).c_str(),
-                run.critical_path, plan.threads, describe_chain(spec, chains, run.longest_chain).c_str(),
-                duration(chain_seconds).c_str());
-    std::printf("at once: at most %lld replicas run together (%lld %s), so at most %lld ranks x %d threads = %lld "
-                "cores\n",
-                static_cast<long long>(run.chains), static_cast<long long>(run.chains),
-                spec.predecessor.empty() ? "independent replicas" : "chains", static_cast<long long>(run.chains),
-                plan.threads, static_cast<long long>(run.chains) * plan.threads);
-    std::printf("wall time on %d ranks x %d threads: about %s (%.0f s; the farm's scheduler simulated on these "
-                "costs); no schedule beats %s = max(work / %d cores = %s, critical path = %s); cores idle: "
+    std::printf("critical path: %s (%.0f s) on %s: %s, %s on one thread\n", duration(run.critical_path).c_str(),
+                run.critical_path, counted(plan.threads, "thread").c_str(),
+                describe_chain(spec, chains, run.longest_chain).c_str(), duration(chain_seconds).c_str());
+    const auto at_once = static_cast<long long>(run.chains);
+    std::printf("at once: at most %s run together (%s), so at most %s x %s = %s\n", counted(at_once, "replica").c_str(),
+                counted(at_once, spec.predecessor.empty() ? "independent replica" : "chain").c_str(),
+                counted(at_once, "rank").c_str(), counted(plan.threads, "thread").c_str(),
+                counted(at_once * plan.threads, "core").c_str());
+    std::printf("wall time on %s x %s: about %s (%.0f s; the farm's scheduler simulated on these "
+                "costs); no schedule beats %s = max(work / %s = %s, critical path = %s); cores idle: "
                 "%.3g core-hours, %.0f%%\n",
-                plan.ranks, plan.threads, duration(run.makespan).c_str(), run.makespan, duration(run.bound).c_str(),
-                cores, duration(run.work / cores).c_str(), duration(run.critical_path).c_str(),
+                counted(plan.ranks, "rank").c_str(), counted(plan.threads, "thread").c_str(),
+                duration(run.makespan).c_str(), run.makespan, duration(run.bound).c_str(),
+                counted(cores, "core").c_str(), duration(run.work / cores).c_str(), duration(run.critical_path).c_str(),
                 run.idle_core_seconds / 3600, 100 * run.idle_core_seconds / std::max(1e-300, cores * run.makespan));
     if (plan.shards > 1 || plan.time_limit > 0) print_shards(spec, chains, replicas, plan);
 }

@@ -11,6 +11,11 @@
 
 namespace jamsim::app {
 
+/// "1 replica", "2 replicas": a count with its noun (plural with an s).
+inline std::string counted(long long n, const std::string& noun) {
+    return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
+}
+
 /// On stdout: the critical path, the most cores usable at once, the makespan bound, the
 /// simulated makespan on plan.ranks × plan.threads, and per shard its work, makespan and the
 /// requeues it needs under plan.time_limit (with the warning JAMSIM_SIGNAL_LEAD s before).

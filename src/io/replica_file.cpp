@@ -62,9 +62,10 @@ void write_replica_file(const std::string& path, const ReplicaParams& params, co
         write_params(root, params);
         h5::write_attribute(root, "code_version", std::string(kVersion));
         h5::write_attribute(root, "build_flags", std::string(kBuildFlags));
-        h5::write_attribute(root, "mean_pressure", mean_after(result.series, &Sample::pressure, params.transient));
+        h5::write_attribute(root, "mean_pressure",
+                            mean_after(result.series, &Sample::pressure, params.transient, runs_in_time(params)));
         h5::write_attribute(root, "mean_shear_stress",
-                            mean_after(result.series, &Sample::shear_stress, params.transient));
+                            mean_after(result.series, &Sample::shear_stress, params.transient, runs_in_time(params)));
         h5::write_attribute(root, "force_evaluations", result.force_evaluations);
         h5::write_attribute(root, "neighbor_list_builds", result.list_builds);
         h5::write_attribute(root, "wall_seconds", result.wall_seconds);

@@ -105,7 +105,9 @@ struct Protocol : ReplicaRun {
             shear_quasistatically(system(), forces, *minimizer, criteria, params.strain, params.strain_step, first,
                                   [&](std::int64_t step, std::int64_t n) { before_stage_step(step, before_stage, n); });
     }
-    void record_jamming_point() {  // compression/decompression to φ_J (O'Hern et al.)
+    /// Compression/decompression to φ_J (O'Hern et al.), recorded at `strain` (SHEARED: the
+    /// strain its quasistatic shear accumulated).
+    void record_jamming_point(double strain = 0.0) {
         std::optional<JammingSearch> resume;
         if (resumed() && first_step() > stage) resume = JammingSearch::unpack(resumed()->protocol);
         // The evaluations before the search; the search counts its own (saved with it).
@@ -119,7 +121,7 @@ struct Protocol : ReplicaRun {
                                    checkpoint(step, stage + std::max(s.minimizations + 1, 30), nullptr, s.pack());
                                });
         result.force_evaluations = before_search + jp.force_evaluations;
-        record(jp.state, 0.0);
+        record(jp.state, strain);
     }
 
     const ReplicaParams& params;
@@ -178,7 +180,7 @@ ReplicaResult run_cool_compress(const ReplicaParams& p, const RunContext& contex
 ReplicaResult run_sheared(const ReplicaParams& p, const RunContext& context) {
     Protocol run(p, context, shear_steps_of(p));
     run.shear();
-    run.record_jamming_point();
+    run.record_jamming_point(static_cast<double>(shear_steps_of(p)) * p.strain_step);
     return run.finish();
 }
 

@@ -118,9 +118,15 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
             base.alpha = named->second;
         }
     }
+    // The run length's keys follow each replica's rate (strain at rate > 0, time at rate 0),
+    // which the sweep sets: they are checked against the replicas, after it.
+    const auto follows_rate = [&](const ParamInfo& info) {
+        return (info.key == "strain" || info.key == "time") && model_of(base).kind == ModelKind::Dynamics;
+    };
     for (const auto& [info, shown] : given)
         // frame_interval = 0 (no frames, the default) may be written for any model.
-        if (!uses_parameter(base, info->key) && !(info->key == "frame_interval" && base.frame_interval == 0.0)) {
+        if (!follows_rate(*info) && !uses_parameter(base, info->key) &&
+            !(info->key == "frame_interval" && base.frame_interval == 0.0)) {
             std::string users;
             for (const auto& m : models()) {
                 ReplicaParams q = base;
@@ -133,17 +139,26 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
                 r.fail(location(*info), shown,
                        "initial_match only with [run] initial (it says which replica of "
                        "that source starts each replica; without a source there is none)");
-            if (info->key == "time" && base.rate > 0.0)
-                r.fail(location(*info), shown,
-                       "time only at rate = 0 (dynamics without shear); at rate > 0 the run "
-                       "length is strain (" +
-                           base.model + " takes strain here)");
             r.fail(location(*info), shown,
                    base.model + " does not use " + std::string(info->key) +
                        " (used by: " + (users.empty() ? "none" : users) + ")");
         }
 
     expand_sweep(r, *sweep, base, max_replicas, spec);
+    for (const auto& [info, shown] : given) {
+        if (!follows_rate(*info)) continue;
+        const bool used = std::any_of(spec.replicas.begin(), spec.replicas.end(),
+                                      [&](const ReplicaParams& p) { return uses_parameter(p, info->key); });
+        if (used) continue;
+        if (info->key == "time")
+            r.fail(location(*info), shown,
+                   "time only at rate = 0 (dynamics without shear); every rate of this sweep is > 0, "
+                   "so the run length is strain (" +
+                       base.model + " takes strain here)");
+        r.fail(location(*info), shown,
+               "strain only at rate > 0; every rate of this sweep is 0, so the run length is time (" + base.model +
+                   " takes time here)");
+    }
     // A checkpoint interval asked for that no replica reaches would never checkpoint.
     if (const toml::table* run_table = r.table(root, "run"); run_table && run_table->get("checkpoint_steps")) {
         std::int64_t longest = 0;

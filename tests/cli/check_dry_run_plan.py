@@ -34,8 +34,8 @@ def main():
         fail(f"{rows} rows for {replicas} replicas")
     longest = max(chains.values())
     slack = 0.05 * rows + 1  # the listing's 0.1 s rounding, the lines' whole seconds
-    critical = float(re.search(r"^critical path: .*? \((\d+) s\) on (\d+) threads", text, re.M)[1])
-    wall = float(re.search(r"^wall time on \d+ ranks x \d+ threads: about .*? \((\d+) s;", text, re.M)[1])
+    critical = float(re.search(r"^critical path: .*? \((\d+) s\) on (\d+) threads?", text, re.M)[1])
+    wall = float(re.search(r"^wall time on \d+ ranks? x \d+ threads?: about .*? \((\d+) s;", text, re.M)[1])
     print(f"longest chain {longest:.0f} s on one thread, critical path {critical:.0f} s on {threads} threads, "
           f"wall time {wall:.0f} s")
     if critical < longest / threads - slack:
@@ -49,7 +49,7 @@ def main():
         fail(f"the shards' wall time {shards[1]} s is below the critical path {critical} s")
     if len(sys.argv) > 3:
         usable = float(sys.argv[3])
-        requeues = int(re.search(r"the busiest task needs about .*?, (\d+) requeues", text)[1])
+        requeues = int(re.search(r"the busiest task needs about .*?, (\d+) requeues?", text)[1])
         needed = math.ceil(critical / usable) - 1
         if requeues < needed:
             fail(f"{requeues} requeues for a critical path of {critical} s at {usable} s per task: {needed} needed")

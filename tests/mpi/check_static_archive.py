@@ -2,7 +2,8 @@
 Checks an archive of a minimisation campaign (QS, RAND, COOL, COMPRESS, COOL_COMPRESS,
 SHEARED) with h5py: every replica finished, every row is a minimised state that met the
 recorded stopping rule, jammed rows have E/N above the energy floor and a non-negative contact
-excess, unjammed rows below it; a phi_J search ends on the jammed side of its bracket."""
+excess, unjammed rows below it; a phi_J search ends on the jammed side of its bracket; SHEARED's
+row stands at the strain its quasistatic shear reached (whole strain steps), the others at 0."""
 import sys
 
 import h5py
@@ -34,6 +35,14 @@ with h5py.File(sys.argv[1], "r") as f:
         assert (z[jammed == 1] >= iso[jammed == 1] - 1e-12).all(), (z, iso)  # at least isostatic
         assert np.isnan(z[jammed == 0]).all()
         assert (ts["packing_fraction"][k, :m] > 0).all()
+        if phi_j_search:
+            strain = ts["strain"][k, 0]
+            if model == "SHEARED":
+                step = r["strain_step"][k]
+                reached = np.ceil(r["strain"][k] / step - 1e-9) * step
+                assert abs(strain - reached) <= 1e-12 * reached and strain > 0, (strain, reached)
+            else:
+                assert strain == 0.0, strain
         # every minimiser iteration costs at least one force evaluation
         its = ts["solver_iterations"][k, :m].sum()
         assert r["force_evaluations"][k] >= its, (r["force_evaluations"][k], its)

@@ -16,6 +16,24 @@ from .errors import AnalysisError
 pd.set_option("display.width", 160)
 pd.set_option("display.max_columns", 30)
 pd.set_option("display.max_rows", 500)
+# Six significant digits, not six decimals (which leave one digit of 2e-6).
+pd.set_option("display.float_format", lambda v: f"{v:.6g}")
+
+# Columns that hold counts or ids (stored as floats in a table that has NaN elsewhere).
+_INTEGER_COLUMNS = ("replica", "N", "seed", "n_samples", "samples", "status", "force_evaluations", "predecessor",
+                    "seeds", "replicas")
+
+
+def _shown(table):
+    """`table` for printing: count and id columns whose values are whole numbers as integers
+    (N = 1024, not 1024.0); a column with a missing value stays as it is."""
+    out = table.copy()
+    for c in _INTEGER_COLUMNS:
+        if c in out and pd.api.types.is_float_dtype(out[c]):
+            v = out[c].to_numpy()
+            if np.all(np.isfinite(v)) and np.all(v == np.round(v)):
+                out[c] = v.astype(np.int64)
+    return out
 
 
 def _flow_archive(paths):
@@ -38,7 +56,7 @@ def cmd_summary(a):
     run = open_archives(a.archives)
     cols = [c for c in ("replica", "model", "N", "phi", "rate", "seed", "status_name", "n_samples",
                         "force_evaluations", "wall_seconds", "failure_reason") if c in run.replicas]
-    print(run.replicas[cols].to_string(index=False))
+    print(_shown(run.replicas[cols]).to_string(index=False))
 
 
 def cmd_averages(a):
@@ -47,9 +65,9 @@ def cmd_averages(a):
     cols = ["replica", "model", "N", "phi", "rate", "seed", "window_start", "samples", "drift_z", "left_out"]
     for o in a.observable:
         cols += [o, f"{o}_error", f"{o}_tau"]
-    print(table[[c for c in cols if c in table]].to_string(index=False))
+    print(_shown(table[[c for c in cols if c in table]]).to_string(index=False))
     print()
-    print(groups.to_string(index=False))
+    print(_shown(groups).to_string(index=False))
     if a.output:
         groups.to_csv(output_file(a.output, "--output"), sep="\t", index=False)
 
@@ -150,9 +168,9 @@ def cmd_compare(a):
         table = table[keep]
     groups = stats.group_averages(table, a.observable, keys=keys)
     cmp = comparison.compare_averages(groups, a.observable, label=a.by, alpha=a.alpha, replica_table=table)
-    print(cmp.averages.to_string(index=False))
+    print(_shown(cmp.averages).to_string(index=False))
     print()
-    print(cmp.differences[[c for c in report.DIFFERENCE_COLUMNS if c in cmp.differences]].to_string(index=False))
+    print(_shown(cmp.differences[[c for c in report.DIFFERENCE_COLUMNS if c in cmp.differences]]).to_string(index=False))
     print()
     print(cmp.statement())
     if a.outdir:
@@ -179,8 +197,8 @@ def _divergence_command(a, power):
     _, groups = _averages(_flow_archive(a.archives), [a.observable])
     func = rheology.newtonian_divergence if power == 1 else rheology.bagnold_analysis
     plateau, fit = func(groups, a.observable, phi_j=a.phi_j, correction=a.correction, N=a.N, model=a.model)
-    print(rheology.local_slopes(groups, a.observable).to_string(index=False))
-    print(plateau.to_string(index=False))
+    print(_shown(rheology.local_slopes(groups, a.observable)).to_string(index=False))
+    print(_shown(plateau).to_string(index=False))
     print(", ".join(f"{k} = {v:.5g} +- {fit.errors[k]:.2g}" for k, v in fit.values.items())
           + f", chi2/dof = {fit.chi2_per_dof:.2f}")
     output_directory(a.outdir)
@@ -201,9 +219,9 @@ def cmd_bagnold(a):
 def cmd_jamming(a):
     """P_J(phi, N), thresholds per N and their finite-size scaling (phi_J(inf), nu)."""
     states = jamming.static_states(open_archives(a.archives))
-    print(jamming.jamming_probability(states).to_string(index=False))
+    print(_shown(jamming.jamming_probability(states)).to_string(index=False))
     thr = jamming.thresholds(states)
-    print(thr.to_string(index=False))
+    print(_shown(thr).to_string(index=False))
     for model in sorted(states["model"].unique()):
         fit = jamming.finite_size_scaling(thr[thr["model"] == model] if len(thr) else thr, a.correction)
         print(f"{model}: " + ", ".join(f"{k} = {v:.5g} +- {fit.errors[k]:.2g}" for k, v in fit.values.items())
@@ -214,7 +232,7 @@ def cmd_correlation(a):
     """x_min of g_y(x) per (model, N, phi, rate) over seeds and its growth x_min = A rate^-a."""
     run = _flow_archive(a.archives)
     _, grouped = correlations.correlation_minima(run)
-    print(grouped.to_string(index=False))
+    print(_shown(grouped).to_string(index=False))
     for key, part in grouped.groupby(["model", "N", "phi"]):
         g = correlations.fit_minimum_growth(part["rate"], part["x_min"], part["x_min_error"])
         print(f"{key}: a = {g.a:.3f} +- {g.a_error:.3f}, chi2/dof = {g.chi2 / max(g.dof, 1):.2f}")
@@ -244,7 +262,7 @@ def cmd_frames(a):
     if a.replica not in set(run.replicas["replica"]):
         raise AnalysisError(f"replica {a.replica} is not in these files ({len(run.replicas)} replicas)")
     table = order.psi6_over_strain(run, a.replica)
-    print(table.to_string(index=False))
+    print(_shown(table).to_string(index=False))
     if a.animation:
         rep = run.replicas.iloc[a.replica]
         alpha = float(rep["alpha"]) if "alpha" in rep and np.isfinite(rep["alpha"]) else 2.0
@@ -255,23 +273,29 @@ def cmd_frames(a):
 def _common(p, observable=True):
     p.add_argument("archives", nargs="+", help="campaign archives, shards or replica files")
     if observable:
-        p.add_argument("--observable", default="pressure", choices=["pressure", "shear_stress"])
+        p.add_argument("--observable", default="pressure", choices=["pressure", "shear_stress"],
+                       help="the observable fitted (default pressure)")
     p.add_argument("--N", type=int, help="system size (default: the largest)")
     p.add_argument("--model", help="only this model")
 
 
 def analyze_parser():
-    ap = argparse.ArgumentParser(prog=prog_name("jamsim_analyze.py"), description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(
+        prog=prog_name("jamsim_analyze.py"),
+        description="One analysis of jamsim campaign archives (shards and replica files too); "
+        "COMMAND --help says what it computes and its options. jamsim_report.py ARCHIVE... OUTDIR runs every "
+        "analysis that fits. Bad input: one message naming what is wrong, exit status 2.")
     sub = ap.add_subparsers(dest="command", required=True)
     p = sub.add_parser("summary", help=cmd_summary.__doc__, description=cmd_summary.__doc__)
-    p.add_argument("archives", nargs="+")
+    p.add_argument("archives", nargs="+", help="campaign archives, shards or replica files")
     p = sub.add_parser("averages", help=cmd_averages.__doc__, description=cmd_averages.__doc__)
-    p.add_argument("archives", nargs="+")
-    p.add_argument("--observable", nargs="+", default=["pressure", "shear_stress"])
+    p.add_argument("archives", nargs="+", help="campaign archives, shards or replica files")
+    p.add_argument("--observable", nargs="+", default=["pressure", "shear_stress"],
+                   help="time-series columns averaged (default: pressure shear_stress)")
     p.add_argument("--output", help="TSV file of the averages over seeds")
     p = sub.add_parser("csv", help=cmd_csv.__doc__, description=cmd_csv.__doc__ + " " + tables.__doc__,
                        formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("archives", nargs="+")
+    p.add_argument("archives", nargs="+", help="campaign archives, shards or replica files")
     p.add_argument("-o", "--output", required=True, help="CSV file to write (must not exist)")
     p.add_argument("--observable", nargs="+", help="time-series columns (default: pressure, shear_stress, "
                    "energy_per_particle, contact_number, packing_fraction where present)")
@@ -297,35 +321,36 @@ def analyze_parser():
         _common(p)
         p.add_argument("--degree", type=int, default=3, help="degree of ln F(x) (default 3)")
         if name == "collapse":
-            p.add_argument("outdir")
-            p.add_argument("--phi-min", type=float, default=-np.inf)
-            p.add_argument("--phi-max", type=float, default=np.inf)
-            p.add_argument("--rate-max", type=float, default=np.inf)
+            p.add_argument("outdir", help="folder for the tables and figures (made if missing)")
+            p.add_argument("--phi-min", type=float, default=-np.inf, help="only points with phi >= this")
+            p.add_argument("--phi-max", type=float, default=np.inf, help="only points with phi <= this")
+            p.add_argument("--rate-max", type=float, default=np.inf, help="only points with rate <= this")
             p.add_argument("--auto-window", action="store_true",
                            help="choose the window from the data (the largest whose fit is acceptable)")
             p.add_argument("--correction", action="store_true", help="leading correction to scaling")
             p.add_argument("--correction-degree", type=int, default=0, help="degree of Q(x) (default 0)")
             p.add_argument("--bootstrap", type=int, default=0, help="resamples of the bootstrap over seeds")
-            p.add_argument("--start", type=float, nargs=3, default=[0.843, 0.28, 3.5], metavar=("PHI_J", "Q", "ZNU"))
+            p.add_argument("--start", type=float, nargs=3, default=[0.843, 0.28, 3.5], metavar=("PHI_J", "Q", "ZNU"),
+                           help="starting values of the fit (default 0.843 0.28 3.5)")
     for name, func in (("newtonian", cmd_newtonian), ("bagnold", cmd_bagnold)):
         p = sub.add_parser(name, help=func.__doc__, description=func.__doc__ + " " + rheology.__doc__)
         _common(p)
-        p.add_argument("outdir")
+        p.add_argument("outdir", help="folder for the tables and figures (made if missing)")
         p.add_argument("--phi-j", type=float, help="phi_J (default: fitted)")
         p.add_argument("--correction", action="store_true", help="factor 1 + c (phi_J - phi)")
     p = sub.add_parser("jamming", help=cmd_jamming.__doc__, description=cmd_jamming.__doc__ + " " + jamming.__doc__)
-    p.add_argument("archives", nargs="+")
+    p.add_argument("archives", nargs="+", help="archives of RAND, COMPRESS, COOL, COOL_COMPRESS or SHEARED campaigns")
     p.add_argument("--correction", action="store_true", help="free shift exponent (1/nu + omega)")
     p = sub.add_parser("correlation", help=cmd_correlation.__doc__,
                        description=cmd_correlation.__doc__ + " " + correlations.__doc__)
-    p.add_argument("archives", nargs="+")
+    p.add_argument("archives", nargs="+", help="campaign archives, shards or replica files")
     p = sub.add_parser("picture", help=cmd_picture.__doc__, description=cmd_picture.__doc__ + " " + pictures.__doc__)
-    p.add_argument("archives", nargs="+")
-    p.add_argument("--replica", type=int, default=0)
-    p.add_argument("--output", default="configuration.png")
+    p.add_argument("archives", nargs="+", help="campaign archives, shards or replica files")
+    p.add_argument("--replica", type=int, default=0, help="replica id (default 0)")
+    p.add_argument("--output", default="configuration.png", help="PNG file to write (default configuration.png)")
     p = sub.add_parser("frames", help=cmd_frames.__doc__, description=cmd_frames.__doc__ + " " + order.__doc__)
-    p.add_argument("archives", nargs="+")
-    p.add_argument("--replica", type=int, default=0)
+    p.add_argument("archives", nargs="+", help="campaign archives, shards or replica files")
+    p.add_argument("--replica", type=int, default=0, help="replica id (default 0)")
     p.add_argument("--animation", help="write an animated GIF of the frames here")
     return ap
 

@@ -190,7 +190,8 @@ KEYS = ("model", "N", "phi", "rate")
 def replica_averages(archive, observables, time_column="strain", drift_observable=None, detect=True):
     """Per finished replica: the steady window and the mean, error and tau_int of each
     observable over it. Returns a DataFrame with the replica's parameters, `<obs>`,
-    `<obs>_error`, `<obs>_tau` (samples), `window_start` (strain or time), `samples`,
+    `<obs>_error`, `<obs>_tau` (samples), `window_start` (strain, or time for a dynamics
+    replica at rate 0, whose `time` column is set), `samples`,
     `drift_z`, `drifting` and `left_out` (a reason, or "" for replicas kept). Replicas not
     done appear with left_out = their status."""
     table = archive.replicas
@@ -206,7 +207,13 @@ def replica_averages(archive, observables, time_column="strain", drift_observabl
             rows.append(row)
             continue
         r = int(rep["replica"])
-        times = archive.series(r, time_column) if has_time else None
+        # A dynamics replica at rate 0 runs in time: its transient is a time, its strain 0.
+        column = time_column
+        if (time_column == "strain" and "time" in archive.observables() and np.isfinite(rep.get("rate", np.nan))
+                and float(rep.get("rate", np.nan)) == 0.0 and np.isfinite(rep.get("time", np.nan))
+                and float(rep.get("time", np.nan)) > 0):
+            column = "time"
+        times = archive.series(r, column) if has_time or column != time_column else None
         series = {o: archive.series(r, o) for o in observables}
         n = len(series[drift_observable])
         if times is None or not np.all(np.isfinite(times[:n])):

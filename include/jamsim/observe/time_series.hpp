@@ -96,6 +96,6 @@ class TimeSeries {
 };
 
 /// Mean of a column over the rows with strain ≥ from_strain (NaN when there are none).
-double mean_after(const TimeSeries& ts, double Sample::*member, double from_strain);
+double mean_after(const TimeSeries& ts, double Sample::*member, double from_strain, bool in_time = false);
 
 }  // namespace jamsim

@@ -86,6 +86,9 @@ std::string model_list();
 /// Parameters every replica uses: model, N, phi, seed, alpha, size_ratio, skin. The
 /// dynamics also use rate, transient, sample_interval and strain (rate > 0) or time (rate 0).
 bool uses_parameter(const ReplicaParams& p, std::string_view key);
+/// Whether p's run length, transient and samples are times (a dynamics replica at rate 0),
+/// not strains.
+inline bool runs_in_time(const ReplicaParams& p) { return uses_parameter(p, "time"); }
 /// The rows of the parameter table that p's model uses, in table order.
 std::vector<const ParamInfo*> used_parameters(const ReplicaParams& p);
 
