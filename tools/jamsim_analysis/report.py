@@ -169,7 +169,9 @@ def _dynamics(rep, archive, opts):
         d.table(left[["replica", "model", "N", "phi", "rate", "seed", "left_out"]])
     kept = table[table["left_out"] == ""]
     if kept.empty:
-        raise AnalysisError("every replica was left out (see the table above): empty steady windows")
+        reasons = [f"replica {int(r)}: {why}" for r, why in zip(left["replica"], left["left_out"])]
+        more = f"; and {len(reasons) - 5} more" if len(reasons) > 5 else ""
+        raise AnalysisError("every replica was left out (" + "; ".join(reasons[:5]) + more + ")")
     d.table(kept[["replica", "model", "N", "phi", "rate", "seed", "window_start", "samples",
                   "pressure", "pressure_error", "pressure_tau", "drift_z"]])
     groups = stats.group_averages(table, list(OBSERVABLES))
