@@ -51,11 +51,10 @@ void print_shards(const CampaignSpec& spec, const Chains& chains, const std::vec
     }
     std::printf("wall time with every task running at once: about %s (%.0f s)\n", duration(worst).c_str(), worst);
     if (plan.time_limit > 0)
-        std::printf("%d shard%s on %d rank%s each, time limit %s (warning %.0f s before): the busiest task needs "
-                    "about %s, %d requeue%s\n",
-                    plan.shards, plan.shards == 1 ? "" : "s", plan.ranks, plan.ranks == 1 ? "" : "s",
-                    duration(plan.time_limit).c_str(), lead, duration(worst).c_str(), requeues(worst),
-                    requeues(worst) == 1 ? "" : "s");
+        std::printf("%s on %s each, time limit %s (warning %.0f s before): the busiest task needs about %s, %s\n",
+                    counted(plan.shards, "shard").c_str(), counted(plan.ranks, "rank").c_str(),
+                    duration(plan.time_limit).c_str(), lead, duration(worst).c_str(),
+                    counted(requeues(worst), "requeue").c_str());
 }
 
 }  // namespace

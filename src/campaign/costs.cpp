@@ -215,8 +215,10 @@ double probe_smaller_sizes(const CampaignSpec& spec, double budget, double spent
 Calibration calibrate(const CampaignSpec& spec, const std::string& archive, double budget) {
     Calibration out;
     // Rates recorded by earlier runs of this campaign (or of the archive's campaign, grown).
-    std::map<CostGroup, std::pair<double, double>> recorded;  // group -> (seconds, cost)
-    std::map<CostGroup, double> recorded_replicas;
+    struct Recorded {
+        double seconds = 0, cost = 0, replicas = 0;
+    };
+    std::map<CostGroup, Recorded> recorded;
     std::error_code ec;
     if (!archive.empty() && std::filesystem::exists(archive, ec) && diagnose_archive_file(archive).empty()) try {
             const StoredCampaign stored = read_stored_campaign(archive);
@@ -233,19 +235,18 @@ Calibration calibrate(const CampaignSpec& spec, const std::string& archive, doub
             for (std::size_t r = 0; r < stored.status.size() && r < wall.size() && r < threads.size(); ++r) {
                 const ReplicaParams& p = stored.spec.replicas[r];
                 if (stored.status[r] != ReplicaStatus::Done || !(wall[r] > 0) || !(estimated_cost(p) > 0)) continue;
-                auto& [seconds, cost] = recorded[cost_group(p)];
+                auto& [seconds, cost, replicas] = recorded[cost_group(p)];
                 const int on = std::max(1, static_cast<int>(std::lround(threads[r])));
                 seconds += wall[r] * SpeedupModel{}.speedup(model_of(p).thread_scaling, p.n, on);
                 cost += estimated_cost(p);
-                ++recorded_replicas[cost_group(p)];
+                ++replicas;
             }
         } catch (const std::exception&) {
             recorded.clear();  // an archive that cannot be read: probes instead
-            recorded_replicas.clear();
         }
     for (const auto& [group, sums] : recorded) {
-        out.measured[group] = sums.first / sums.second;
-        out.replicas[group] = recorded_replicas[group];
+        out.measured[group] = sums.seconds / sums.cost;
+        out.replicas[group] = sums.replicas;
         ++out.recorded;
     }
     // Minimisations first at sizes below the campaign's: their growth with N, so that a

@@ -36,6 +36,11 @@ def _shown(table):
     return out
 
 
+def _print_table(table):
+    """`table` on stdout, as _shown makes it, without the index."""
+    print(_shown(table).to_string(index=False))
+
+
 def _flow_archive(paths):
     """The archive(s), refused unless every model is a sheared-flow model."""
     run = open_archives(paths)
@@ -56,7 +61,7 @@ def cmd_summary(a):
     run = open_archives(a.archives)
     cols = [c for c in ("replica", "model", "N", "phi", "rate", "seed", "status_name", "n_samples",
                         "force_evaluations", "wall_seconds", "failure_reason") if c in run.replicas]
-    print(_shown(run.replicas[cols]).to_string(index=False))
+    _print_table(run.replicas[cols])
 
 
 def cmd_averages(a):
@@ -65,9 +70,9 @@ def cmd_averages(a):
     cols = ["replica", "model", "N", "phi", "rate", "seed", "window_start", "samples", "drift_z", "left_out"]
     for o in a.observable:
         cols += [o, f"{o}_error", f"{o}_tau"]
-    print(_shown(table[[c for c in cols if c in table]]).to_string(index=False))
+    _print_table(table[[c for c in cols if c in table]])
     print()
-    print(_shown(groups).to_string(index=False))
+    _print_table(groups)
     if a.output:
         groups.to_csv(output_file(a.output, "--output"), sep="\t", index=False)
 
@@ -168,9 +173,9 @@ def cmd_compare(a):
         table = table[keep]
     groups = stats.group_averages(table, a.observable, keys=keys)
     cmp = comparison.compare_averages(groups, a.observable, label=a.by, alpha=a.alpha, replica_table=table)
-    print(_shown(cmp.averages).to_string(index=False))
+    _print_table(cmp.averages)
     print()
-    print(_shown(cmp.differences[[c for c in report.DIFFERENCE_COLUMNS if c in cmp.differences]]).to_string(index=False))
+    _print_table(cmp.differences[[c for c in report.DIFFERENCE_COLUMNS if c in cmp.differences]])
     print()
     print(cmp.statement())
     if a.outdir:
@@ -197,8 +202,8 @@ def _divergence_command(a, power):
     _, groups = _averages(_flow_archive(a.archives), [a.observable])
     func = rheology.newtonian_divergence if power == 1 else rheology.bagnold_analysis
     plateau, fit = func(groups, a.observable, phi_j=a.phi_j, correction=a.correction, N=a.N, model=a.model)
-    print(_shown(rheology.local_slopes(groups, a.observable)).to_string(index=False))
-    print(_shown(plateau).to_string(index=False))
+    _print_table(rheology.local_slopes(groups, a.observable))
+    _print_table(plateau)
     print(", ".join(f"{k} = {v:.5g} +- {fit.errors[k]:.2g}" for k, v in fit.values.items())
           + f", chi2/dof = {fit.chi2_per_dof:.2f}")
     output_directory(a.outdir)
@@ -219,9 +224,9 @@ def cmd_bagnold(a):
 def cmd_jamming(a):
     """P_J(phi, N), thresholds per N and their finite-size scaling (phi_J(inf), nu)."""
     states = jamming.static_states(open_archives(a.archives))
-    print(_shown(jamming.jamming_probability(states)).to_string(index=False))
+    _print_table(jamming.jamming_probability(states))
     thr = jamming.thresholds(states)
-    print(_shown(thr).to_string(index=False))
+    _print_table(thr)
     for model in sorted(states["model"].unique()):
         fit = jamming.finite_size_scaling(thr[thr["model"] == model] if len(thr) else thr, a.correction)
         print(f"{model}: " + ", ".join(f"{k} = {v:.5g} +- {fit.errors[k]:.2g}" for k, v in fit.values.items())
@@ -232,7 +237,7 @@ def cmd_correlation(a):
     """x_min of g_y(x) per (model, N, phi, rate) over seeds and its growth x_min = A rate^-a."""
     run = _flow_archive(a.archives)
     _, grouped = correlations.correlation_minima(run)
-    print(_shown(grouped).to_string(index=False))
+    _print_table(grouped)
     for key, part in grouped.groupby(["model", "N", "phi"]):
         g = correlations.fit_minimum_growth(part["rate"], part["x_min"], part["x_min_error"])
         print(f"{key}: a = {g.a:.3f} +- {g.a_error:.3f}, chi2/dof = {g.chi2 / max(g.dof, 1):.2f}")
@@ -262,7 +267,7 @@ def cmd_frames(a):
     if a.replica not in set(run.replicas["replica"]):
         raise AnalysisError(f"replica {a.replica} is not in these files ({len(run.replicas)} replicas)")
     table = order.psi6_over_strain(run, a.replica)
-    print(_shown(table).to_string(index=False))
+    _print_table(table)
     if a.animation:
         rep = run.replicas.iloc[a.replica]
         alpha = float(rep["alpha"]) if "alpha" in rep and np.isfinite(rep["alpha"]) else 2.0

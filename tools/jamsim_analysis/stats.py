@@ -196,7 +196,7 @@ def replica_averages(archive, observables, time_column="strain", drift_observabl
     done appear with left_out = their status."""
     table = archive.replicas
     drift_observable = drift_observable or observables[0]
-    has_time = time_column in archive.observables()
+    columns = set(archive.observables())
     rows = []
     for _, rep in table.iterrows():
         row = {k: rep[k] for k in table.columns if k not in ("file",)}
@@ -207,13 +207,11 @@ def replica_averages(archive, observables, time_column="strain", drift_observabl
             rows.append(row)
             continue
         r = int(rep["replica"])
-        # A dynamics replica at rate 0 runs in time: its transient is a time, its strain 0.
-        column = time_column
-        if (time_column == "strain" and "time" in archive.observables() and np.isfinite(rep.get("rate", np.nan))
-                and float(rep.get("rate", np.nan)) == 0.0 and np.isfinite(rep.get("time", np.nan))
-                and float(rep.get("time", np.nan)) > 0):
-            column = "time"
-        times = archive.series(r, column) if has_time or column != time_column else None
+        # A dynamics replica at rate 0 runs in time (its `time` parameter set): its transient
+        # is a time, its strain 0.
+        in_time = float(rep.get("rate", np.nan)) == 0.0 and float(rep.get("time", np.nan)) > 0
+        column = "time" if time_column == "strain" and in_time else time_column
+        times = archive.series(r, column) if column in columns else None
         series = {o: archive.series(r, o) for o in observables}
         n = len(series[drift_observable])
         if times is None or not np.all(np.isfinite(times[:n])):
