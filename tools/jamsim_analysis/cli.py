@@ -9,7 +9,8 @@ import sys
 import numpy as np
 import pandas as pd
 
-from . import comparison, correlations, figures, jamming, order, pictures, report, rheology, scaling, stats, tables
+from . import (comparison, correlations, figures, jamming, order, pictures, report, rheology, scaling, stats, tables,
+               trends)
 from .archive import open_archives
 from .errors import AnalysisError
 
@@ -131,6 +132,43 @@ def cmd_collapse(a):
                     dict(parameter="points", value=len(fit.points), error=np.nan),
                     dict(parameter="dof", value=fit.dof, error=np.nan)]).to_csv(
         os.path.join(a.outdir, f"collapse_{a.observable}.tsv"), sep="\t", index=False)
+
+
+def cmd_sizes(a):
+    """Does the collapse move toward the published values as N grows, and the Newtonian
+    beta as the points come closer to phi_J? The collapse of one window fitted at every N
+    (the window given, else the one chosen from the data at the largest N), each value's
+    trend in N, and the local Newtonian exponents with their trend; tables and a figure in
+    OUTDIR (sizes.tsv, newtonian_local.tsv, sizes.png)."""
+    table, groups = _averages(_flow_archive(a.archives), [a.observable])
+    window = (a.phi_min, a.phi_max, a.rate_max)
+    if not any(np.isfinite(window)):
+        every = scaling.collapse_points(groups, a.observable, model=a.model)
+        choice = scaling.choose_window(every, a.degree, -1, observable=a.observable)
+        print(f"window chosen from the data at the largest N: {choice.describe()}")
+        window = (choice.phi_min, choice.phi_max, choice.rate_max)
+    by_size = trends.collapse_by_size(table, groups, a.observable, window, a.degree, a.bootstrap, a.model)
+    _print_table(by_size)
+    found = trends.size_trends(by_size)
+    last = f"N = {by_size.loc[by_size['left_out'] == '', 'N'].max()}"
+    for t in found:
+        print(trends.statement(t, "doubling of N", last))
+    local, approach = pd.DataFrame(), []
+    try:
+        local, approach = trends.newtonian_approach(groups, by_size, model=a.model, observable=a.observable)
+        print()
+        _print_table(local)
+        print("\n".join(trends.approach_statements(approach)))
+    except AnalysisError as e:
+        print(f"local Newtonian exponents: not computed ({e})")
+    output_directory(a.outdir)
+    by_size.to_csv(os.path.join(a.outdir, "sizes.tsv"), sep="\t", index=False)
+    written = ["sizes.tsv", "sizes.png"]
+    if len(local):
+        local.to_csv(os.path.join(a.outdir, "newtonian_local.tsv"), sep="\t", index=False)
+        written.insert(1, "newtonian_local.tsv")
+    figures.trends_figure(by_size, found, local, os.path.join(a.outdir, "sizes.png"))
+    print(f"tables and figure in {a.outdir}: {', '.join(written)}")
 
 
 def cmd_compare(a):
@@ -275,12 +313,12 @@ def cmd_frames(a):
         print(f"{drawn} frames drawn: {a.animation}")
 
 
-def _common(p, observable=True):
+def _common(p, observable=True, size_help="system size (default: the largest)"):
     p.add_argument("archives", nargs="+", help="campaign archives, shards or replica files")
     if observable:
         p.add_argument("--observable", default="pressure", choices=["pressure", "shear_stress"],
                        help="the observable fitted (default pressure)")
-    p.add_argument("--N", type=int, help="system size (default: the largest)")
+    p.add_argument("--N", type=int, help=size_help)
     p.add_argument("--model", help="only this model")
 
 
@@ -337,9 +375,23 @@ def analyze_parser():
             p.add_argument("--bootstrap", type=int, default=0, help="resamples of the bootstrap over seeds")
             p.add_argument("--start", type=float, nargs=3, default=[0.843, 0.28, 3.5], metavar=("PHI_J", "Q", "ZNU"),
                            help="starting values of the fit (default 0.843 0.28 3.5)")
+    p = sub.add_parser("sizes", help=cmd_sizes.__doc__, description=cmd_sizes.__doc__ + "\n\n" + trends.__doc__,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("archives", nargs="+", help="campaign archives, shards or replica files (two or more sizes)")
+    p.add_argument("--observable", default="pressure", choices=["pressure", "shear_stress"],
+                   help="the observable fitted (default pressure)")
+    p.add_argument("--model", help="only this model (needed when the archives hold several)")
+    p.add_argument("outdir", help="folder for the tables and the figure (made if missing)")
+    p.add_argument("--phi-min", type=float, default=-np.inf, help="window: only points with phi >= this")
+    p.add_argument("--phi-max", type=float, default=np.inf, help="window: only points with phi <= this")
+    p.add_argument("--rate-max", type=float, default=np.inf, help="window: only points with rate <= this")
+    p.add_argument("--degree", type=int, default=3, help="degree of ln F(x) (default 3)")
+    p.add_argument("--bootstrap", type=int, default=100, help="resamples of the bootstrap over seeds (0: none)")
+    p.add_argument("--phi-j", type=float, default=float(np.mean(trends.PUBLISHED["phi_J"])),
+                   help="phi_J of the local Newtonian exponents (default: the published 0.8434)")
     for name, func in (("newtonian", cmd_newtonian), ("bagnold", cmd_bagnold)):
         p = sub.add_parser(name, help=func.__doc__, description=func.__doc__ + " " + rheology.__doc__)
-        _common(p)
+        _common(p, size_help="system size (default: the one with the most phi at their plateau)")
         p.add_argument("outdir", help="folder for the tables and figures (made if missing)")
         p.add_argument("--phi-j", type=float, help="phi_J (default: fitted)")
         p.add_argument("--correction", action="store_true", help="factor 1 + c (phi_J - phi)")
@@ -385,7 +437,8 @@ def report_main(argv=None):
     ap.add_argument("--degree", type=int, default=3, help="degree of ln F(x) in collapses (default 3)")
     ap.add_argument("--correction", action="store_true", help="leading correction to scaling in the fits")
     ap.add_argument("--bootstrap", type=int, default=100, help="bootstrap resamples over seeds (0: none)")
-    ap.add_argument("--N", type=int, help="system size of the fits (default: the largest)")
+    ap.add_argument("--N", type=int, help="system size of the fits (default: the largest; the Newtonian "
+                    "and Bagnold fits: the size with the most phi at their plateau)")
     ap.add_argument("--phi-min", type=float, default=-np.inf, help="collapse window: smallest phi (default: all)")
     ap.add_argument("--phi-max", type=float, default=np.inf, help="collapse window: largest phi (default: all)")
     ap.add_argument("--rate-max", type=float, default=np.inf, help="collapse window: largest rate (default: all)")

@@ -341,3 +341,48 @@ def comparison_figure(comparison, path, replicas=None, label="model"):
                       f"{': significant' if r['significant'] else ': not significant'})")
         ax.set_title(title, fontsize=9)
     return _save(fig, path)
+
+
+def trends_figure(by_size, trends, local, path):
+    """One panel per parameter of the collapse against N (log2), the published range shaded
+    and the trend's straight line; with local exponents (trends.newtonian_approach, may be
+    empty) a last panel: beta_eff against phi_J - phi, one series per phi_J."""
+    fitted = by_size[by_size["left_out"] == ""]
+    panels = len(trends) + (len(local) > 0)
+    fig, axes = _grid(panels, columns=min(panels, 3))
+    x = np.log2(fitted["N"].to_numpy(float))
+    for ax, t in zip(axes, trends):
+        _trend_panel(ax, x, fitted[t.parameter].to_numpy(float), fitted[f"{t.parameter}_error"].to_numpy(float), t)
+        ax.set_xticks(x, [str(int(n)) for n in fitted["N"]])
+        ax.set_xlabel("N")
+    if len(local):
+        ax = axes[-1]
+        _published(ax, trends[-1].published if trends and trends[-1].parameter == "beta" else (2.6, 2.8))
+        for k, (phi_j, part) in enumerate(local.groupby("phi_J", sort=False)):
+            ax.errorbar(part["distance"] * (1 + 0.02 * k), part["beta_eff"], part["beta_eff_error"], marker="o",
+                        capsize=2, label=f"$\\phi_J$ = {phi_j:.4f}")
+        ax.set_xscale("log")
+        ax.invert_xaxis()
+        ax.set_xlabel(r"$\phi_J-\phi$ (N = %d; closer to $\phi_J$ to the right)" % int(local["N"].iloc[0]))
+        ax.set_ylabel(r"local Newtonian $\beta$")
+        ax.legend(fontsize=7)
+    return _save(fig, path)
+
+
+def _published(ax, published):
+    lo, hi = published
+    if lo == hi:
+        ax.axhline(lo, color="0.6", lw=3, label="published")
+    else:
+        ax.axhspan(lo, hi, color="0.85", label="published")
+
+
+def _trend_panel(ax, x, value, error, trend):
+    _published(ax, trend.published)
+    keep = np.isfinite(value) & np.isfinite(error) & (error > 0)
+    ax.errorbar(x[keep], value[keep], error[keep], marker="o", ls="none", capsize=2, color="C0")
+    xs = np.array([x[keep].min(), x[keep].max()])
+    ax.plot(xs, [trend.first, trend.last], "k--", lw=1)
+    ax.set_ylabel(trend.parameter)
+    ax.set_title(f"{trend.parameter}: {trend.verdict()}", fontsize=8)
+    ax.legend(fontsize=7)

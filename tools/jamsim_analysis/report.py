@@ -7,8 +7,10 @@ the state points they share (any number of rates: a difference, its error in sig
 Welch t or z test); per model with >= 3 rates the collapse of p and sigma in the window
 chosen from the data (bootstrap over seeds when every point has >= 3 seeds), then the fit
 to every point, marked when its chi2 rejects it; the Newtonian divergence (overdamped
-models) or the Bagnold analysis (massive models); the joint collapse of RD0 and CD0 when
-both are present; g_y(x) and its minimum; a picture of a final configuration; with
+models) or the Bagnold analysis (massive models), at the size with the most phi at their
+plateau; the joint collapse of RD0 and CD0 when both are present; for harmonic RD0 and CD0
+with two or more sizes, the collapse's window fitted at each N and whether the values move
+toward the published ones as N grows, and the local Newtonian exponents toward phi_J; g_y(x) and its minimum; a picture of a final configuration; with
 configuration frames ([run] frame_interval), psi6 over strain and an animation.
 Static (RAND, COOL, COMPRESS, COOL_COMPRESS, SHEARED): P_J(phi, N), thresholds per N,
 finite-size scaling with >= 3 sizes, pressure distributions, a picture of a jammed state.
@@ -22,7 +24,7 @@ import os
 import numpy as np
 import pandas as pd
 
-from . import comparison, correlations, figures, jamming, order, pictures, rheology, scaling, stats
+from . import comparison, correlations, figures, jamming, order, pictures, rheology, scaling, stats, trends
 from .archive import open_archives
 from .document import Document
 from .errors import AnalysisError
@@ -37,7 +39,8 @@ PICTURE_MAX_N = 16384
 @dataclasses.dataclass
 class ReportOptions:
     """degree: of ln F; correction: leading correction to scaling in the collapse;
-    n_boot: bootstrap resamples (0: none); N: system size for fits (default: the largest);
+    n_boot: bootstrap resamples (0: none); N: system size for fits (default: the largest; the
+    Newtonian and Bagnold fits: the size with the most phi at their plateau);
     phi_min, phi_max, rate_max: the collapse's window (default: every point), for fits
     restricted to the critical region; auto_window (the default when no window is given):
     choose the window of each collapse from the data (scaling.choose_window; the RD0/CD0
@@ -194,6 +197,10 @@ def _dynamics(rep, archive, opts):
         elif model in MASSIVE:
             rep.attempt(f"Bagnold analysis {model}",
                         lambda m=model: _divergence(rep, groups, m, 2, phi_j.get(m), opts))
+        if model in ("RD0", "CD0") and _harmonic(archive, model) and \
+                groups.loc[(groups["model"] == model) & (groups["rate"] > 0), "N"].nunique() >= 2:
+            rep.attempt(f"fitted values by system size {model}",
+                        lambda m=model: _size_trends(rep, table, groups, m, opts))
     models = set(groups["model"]) & {"RD0", "CD0"}
     if len(models) == 2:
         rep.attempt("RD0 against CD0: joint collapse", lambda: _compare(rep, groups, opts))
@@ -201,6 +208,50 @@ def _dynamics(rep, archive, opts):
     rep.attempt("configuration picture", lambda: _picture(rep, archive, kept))
     if any(archive.has_frames(int(r)) for r in archive.done()["replica"]):
         rep.attempt("bond-orientational order", lambda: _order(rep, archive))
+
+
+def _harmonic(archive, model):
+    """Whether the model's replicas use the harmonic potential (alpha = 2; Paper II's values)."""
+    r = archive.replicas
+    if "alpha" not in r:
+        return True
+    return bool(np.all(r.loc[r["model"] == model, "alpha"].fillna(2.0) == 2.0))
+
+
+def _size_trends(rep, table, groups, model, opts):
+    """The pressure collapse's window fitted at every N and each value's trend in N; the
+    local Newtonian exponents and their trend toward phi_J (trends.newtonian_approach)."""
+    window = rep.windows.get((model, "pressure"), (opts.phi_min, opts.phi_max, opts.rate_max))
+    by_size = trends.collapse_by_size(table, groups, "pressure", window, opts.degree, opts.n_boot, model,
+                                      0 if opts.correction else -1)
+    found = trends.size_trends(by_size)
+    last = f"N = {by_size.loc[by_size['left_out'] == '', 'N'].max()}"
+    d = rep.doc
+    d.heading(f"Fitted values by system size: {model}")
+    shown = "every point" if not np.isfinite(window).any() else (
+        f"phi {window[0]:g}..{window[1]:g}, rate <= {window[2]:g}")
+    d.paragraph(f"The pressure collapse in one window ({shown}) fitted at each N; a trend is the slope of a "
+                "weighted straight line against log2 N (its error widened by sqrt(chi2/dof) when that exceeds 1; "
+                f"with 3 sizes that check has 1 degree of freedom), counted when {trends.TREND_Z:g} errors from 0, "
+                "and judged by the line's ends against Paper II's values (N = 65536, harmonic RD0). Finite size "
+                "predicts that they move toward the published ones.")
+    d.table(by_size)
+    d.paragraph(" ".join(trends.statement(t, "doubling of N", last) + "." for t in found))
+    local = pd.DataFrame()
+    try:
+        local, approach = trends.newtonian_approach(groups, by_size, opts.N, model)
+        d.paragraph("Local Newtonian exponents beta_eff = -d ln eta / d ln(phi_J - phi) between neighbouring phi "
+                    "with a Newtonian plateau (farther from phi_J the effective exponent is expected below the "
+                    "asymptotic one). They depend on phi_J, so each is given at three: the published range's ends "
+                    "and the collapse's own phi_J at this N. The trend comes from ln eta = a + b u + c u^2, "
+                    "u = -log2(phi_J - phi), per halving of phi_J - phi:")
+        d.table(local)
+        d.paragraph(" ".join(s + "." for s in trends.approach_statements(approach)))
+    except AnalysisError as e:
+        d.paragraph(f"Local Newtonian exponents: not computed ({e}).")
+    figures.trends_figure(by_size, found, local, rep.path(f"sizes_{model}.png"))
+    d.figure(f"sizes_{model}.png", f"collapse values against N ({model}), the published range shaded; "
+             "local Newtonian exponents")
 
 
 def _window_text(pts, n, opts):
@@ -306,7 +357,11 @@ def _divergence(rep, groups, model, power, phi_j, opts):
     plateau, fit = func(groups, "pressure", phi_j=phi_j, N=opts.N, model=model,
                         correction=(power == 2))
     rep.doc.table(plateau)
-    note = f"phi_J {'from the collapse' if phi_j is not None else 'fitted'}; points: {len(fit.points)}"
+    n = int(plateau["N"].iloc[0])
+    collapse_n = int(groups.loc[groups["model"] == model, "N"].max()) if opts.N is None else opts.N
+    note = (f"N = {n}" + ("" if opts.N else " (the size with the most plateaus)") + "; phi_J "
+            + (f"from the collapse (N = {collapse_n})" if phi_j is not None else "fitted")
+            + f"; points: {len(fit.points)}")
     rep.fits += fit_rows(f"{kind} divergence {model} p/rate^{power}", fit.values, fit.errors, fit.chi2, fit.dof, note,
                          scaled="residuals")
     fname = f"{kind.lower()}_{model}.png"

@@ -166,8 +166,10 @@ def _divergence_of(groups, observable, power, phi_j, correction, N, model):
     sizes = sorted(plateau["N"].unique())
     if not sizes:
         raise AnalysisError("no flow curve with rate > 0")
-    n = sizes[-1] if N is None else N
-    table = plateau[plateau["N"] == n]
+    if N is None:  # the size with the most phi at their plateau (the largest of those)
+        used = plateau[plateau["left_out"] == ""].groupby("N")["phi"].count()
+        N = max(used.index[used == used.max()]) if len(used) else sizes[-1]
+    table = plateau[plateau["N"] == N]
     used = table[table["left_out"] == ""]
     fit = fit_divergence(used["phi"], used["value"], used["error"], phi_j, correction,
                          start_beta=2.5 if power == 1 else 5.0)
@@ -176,11 +178,13 @@ def _divergence_of(groups, observable, power, phi_j, correction, N, model):
 
 def newtonian_divergence(groups, observable="pressure", phi_j=None, correction=False, N=None, model=None):
     """eta_O = O/rate extrapolated to rate -> 0 (Newtonian plateau) per phi below phi_J, and
-    its divergence eta ~ (phi_J - phi)^-beta. Returns (plateau table, Divergence)."""
+    its divergence eta ~ (phi_J - phi)^-beta, at N (default: the size with the most phi at
+    their plateau). Returns (plateau table, Divergence)."""
     return _divergence_of(groups, observable, 1, phi_j, correction, N, model)
 
 
 def bagnold_analysis(groups, observable="pressure", phi_j=None, correction=True, N=None, model=None):
     """B_O = O/rate^2 at the Bagnold plateau per phi below phi_J and its divergence
-    B ~ (phi_J - phi)^-beta (1 + c (phi_J - phi)). Returns (plateau table, Divergence)."""
+    B ~ (phi_J - phi)^-beta (1 + c (phi_J - phi)), at N (default: the size with the most phi
+    at their plateau). Returns (plateau table, Divergence)."""
     return _divergence_of(groups, observable, 2, phi_j, correction, N, model)
