@@ -155,7 +155,8 @@ def cmd_sizes(a):
         print(trends.statement(t, "doubling of N", last))
     local, approach = pd.DataFrame(), []
     try:
-        local, approach = trends.newtonian_approach(groups, by_size, model=a.model, observable=a.observable)
+        local, approach = trends.newtonian_approach(groups, by_size, model=a.model, observable=a.observable,
+                                                    p_min=a.plateau_p)
         print()
         _print_table(local)
         print("\n".join(trends.approach_statements(approach)))
@@ -239,7 +240,8 @@ def _compare_collapses(a):
 def _divergence_command(a, power):
     _, groups = _averages(_flow_archive(a.archives), [a.observable])
     func = rheology.newtonian_divergence if power == 1 else rheology.bagnold_analysis
-    plateau, fit = func(groups, a.observable, phi_j=a.phi_j, correction=a.correction, N=a.N, model=a.model)
+    plateau, fit = func(groups, a.observable, phi_j=a.phi_j, correction=a.correction, N=a.N, model=a.model,
+                        p_min=a.plateau_p)
     _print_table(rheology.local_slopes(groups, a.observable))
     _print_table(plateau)
     print(", ".join(f"{k} = {v:.5g} +- {fit.errors[k]:.2g}" for k, v in fit.values.items())
@@ -322,6 +324,12 @@ def _common(p, observable=True, size_help="system size (default: the largest)"):
     p.add_argument("--model", help="only this model")
 
 
+def _plateau_option(p):
+    p.add_argument("--plateau-p", type=float, default=rheology.PLATEAU_P,
+                   help="level of the plateau test: the lowest rates whose O/rate^power agree with one constant at "
+                   f"this chi2 p-value or above form the plateau (default {rheology.PLATEAU_P:g}; larger: stricter)")
+
+
 def analyze_parser():
     ap = argparse.ArgumentParser(
         prog=prog_name("jamsim_analyze.py"),
@@ -387,14 +395,14 @@ def analyze_parser():
     p.add_argument("--rate-max", type=float, default=np.inf, help="window: only points with rate <= this")
     p.add_argument("--degree", type=int, default=3, help="degree of ln F(x) (default 3)")
     p.add_argument("--bootstrap", type=int, default=100, help="resamples of the bootstrap over seeds (0: none)")
-    p.add_argument("--phi-j", type=float, default=float(np.mean(trends.PUBLISHED["phi_J"])),
-                   help="phi_J of the local Newtonian exponents (default: the published 0.8434)")
+    _plateau_option(p)
     for name, func in (("newtonian", cmd_newtonian), ("bagnold", cmd_bagnold)):
         p = sub.add_parser(name, help=func.__doc__, description=func.__doc__ + " " + rheology.__doc__)
         _common(p, size_help="system size (default: the one with the most phi at their plateau)")
         p.add_argument("outdir", help="folder for the tables and figures (made if missing)")
         p.add_argument("--phi-j", type=float, help="phi_J (default: fitted)")
         p.add_argument("--correction", action="store_true", help="factor 1 + c (phi_J - phi)")
+        _plateau_option(p)
     p = sub.add_parser("jamming", help=cmd_jamming.__doc__, description=cmd_jamming.__doc__ + " " + jamming.__doc__)
     p.add_argument("archives", nargs="+", help="archives of RAND, COMPRESS, COOL, COOL_COMPRESS or SHEARED campaigns")
     p.add_argument("--correction", action="store_true", help="free shift exponent (1/nu + omega)")

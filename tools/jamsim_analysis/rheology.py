@@ -161,8 +161,8 @@ def plateau_values(groups, observable, power, phi_j=None, model=None, p_min=PLAT
     return pd.DataFrame(rows)
 
 
-def _divergence_of(groups, observable, power, phi_j, correction, N, model):
-    plateau = plateau_values(groups, observable, power, phi_j, model)
+def _divergence_of(groups, observable, power, phi_j, correction, N, model, p_min):
+    plateau = plateau_values(groups, observable, power, phi_j, model, p_min)
     sizes = sorted(plateau["N"].unique())
     if not sizes:
         raise AnalysisError("no flow curve with rate > 0")
@@ -176,15 +176,17 @@ def _divergence_of(groups, observable, power, phi_j, correction, N, model):
     return table, fit
 
 
-def newtonian_divergence(groups, observable="pressure", phi_j=None, correction=False, N=None, model=None):
+def newtonian_divergence(groups, observable="pressure", phi_j=None, correction=False, N=None, model=None,
+                         p_min=PLATEAU_P):
     """eta_O = O/rate extrapolated to rate -> 0 (Newtonian plateau) per phi below phi_J, and
     its divergence eta ~ (phi_J - phi)^-beta, at N (default: the size with the most phi at
     their plateau). Returns (plateau table, Divergence)."""
-    return _divergence_of(groups, observable, 1, phi_j, correction, N, model)
+    return _divergence_of(groups, observable, 1, phi_j, correction, N, model, p_min)
 
 
-def bagnold_analysis(groups, observable="pressure", phi_j=None, correction=True, N=None, model=None):
+def bagnold_analysis(groups, observable="pressure", phi_j=None, correction=True, N=None, model=None,
+                     p_min=PLATEAU_P):
     """B_O = O/rate^2 at the Bagnold plateau per phi below phi_J and its divergence
     B ~ (phi_J - phi)^-beta (1 + c (phi_J - phi)), at N (default: the size with the most phi
     at their plateau). Returns (plateau table, Divergence)."""
-    return _divergence_of(groups, observable, 2, phi_j, correction, N, model)
+    return _divergence_of(groups, observable, 2, phi_j, correction, N, model, p_min)

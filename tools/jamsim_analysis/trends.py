@@ -175,11 +175,11 @@ def size_trends(by_size, parameters=("phi_J", "q", "y", "beta")):
     return [fit_trend(k, x, fitted[k], fitted[f"{k}_error"], PUBLISHED[k]) for k in parameters]
 
 
-def newtonian_plateaus(groups, phi_j, N=None, model=None, observable="pressure"):
+def newtonian_plateaus(groups, phi_j, N=None, model=None, observable="pressure", p_min=rheology.PLATEAU_P):
     """The Newtonian plateaus eta (rheology.plateau_values) below phi_j at one N (default:
     the size with the most of them, the largest of those): DataFrame N, phi, value, error
-    sorted by phi."""
-    plateau = rheology.plateau_values(groups, observable, 1, phi_j, model)
+    sorted by phi. p_min: the plateau test's level (rheology.plateau_values)."""
+    plateau = rheology.plateau_values(groups, observable, 1, phi_j, model, p_min)
     used = plateau[plateau["left_out"] == ""]
     if used.empty:
         below = plateau[~plateau["left_out"].str.startswith("phi >= phi_J")]
@@ -223,14 +223,14 @@ def newtonian_trend(plateaus, phi_j):
                  PUBLISHED["beta"], first, last, float(np.sqrt(grad(u.max()) @ cov @ grad(u.max()))))
 
 
-def newtonian_approach(groups, by_size=None, N=None, model=None, observable="pressure"):
+def newtonian_approach(groups, by_size=None, N=None, model=None, observable="pressure", p_min=rheology.PLATEAU_P):
     """The local Newtonian exponents and their trend at the published phi_J's two ends and,
     when by_size (collapse_by_size) has a fit at the plateaus' N, at that N's own phi_J; the N
     is chosen (newtonian_plateaus) with the published lower end. Returns the local exponents
     of every phi_J in one DataFrame (column phi_J) and a list of (label, phi_J, Trend or None,
     the reason when None)."""
     lo, hi = PUBLISHED["phi_J"]
-    n = int(newtonian_plateaus(groups, lo, N, model, observable)["N"].iloc[0])
+    n = int(newtonian_plateaus(groups, lo, N, model, observable, p_min)["N"].iloc[0])
     choices = [("the published phi_J's lower end", lo), ("its upper end", hi)]
     if by_size is not None:
         own = by_size[(by_size["N"] == n) & (by_size["left_out"] == "")]
@@ -239,7 +239,7 @@ def newtonian_approach(groups, by_size=None, N=None, model=None, observable="pre
     tables, results = [], []
     for label, phi_j in choices:
         try:
-            plateaus = newtonian_plateaus(groups, phi_j, n, model, observable)
+            plateaus = newtonian_plateaus(groups, phi_j, n, model, observable, p_min)
             tables.append(effective_newtonian_exponents(plateaus, phi_j))
             results.append((label, phi_j, newtonian_trend(plateaus, phi_j), ""))
         except AnalysisError as e:

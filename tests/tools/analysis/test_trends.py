@@ -179,3 +179,24 @@ def test_sizes_refuses_a_model_not_in_the_data(tmp_path):
     path = three_size_archive(tmp_path)
     out = call(ANALYZE, "sizes", path, tmp_path / "s", "--model", "CD0", "--phi-min", "0.83", "--bootstrap", "0")
     assert out.returncode == 2 and "model CD0 has no flow curve here (models: RD0)" in out.stderr, out.stderr
+
+
+def test_a_stricter_plateau_test_drops_a_thinning_phi(tmp_path):
+    # phi = 0.83's two rates differ by 4% with 1% errors each: chi2 = 8 (1 dof), p = 0.005,
+    # a plateau at the default level 0.001, not at 0.05
+    groups = newtonian_groups(2.7, 0.0)
+    at = (groups["phi"] == 0.83) & (groups["rate"] == 4e-6)
+    groups.loc[at, "pressure"] *= 0.96
+    groups.loc[at, "pressure_error"] *= 0.96
+    assert 0.83 in set(trends.newtonian_plateaus(groups, 0.8434)["phi"])
+    assert 0.83 not in set(trends.newtonian_plateaus(groups, 0.8434, p_min=0.05)["phi"])
+    # the command passes its level on: a true plateau passes the default and fails a level
+    # that almost no constant meets
+    means = {(1024, phi, rate): rate * (0.8434 - phi) ** -2.7 for phi in (0.80, 0.81, 0.82, 0.825, 0.83)
+             for rate in (1e-6, 4e-6)}
+    path = write_flow_archive(tmp_path / "newton.h5", "RD0", means, np.random.default_rng(2), seeds=4, samples=100,
+                              noise=0.02)
+    default = call(ANALYZE, "newtonian", path, tmp_path / "n1", "--phi-j", "0.8434")
+    assert default.returncode == 0 and "beta = 2.7" in default.stdout, default.stdout + default.stderr
+    strict = call(ANALYZE, "newtonian", path, tmp_path / "n2", "--phi-j", "0.8434", "--plateau-p", "0.9999")
+    assert strict.returncode == 2 and "0 points below phi_J" in strict.stderr, strict.stdout + strict.stderr
