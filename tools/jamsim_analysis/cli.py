@@ -150,9 +150,7 @@ def cmd_sizes(a):
     by_size = trends.collapse_by_size(table, groups, a.observable, window, a.degree, a.bootstrap, a.model)
     _print_table(by_size)
     found = trends.size_trends(by_size)
-    last = f"N = {by_size.loc[by_size['left_out'] == '', 'N'].max()}"
-    for t in found:
-        print(trends.statement(t, "doubling of N", last))
+    print("\n".join(trends.size_statements(by_size, found)))
     local, approach = pd.DataFrame(), []
     try:
         local, approach = trends.newtonian_approach(groups, by_size, model=a.model, observable=a.observable,
@@ -324,6 +322,12 @@ def _common(p, observable=True, size_help="system size (default: the largest)"):
     p.add_argument("--model", help="only this model")
 
 
+def _window_options(p):
+    p.add_argument("--phi-min", type=float, default=-np.inf, help="only points with phi >= this")
+    p.add_argument("--phi-max", type=float, default=np.inf, help="only points with phi <= this")
+    p.add_argument("--rate-max", type=float, default=np.inf, help="only points with rate <= this")
+
+
 def _plateau_option(p):
     p.add_argument("--plateau-p", type=float, default=rheology.PLATEAU_P,
                    help="level of the plateau test: the lowest rates whose O/rate^power agree with one constant at "
@@ -373,9 +377,7 @@ def analyze_parser():
         p.add_argument("--degree", type=int, default=3, help="degree of ln F(x) (default 3)")
         if name == "collapse":
             p.add_argument("outdir", help="folder for the tables and figures (made if missing)")
-            p.add_argument("--phi-min", type=float, default=-np.inf, help="only points with phi >= this")
-            p.add_argument("--phi-max", type=float, default=np.inf, help="only points with phi <= this")
-            p.add_argument("--rate-max", type=float, default=np.inf, help="only points with rate <= this")
+            _window_options(p)
             p.add_argument("--auto-window", action="store_true",
                            help="choose the window from the data (the largest whose fit is acceptable)")
             p.add_argument("--correction", action="store_true", help="leading correction to scaling")
@@ -390,9 +392,7 @@ def analyze_parser():
                    help="the observable fitted (default pressure)")
     p.add_argument("--model", help="only this model (needed when the archives hold several)")
     p.add_argument("outdir", help="folder for the tables and the figure (made if missing)")
-    p.add_argument("--phi-min", type=float, default=-np.inf, help="window: only points with phi >= this")
-    p.add_argument("--phi-max", type=float, default=np.inf, help="window: only points with phi <= this")
-    p.add_argument("--rate-max", type=float, default=np.inf, help="window: only points with rate <= this")
+    _window_options(p)
     p.add_argument("--degree", type=int, default=3, help="degree of ln F(x) (default 3)")
     p.add_argument("--bootstrap", type=int, default=100, help="resamples of the bootstrap over seeds (0: none)")
     _plateau_option(p)

@@ -5,6 +5,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from .trends import PUBLISHED  # noqa: E402
+
 LABELS = {"pressure": "p", "shear_stress": r"\sigma"}
 
 
@@ -357,7 +359,7 @@ def trends_figure(by_size, trends, local, path):
         ax.set_xlabel("N")
     if len(local):
         ax = axes[-1]
-        _published(ax, trends[-1].published if trends and trends[-1].parameter == "beta" else (2.6, 2.8))
+        _published(ax, PUBLISHED["beta"])
         for k, (phi_j, part) in enumerate(local.groupby("phi_J", sort=False)):
             ax.errorbar(part["distance"] * (1 + 0.02 * k), part["beta_eff"], part["beta_eff_error"], marker="o",
                         capsize=2, label=f"$\\phi_J$ = {phi_j:.4f}")

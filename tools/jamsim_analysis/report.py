@@ -10,8 +10,8 @@ to every point, marked when its chi2 rejects it; the Newtonian divergence (overd
 models) or the Bagnold analysis (massive models), at the size with the most phi at their
 plateau; the joint collapse of RD0 and CD0 when both are present; for harmonic RD0 and CD0
 with two or more sizes, the collapse's window fitted at each N and whether the values move
-toward the published ones as N grows, and the local Newtonian exponents toward phi_J; g_y(x) and its minimum; a picture of a final configuration; with
-configuration frames ([run] frame_interval), psi6 over strain and an animation.
+toward the published ones as N grows, and the local Newtonian exponents toward phi_J;
+g_y(x) and its minimum; a picture of a final configuration; with configuration frames ([run] frame_interval), psi6 over strain and an animation.
 Static (RAND, COOL, COMPRESS, COOL_COMPRESS, SHEARED): P_J(phi, N), thresholds per N,
 finite-size scaling with >= 3 sizes, pressure distributions, a picture of a jammed state.
 QS: averages per (N, phi) and a picture.
@@ -225,7 +225,6 @@ def _size_trends(rep, table, groups, model, opts):
     by_size = trends.collapse_by_size(table, groups, "pressure", window, opts.degree, opts.n_boot, model,
                                       0 if opts.correction else -1)
     found = trends.size_trends(by_size)
-    last = f"N = {by_size.loc[by_size['left_out'] == '', 'N'].max()}"
     d = rep.doc
     d.heading(f"Fitted values by system size: {model}")
     shown = "every point" if not np.isfinite(window).any() else (
@@ -236,7 +235,7 @@ def _size_trends(rep, table, groups, model, opts):
                 "and judged by the line's ends against Paper II's values (N = 65536, harmonic RD0). Finite size "
                 "predicts that they move toward the published ones.")
     d.table(by_size)
-    d.paragraph(" ".join(trends.statement(t, "doubling of N", last) + "." for t in found))
+    d.paragraph(" ".join(s + "." for s in trends.size_statements(by_size, found)))
     local = pd.DataFrame()
     try:
         local, approach = trends.newtonian_approach(groups, by_size, opts.N, model)

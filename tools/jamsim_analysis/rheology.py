@@ -161,14 +161,20 @@ def plateau_values(groups, observable, power, phi_j=None, model=None, p_min=PLAT
     return pd.DataFrame(rows)
 
 
+def size_with_most_plateaus(plateau):
+    """The N of plateau_values' table with the most phi at their plateau (the largest of
+    those); None when no phi has one."""
+    used = plateau[plateau["left_out"] == ""].groupby("N")["phi"].count()
+    return max(used.index[used == used.max()]) if len(used) else None
+
+
 def _divergence_of(groups, observable, power, phi_j, correction, N, model, p_min):
     plateau = plateau_values(groups, observable, power, phi_j, model, p_min)
     sizes = sorted(plateau["N"].unique())
     if not sizes:
         raise AnalysisError("no flow curve with rate > 0")
-    if N is None:  # the size with the most phi at their plateau (the largest of those)
-        used = plateau[plateau["left_out"] == ""].groupby("N")["phi"].count()
-        N = max(used.index[used == used.max()]) if len(used) else sizes[-1]
+    if N is None:
+        N = size_with_most_plateaus(plateau) or sizes[-1]
     table = plateau[plateau["N"] == N]
     used = table[table["left_out"] == ""]
     fit = fit_divergence(used["phi"], used["value"], used["error"], phi_j, correction,

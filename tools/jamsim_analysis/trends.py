@@ -115,6 +115,12 @@ def statement(trend, per, last_label):
             f"per {per} ({trend.z:+.1f} errors); at {last_label} {trend.last:.4g} +- {trend.last_error:.2g}, {where}")
 
 
+def size_statements(by_size, found):
+    """statement() of each trend of size_trends, per doubling of N, at the largest N fitted."""
+    last = f"N = {by_size.loc[by_size['left_out'] == '', 'N'].max()}"
+    return [statement(t, "doubling of N", last) for t in found]
+
+
 def collapse_by_size(table, groups, observable, window, degree=3, n_boot=0, model=None, correction_degree=-1):
     """The collapse in one window (phi_min, phi_max, rate_max) fitted at every N of `model`
     (which may be None only when the groups hold one model): DataFrame N, points,
@@ -188,8 +194,7 @@ def newtonian_plateaus(groups, phi_j, N=None, model=None, observable="pressure",
                             f"at its lowest rates (e.g. N = {int(example['N'])}, phi = {example['phi']:g}: "
                             f"{example['left_out']})")
     if N is None:
-        counts = used.groupby("N")["phi"].count()
-        N = max(counts.index[counts == counts.max()])
+        N = rheology.size_with_most_plateaus(plateau)
     return used[used["N"] == N].sort_values("phi")[["N", "phi", "value", "error"]].reset_index(drop=True)
 
 
