@@ -208,10 +208,10 @@ struct SweepColumns {
     }
 };
 
-/// A column of the second group with rows in the top (split_tree): its first such entry and
-/// the first in the top's second half (split_step's tails).
+/// A column of the second group with rows in the top (split_tree): its entries in the top's
+/// rows, [first, end) (split_step's tails).
 struct SplitTail {
-    int column, first, second_half;
+    int column, first, end;
 };
 
 }  // namespace factor_kernels

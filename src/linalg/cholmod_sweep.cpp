@@ -336,24 +336,13 @@ void CholmodUpdatedFactor::Impl::choose_split() {
 
 void CholmodUpdatedFactor::Impl::find_split_tails() {
     // Group 1's columns with entries in the top's rows (near the top of its subtrees): where
-    // those entries begin, and where those in the top's second half (by entries) begin.
+    // those entries begin.
     const auto [Lp, Li, Lnz, Lx] = columns_of(*L);
-    const auto un = static_cast<std::size_t>(n);
-    std::vector<long> per_row(un - static_cast<std::size_t>(split_top), 0);
-    long entries = 0;
     for (int j = split_mid; j < split_top; ++j) {
         const int begin = Lp[j] + 1, end = Lp[j] + Lnz[j];
         const int first = static_cast<int>(std::lower_bound(Li + begin, Li + end, split_top) - Li);
-        if (first == end) continue;
-        split_tails.push_back({j, first, end});
-        for (int p = first; p < end; ++p) ++per_row[static_cast<std::size_t>(Li[p] - split_top)];
-        entries += end - first;
+        if (first < end) split_tails.push_back({j, first, end});
     }
-    int half_row = split_top;
-    for (long seen = 0; half_row < n && 2 * seen < entries; ++half_row)
-        seen += per_row[static_cast<std::size_t>(half_row - split_top)];
-    for (factor_kernels::SplitTail& tail : split_tails)
-        tail.second_half = static_cast<int>(std::lower_bound(Li + tail.first, Li + tail.second_half, half_row) - Li);
 }
 
 }  // namespace jamsim::linalg

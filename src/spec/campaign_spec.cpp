@@ -147,8 +147,10 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
     expand_sweep(r, *sweep, base, max_replicas, spec);
     for (const auto& [info, shown] : given) {
         if (!follows_rate(*info)) continue;
+        // (the key named, not the binding: Clang before 16 cannot capture a structured binding)
+        const auto key = info->key;
         const bool used = std::any_of(spec.replicas.begin(), spec.replicas.end(),
-                                      [&](const ReplicaParams& p) { return uses_parameter(p, info->key); });
+                                      [&](const ReplicaParams& p) { return uses_parameter(p, key); });
         if (used) continue;
         if (info->key == "time")
             r.fail(location(*info), shown,

@@ -23,12 +23,16 @@
 #include <benchmark/benchmark.h>
 #include <petscsys.h>
 
+#include <omp.h>
+
 #include <cstdlib>
+#include <cstring>
 #include <ctime>
 #include <filesystem>
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "jamsim/dynamics/cd0.hpp"
 #include "jamsim/dynamics/rd0.hpp"
@@ -211,6 +215,43 @@ void BM_Rd0Step(benchmark::State& state) {
     for (auto _ : state) step(model, sys, ff, p);
     state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * p.n);
 }
+/// The memory bandwidth a pass over L could have: a streaming read (sum) of 512 MiB on T
+/// threads (bytes_per_second). The factor's passes read L (22 MB at N = 65536) at about a
+/// third to a half of this on one thread (tests/README, "CD0 on threads").
+void BM_ReadBandwidth(benchmark::State& state) {
+    using Four = double __attribute__((vector_size(32)));
+    const std::size_t n = std::size_t{64} << 20;  // doubles
+    static std::vector<double> data(n, 1.0);
+    const int threads = static_cast<int>(state.range(0));
+    double total = 0;
+    for (auto _ : state) {
+        double sum = 0;
+#pragma omp parallel num_threads(threads) reduction(+ : sum)
+        {
+            const std::size_t team = static_cast<std::size_t>(omp_get_num_threads());
+            const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
+            const std::size_t from = n * t / team / 16 * 16, to = t + 1 == team ? n : n * (t + 1) / team / 16 * 16;
+            Four s0{}, s1{}, s2{}, s3{};
+            for (std::size_t i = from; i < to; i += 16) {
+                Four a, b, c, d;
+                std::memcpy(&a, &data[i], sizeof a);
+                std::memcpy(&b, &data[i + 4], sizeof b);
+                std::memcpy(&c, &data[i + 8], sizeof c);
+                std::memcpy(&d, &data[i + 12], sizeof d);
+                s0 += a;
+                s1 += b;
+                s2 += c;
+                s3 += d;
+            }
+            const Four s = (s0 + s1) + (s2 + s3);
+            sum += (s[0] + s[1]) + (s[2] + s[3]);
+        }
+        total += sum;
+    }
+    benchmark::DoNotOptimize(total);
+    state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) *
+                            static_cast<std::int64_t>(n * sizeof(double)));
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -261,6 +302,12 @@ int main(int argc, char** argv) {
                 ->Iterations(steps(n))
                 ->UseRealTime()
                 ->Unit(benchmark::kMicrosecond);
+    for (long t : {1L, 2L, 4L, 8L, 16L})
+        benchmark::RegisterBenchmark("BM_ReadBandwidth", BM_ReadBandwidth)
+            ->ArgNames({"threads"})
+            ->Arg(t)
+            ->UseRealTime()
+            ->Unit(benchmark::kMillisecond);
     benchmark::Initialize(&argc, argv);
     // Remaining arguments are PETSc options (-cd0_ksp_type, -cd0_pc_type, -cd0_ksp_rtol, ...).
     PetscInitialize(&argc, &argv, nullptr, nullptr);
