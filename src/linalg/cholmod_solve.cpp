@@ -286,8 +286,9 @@ void CholmodUpdatedFactor::Impl::split_step(const Pass* last, std::span<const st
     //    sweeps the top), then the top's, each in column order, as in one ascending pass;
     //  - backward: the top first, then both groups side by side, reading the top's rows.
     // Thread 1 also sweeps the top (after both groups' sweeps) and takes the top's passes.
-    // (Thread 0 takes all of the tails: split by rows between the threads, as before, the
-    // step took 4% longer at N = 65536, 7% at 16384; thread 1 has the top's sweep meanwhile.)
+    // (Thread 0 takes all of the tails, as thread 1 has the top's sweep meanwhile: with the
+    // tails split by rows between the threads, this step took 4% longer at N = 65536, 7% at
+    // 16384.)
     // Every entry gets the same operations in the same order as on one thread: the same bits.
     const int mid = split_mid, top = split_top;
     xy.resize(2 * static_cast<std::size_t>(n));

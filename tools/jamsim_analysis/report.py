@@ -11,7 +11,8 @@ models) or the Bagnold analysis (massive models), at the size with the most phi 
 plateau; the joint collapse of RD0 and CD0 when both are present; for harmonic RD0 and CD0
 with two or more sizes, the collapse's window fitted at each N and whether the values move
 toward the published ones as N grows, and the local Newtonian exponents toward phi_J;
-g_y(x) and its minimum; a picture of a final configuration; with configuration frames ([run] frame_interval), psi6 over strain and an animation.
+g_y(x) and its minimum; a picture of a final configuration; with configuration frames
+([run] frame_interval), psi6 over strain and an animation.
 Static (RAND, COOL, COMPRESS, COOL_COMPRESS, SHEARED): P_J(phi, N), thresholds per N,
 finite-size scaling with >= 3 sizes, pressure distributions, a picture of a jammed state.
 QS: averages per (N, phi) and a picture.
