@@ -1,5 +1,7 @@
 #include "cholmod_factor_impl.hpp"
 
+#include <omp.h>
+
 namespace jamsim::linalg {
 
 using factor_kernels::ScopeTimer;
@@ -234,22 +236,66 @@ void CholmodUpdatedFactor::factorize(std::span<const ContactPair> pairs, std::sp
     m.fresh_fill = m.fill();
 }
 
+std::size_t CholmodUpdatedFactor::Impl::gather_range(std::span<const ContactPair> pairs,
+                                                     std::span<const std::uint8_t> in_contact, std::size_t from,
+                                                     std::size_t stores_end, std::size_t to, std::size_t at,
+                                                     std::vector<std::size_t>& formed_to,
+                                                     std::vector<std::size_t>& broken_to) {
+    ContactPair* const out = contacts.data() + at;
+    std::size_t touching = 0;
+    // Changes are rare, so their branch predicts well.
+    auto take_change = [&](std::size_t k) {
+        if (in_contact[k] == factored[k]) return;
+        (in_contact[k] ? formed_to : broken_to).push_back(k);
+        factored[k] = in_contact[k];
+    };
+    for (std::size_t k = from; k < stores_end; ++k) {
+        out[touching] = pairs[k];
+        touching += in_contact[k] != 0;
+        take_change(k);
+    }
+    for (std::size_t k = stores_end; k < to; ++k) {
+        if (in_contact[k]) out[touching++] = pairs[k];
+        take_change(k);
+    }
+    return touching;
+}
+
 std::pair<int, std::size_t> CholmodUpdatedFactor::Impl::gather_changes(std::span<const ContactPair> pairs,
                                                                        std::span<const std::uint8_t> in_contact) {
     formed.clear();
     broken.clear();
-    // The contacts gathered without a branch on the (unpredictable) contact flag; changes
-    // are rare, so their branch predicts well.
-    if (contacts.size() < pairs.size()) contacts.resize(pairs.size());
-    std::size_t touching = 0;
-    for (std::size_t k = 0; k < pairs.size(); ++k) {
-        contacts[touching] = pairs[k];
-        touching += in_contact[k] != 0;
-        if (in_contact[k] == factored[k]) continue;
-        (in_contact[k] ? formed : broken).push_back(k);
-        factored[k] = in_contact[k];
+    const std::size_t size = pairs.size();
+    if (contacts.size() < size) contacts.resize(size);
+    if (!two_threads(n) || size < kThreadedLoopMin) {
+        n_contacts = gather_range(pairs, in_contact, 0, size, size, 0, formed, broken);
+    } else {
+        // Two threads, a half of the pairs each: the second's contacts go after the first's,
+        // whose count it takes itself (a count of flags, far cheaper than the pass), and its
+        // changes after the first's, so the lists are those of one pass. The first thread's
+        // stores without a branch end at its last contact: one past it would land on the
+        // second thread's first.
+        const std::size_t half = size / 2;
+        std::size_t last_touching = half;
+        while (last_touching > 0 && !in_contact[last_touching - 1]) --last_touching;
+        formed_second.clear();
+        broken_second.clear();
+        std::size_t touching[2] = {0, 0};
+#pragma omp parallel num_threads(2)
+        {
+            const int thread = omp_get_thread_num();
+            const bool alone = omp_get_num_threads() == 1;  // a team of one takes both halves
+            if (thread == 0) touching[0] = gather_range(pairs, in_contact, 0, last_touching, half, 0, formed, broken);
+            if (thread == 1 || alone) {
+                std::size_t before = 0;
+                for (std::size_t k = 0; k < half; ++k) before += in_contact[k] != 0;
+                touching[1] = gather_range(pairs, in_contact, half, size, size, before, formed_second, broken_second);
+            }
+        }
+        formed.insert(formed.end(), formed_second.begin(), formed_second.end());
+        broken.insert(broken.end(), broken_second.begin(), broken_second.end());
+        n_contacts = touching[0] + touching[1];
     }
-    n_contacts = touching;
     // Changes whose pattern L holds go through `sweep`, updates first (the factor stays well
     // away from singular), in one pass; contacts formed outside the pattern (possible after
     // `adopt`) make fill, which CHOLMOD's update allocates.

@@ -289,6 +289,7 @@ struct CholmodUpdatedFactor::Impl {
     std::vector<ContactPair> contacts;
     std::size_t n_contacts = 0;
     std::vector<std::size_t> formed, broken, outside;
+    std::vector<std::size_t> formed_second, broken_second;  // gather_changes' second thread's
     std::vector<std::pair<int, int>> sweep_rows;
 
     void fail(const char* what) const {
@@ -358,6 +359,14 @@ struct CholmodUpdatedFactor::Impl {
     /// sweep_rows).
     std::pair<int, std::size_t> gather_changes(std::span<const ContactPair> pairs,
                                                std::span<const std::uint8_t> in_contact);
+    /// gather_changes' pass over pairs [from, to): their contacts stored from contacts[at] on,
+    /// their changes since `factored` appended to `formed_to` and `broken_to` (ascending) and
+    /// taken into `factored`. Pairs before `stores_end` store their slot without a branch on
+    /// the (unpredictable) contact flag, a pair not touching into the place the next contact
+    /// takes; those after it only where they touch. Returns how many touch.
+    std::size_t gather_range(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact,
+                             std::size_t from, std::size_t stores_end, std::size_t to, std::size_t at,
+                             std::vector<std::size_t>& formed_to, std::vector<std::size_t>& broken_to);
 
     /// Column j's pivot (at workspace place `slot`) through its changes in turn, the changes
     /// passed on to its parent, and the coefficients of the changes (those whose w is not

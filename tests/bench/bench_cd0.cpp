@@ -206,6 +206,53 @@ void BM_Cd0Threads(benchmark::State& state) {
     set_kernel_threads(before);
 }
 
+/// Steps of BM_Cd0ThreadsInterleaved: several cycles of the factor's life (a fresh analysis,
+/// then fill from contacts that form outside its pattern until the next), where BM_Cd0Threads'
+/// 500 steps see a fresh factor only (tests/README, "CD0 over long runs").
+constexpr long kLongRun = 4000;
+
+/// CD0 over a long run on one thread and on T, in one process: the steps alternate between
+/// one thread and T (the same bits on any count, so the replica runs as it would on either),
+/// each count's steps timed apart. Runs on a busy or shared machine swing by tens of percent
+/// between processes; alternating step by step exposes both counts to the same load, and both
+/// to every stage of the factor's life alike. (A step after a change of count finds its data
+/// in the other core's cache, on both sides alike.) Counters: speedup (one thread's time per
+/// step over T threads'), cd0_us and cd0_1_us (per step on T threads and on one), cd0_over_rd0
+/// on T threads (RD0 timed before and after, on T threads).
+void BM_Cd0ThreadsInterleaved(benchmark::State& state) {
+    const int before = kernel_threads();
+    ReplicaParams p = bench_params(state);
+    p.phi = 0.84;
+    System sys = sheared_start(p);
+    const int threads = static_cast<int>(state.range(1));
+    set_kernel_threads(threads);
+    ForceField ff(potential::make_soft_sphere(2.0), p.skin);
+    const double rd0_before = rd0_step_wall_seconds(sys, p);
+    Cd0 model(p);
+    step(model, sys, ff, p);     // the first factorisation is not a step's cost
+    double seconds[2] = {0, 0};  // [0]: one thread, [1]: T threads
+    long counted[2] = {0, 0};
+    long k = 0;
+    for (auto _ : state) {
+        const int which = static_cast<int>(k++ % 2);
+        set_kernel_threads(which == 0 ? 1 : threads);
+        const double t0 = wall_seconds();
+        step(model, sys, ff, p);
+        seconds[which] += wall_seconds() - t0;
+        ++counted[which];
+    }
+    set_kernel_threads(threads);
+    const double one = seconds[0] / static_cast<double>(counted[0]);
+    const double many = seconds[1] / static_cast<double>(counted[1]);
+    const double rd0 = 0.5 * (rd0_before + rd0_step_wall_seconds(sys, p));
+    state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * p.n);
+    state.counters["speedup"] = one / many;
+    state.counters["cd0_us"] = many * 1e6;
+    state.counters["cd0_1_us"] = one * 1e6;
+    state.counters["cd0_over_rd0"] = many / rd0;
+    set_kernel_threads(before);
+}
+
 void BM_Rd0Step(benchmark::State& state) {
     const ReplicaParams p = bench_params(state);
     System sys = sheared_start(p);
@@ -300,6 +347,14 @@ int main(int argc, char** argv) {
                 ->ArgNames({"N", "threads"})
                 ->Args({n, t})
                 ->Iterations(steps(n))
+                ->UseRealTime()
+                ->Unit(benchmark::kMicrosecond);
+    for (long n : {16384L, 65536L})
+        for (long t : {2L, 4L, 8L, 16L})
+            benchmark::RegisterBenchmark("BM_Cd0ThreadsInterleaved", BM_Cd0ThreadsInterleaved)
+                ->ArgNames({"N", "threads"})
+                ->Args({n, t})
+                ->Iterations(kLongRun)
                 ->UseRealTime()
                 ->Unit(benchmark::kMicrosecond);
     for (long t : {1L, 2L, 4L, 8L, 16L})
