@@ -80,9 +80,9 @@ class CholmodUpdatedFactor {
     /// (downdates keep their entries, and the order ages as the disks move apart). Low: a
     /// contact that forms across a separator of the old order fills its whole path, and the
     /// steps' cost grows faster than the entries (N = 65536, φ = 0.84: 8 → 15 ms a step on one
-    /// thread as the fill reaches 1.4). With 1.02 a long run's CD0 step costs about 30% less on
-    /// one thread and 45% on two than with 1.3, the fresh analyses (0.45 s each) included
-    /// (tests/README, "CD0 over long runs").
+    /// thread as the fill reaches 1.4). With 1.02 a 4000-step run's CD0 step cost 8–30% less on
+    /// one thread and 36–43% less on two than with 1.3, the fresh analyses (0.45 s each, every
+    /// 500–700 steps) included (tests/README, "CD0 over long runs").
     static constexpr double kFillGrowth = 1.02;
     /// What `follow` did since construction: changes applied by the in-place sweep, contacts
     /// formed outside L's pattern (CHOLMOD's update, which allocates their fill), and fresh

@@ -218,7 +218,8 @@ constexpr long kLongRun = 4000;
 /// to every stage of the factor's life alike. (A step after a change of count finds its data
 /// in the other core's cache, on both sides alike.) Counters: speedup (one thread's time per
 /// step over T threads'), cd0_us and cd0_1_us (per step on T threads and on one), cd0_over_rd0
-/// on T threads (RD0 timed before and after, on T threads).
+/// on T threads (RD0 timed before and after, on T threads), fresh_factors_per_1000 (steps
+/// whose solve factorised afresh: a new ordering and analysis, or a failed downdate).
 void BM_Cd0ThreadsInterleaved(benchmark::State& state) {
     const int before = kernel_threads();
     ReplicaParams p = bench_params(state);
@@ -232,7 +233,7 @@ void BM_Cd0ThreadsInterleaved(benchmark::State& state) {
     step(model, sys, ff, p);     // the first factorisation is not a step's cost
     double seconds[2] = {0, 0};  // [0]: one thread, [1]: T threads
     long counted[2] = {0, 0};
-    long k = 0;
+    long k = 0, fresh = 0;
     for (auto _ : state) {
         const int which = static_cast<int>(k++ % 2);
         set_kernel_threads(which == 0 ? 1 : threads);
@@ -240,6 +241,7 @@ void BM_Cd0ThreadsInterleaved(benchmark::State& state) {
         step(model, sys, ff, p);
         seconds[which] += wall_seconds() - t0;
         ++counted[which];
+        fresh += model.last_solve().refactored ? 1 : 0;
     }
     set_kernel_threads(threads);
     const double one = seconds[0] / static_cast<double>(counted[0]);
@@ -250,6 +252,7 @@ void BM_Cd0ThreadsInterleaved(benchmark::State& state) {
     state.counters["cd0_us"] = many * 1e6;
     state.counters["cd0_1_us"] = one * 1e6;
     state.counters["cd0_over_rd0"] = many / rd0;
+    state.counters["fresh_factors_per_1000"] = 1000.0 * static_cast<double>(fresh) / static_cast<double>(k);
     set_kernel_threads(before);
 }
 
