@@ -126,8 +126,8 @@ void CholmodUpdatedFactor::analyse(std::span<const ContactPair> pairs) {
                 m.pair_slot[static_cast<std::size_t>(col[t].second - 1)] = s;
         }
     }
-    m.etree.clear();                  // a new L: its tree and split afresh
-    m.split_mid = m.split_top = m.n;  // and no split kept (find_etree)
+    m.etree.clear();                                            // a new L: its tree and split afresh
+    m.split_mid = m.split_top = m.kept_mid = m.kept_top = m.n;  // and no split kept (find_etree)
     m.L = cholmod_analyze(m.A, &m.c);
     if (!m.L) m.fail("cholmod_analyze");
     const auto* perm = static_cast<const int*>(m.L->Perm);
@@ -216,6 +216,7 @@ bool CholmodUpdatedFactor::adopt(std::span<const ContactPair> pairs, std::span<c
 void CholmodUpdatedFactor::factorize(std::span<const ContactPair> pairs, std::span<const std::uint8_t> in_contact) {
     Impl& m = *impl_;
     const ScopeTimer timer(m.counts.upkeep_seconds, m.timing);
+    const auto start = std::chrono::steady_clock::now();
     if (!m.analysis_current) analyse(pairs);
     auto* v = static_cast<double*>(m.A->x);
     for (const int s : m.diag_slot) v[s] = m.delta;
@@ -228,12 +229,13 @@ void CholmodUpdatedFactor::factorize(std::span<const ContactPair> pairs, std::sp
         v[m.diag_slot[static_cast<std::size_t>(pairs[k].j)]] += w;
     }
     m.n_contacts = m.contacts.size();
-    m.etree.clear();                  // the pattern may change, and a failure leaves none to split
-    m.split_mid = m.split_top = m.n;  // and no split kept (find_etree)
+    m.etree.clear();  // the pattern may change, and a failure leaves none to split
+    m.split_mid = m.split_top = m.kept_mid = m.kept_top = m.n;  // and no split kept (find_etree)
     if (!cholmod_factorize(m.A, m.L, &m.c) || m.c.status != CHOLMOD_OK) m.fail("cholmod_factorize");
     m.factored.assign(in_contact.begin(), in_contact.end());
     m.have_factor = true;
     m.fresh_fill = m.fill();
+    m.counts.fresh_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 std::size_t CholmodUpdatedFactor::Impl::gather_range(std::span<const ContactPair> pairs,
@@ -281,6 +283,7 @@ std::pair<int, std::size_t> CholmodUpdatedFactor::Impl::gather_changes(std::span
         formed_second.clear();
         broken_second.clear();
         std::size_t touching[2] = {0, 0};
+        const TimedRegion timed;
 #pragma omp parallel num_threads(2)
         {
             const int thread = omp_get_thread_num();

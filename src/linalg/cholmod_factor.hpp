@@ -94,9 +94,11 @@ class CholmodUpdatedFactor {
     /// on whole blocks of rows, the part that `Vectors` selects.
     /// `split_solves`: solves on two threads (split along the tree, or x and y side by side);
     /// `split_steps`: follow_and_solve calls whose sweep and solve ran split along the tree.
+    /// `fresh_seconds`: the part of the upkeep spent in `factorize` (a numeric factor from
+    /// scratch, with the ordering and analysis when the candidate list is new).
     struct Counts {
         long swept = 0, filled = 0, refactored = 0, block_updates = 0, split_solves = 0, split_steps = 0;
-        double upkeep_seconds = 0, solve_seconds = 0;
+        double upkeep_seconds = 0, solve_seconds = 0, fresh_seconds = 0;
     };
     Counts counts() const;
     /// The contacts of the last `factorize` or `follow` (residual check, matrix products).
@@ -118,6 +120,7 @@ template <class Run> SolveInfo with_factor_timings(const CholmodUpdatedFactor* f
         const auto after = factor->counts();
         info.factor_upkeep_seconds = after.upkeep_seconds - before.upkeep_seconds;
         info.factor_solve_seconds = after.solve_seconds - before.solve_seconds;
+        info.factor_fresh_seconds = after.fresh_seconds - before.fresh_seconds;
     }
     return info;
 }

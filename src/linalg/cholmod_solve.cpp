@@ -203,6 +203,7 @@ void CholmodUpdatedFactor::solve(const double* b_x, const double* b_y, double* u
         double* const yx = m.xy.data();
         double* const yy = yx + n;
         ++m.counts.split_solves;
+        const TimedRegion timed;
 #pragma omp parallel sections num_threads(2)
         {
 #pragma omp section
@@ -302,6 +303,7 @@ void CholmodUpdatedFactor::Impl::split_step(const Pass* last, std::span<const st
     };
     double alpha_second[kSweepRank];  // thread 1's α: its own copy (the threads would share cache lines)
     if (last) std::copy(alpha, alpha + last->rank, alpha_second);
+    const TimedRegion timed;
 #pragma omp parallel num_threads(2)
     {
         const int thread = omp_get_thread_num();

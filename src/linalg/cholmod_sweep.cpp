@@ -34,7 +34,7 @@ template <int Second>
     for (std::uint64_t active = here; active; active &= active - 1) {
         const int t = __builtin_ctzll(active);
         double* wt = w.data() + static_cast<std::size_t>(t) * slots;
-        const double p = wt[slot];
+        const double p = std::exchange(wt[slot], 0.0);  // read for the last time: zero again (plan_pass)
         if (p == 0.0) continue;
         const double d = Lx[begin];
         const double dbar = d + alpha[t] * p * p;
@@ -88,7 +88,11 @@ CholmodUpdatedFactor::Impl::Pass CholmodUpdatedFactor::Impl::plan_pass(std::span
     // keep consecutive slots.
     const std::size_t slots = path_union.size();
     for (std::size_t k = 0; k < slots; ++k) slot_of[static_cast<std::size_t>(path_union[k])] = static_cast<int>(k);
-    w.assign(static_cast<std::size_t>(rank) * slots, 0.0);
+    // The workspace is all zeros between passes: a change's column has nonzeros only in the
+    // rows of its path, and each column of the path zeroes its row as it takes its pivot
+    // (column_pivots), so a pass leaves it as it found it. Zeroing it here was a serial
+    // stretch of 0.1 ms per step at N = 65536 (2 MB).
+    if (const std::size_t need = static_cast<std::size_t>(rank) * slots; w.size() < need) w.resize(need, 0.0);
     for (int t = 0; t < rank; ++t) {
         const auto [a, b] = rows[start + static_cast<std::size_t>(t)];
         double* wt = w.data() + static_cast<std::size_t>(t) * slots;
@@ -126,6 +130,7 @@ void CholmodUpdatedFactor::Impl::run_pass(const Pass& pass, std::span<const std:
     // threads would otherwise write the same cache lines column after column).
     double alpha_second[kSweepRank];
     std::copy(alpha, alpha + pass.rank, alpha_second);
+    const TimedRegion timed;
 #pragma omp parallel num_threads(2)
     {
         const int thread = omp_get_thread_num();
@@ -221,10 +226,14 @@ void CholmodUpdatedFactor::Impl::find_etree() {
         nests_next[static_cast<std::size_t>(j)] = std::equal(Li + Lp[j] + 2, Li + Lp[j] + 1 + len, Li + Lp[j + 1] + 1);
     }
     // The split for two threads: checked again with the tree (find_etree_if_stale); kept when
-    // it still holds (fill changes a few columns' parents), its tails found afresh.
+    // it still holds (fill changes a few columns' parents), its tails found afresh. Steps on
+    // one thread check no split, so one kept from before them stays kept.
     split_computed = false;
-    kept_mid = std::exchange(split_mid, n);
-    kept_top = std::exchange(split_top, n);
+    if (is_split(split_mid, split_top)) {
+        kept_mid = split_mid;
+        kept_top = split_top;
+    }
+    split_mid = split_top = n;
     split_tails.clear();
 }
 
@@ -242,22 +251,36 @@ void CholmodUpdatedFactor::Impl::split_tree() {
     if (holds) {
         split_mid = kept_mid;
         split_top = kept_top;
+    } else if (is_split(kept_mid, kept_top)) {
+        // Fill joined a subtree of one group to the other: the top still holds every ancestor
+        // of the columns below it, so only the groups are chosen again (choosing the top too
+        // cost 9 ms at N = 65536, some 40 times in 4000 steps); afresh if no boundary halves them.
+        split_groups(kept_top, sweep_shares());
+        if (!is_split(split_mid, split_top)) choose_split();
     } else {
         choose_split();
     }
     if (is_split(split_mid, split_top)) find_split_tails();
 }
 
-void CholmodUpdatedFactor::Impl::choose_split() {
+std::vector<double> CholmodUpdatedFactor::Impl::sweep_shares() const {
+    // A column's share of a sweep: its entries times the columns below it (a change starts
+    // at any of them alike).
     const auto* Lnz = static_cast<const int*>(L->nz);
     const auto un = static_cast<std::size_t>(n);
-    split_mid = split_top = n;  // no split: every column in the first group's place (see group_of)
-    // A column's share of a sweep: its entries times the columns below it (a change starts
-    // at any of them alike); a subtree's, the sum over its columns.
-    std::vector<double> below(un, 1.0), own(un), subtree(un);
+    std::vector<double> below(un, 1.0);
     for (std::size_t j = 0; j < un; ++j)
         if (const int up = etree[j]; up >= 0) below[static_cast<std::size_t>(up)] += below[j];
-    for (std::size_t j = 0; j < un; ++j) subtree[j] = own[j] = Lnz[j] * below[j];
+    for (std::size_t j = 0; j < un; ++j) below[j] *= Lnz[j];
+    return below;
+}
+
+void CholmodUpdatedFactor::Impl::choose_split() {
+    const auto un = static_cast<std::size_t>(n);
+    split_mid = split_top = n;  // no split: every column in the first group's place (see group_of)
+    // A column's share of a sweep (sweep_shares); a subtree's, the sum over its columns.
+    const std::vector<double> own = sweep_shares();
+    std::vector<double> subtree(own);
     for (std::size_t j = 0; j < un; ++j)
         if (const int up = etree[j]; up >= 0) subtree[static_cast<std::size_t>(up)] += subtree[j];
     std::vector<int> first_child(un + 1, 0), children(un);
@@ -299,9 +322,16 @@ void CholmodUpdatedFactor::Impl::choose_split() {
     }
     if (top_from == n) return;
     // The top as the columns from the lowest cut column on (postordered: above every
-    // subtree below the cut); the groups as the columns below it, split where no column's
-    // parent crosses (postordered: between two subtrees), halving the work (sweep and
-    // passes over L, each as a share of its whole).
+    // subtree below the cut).
+    split_groups(top_from, own);
+}
+
+void CholmodUpdatedFactor::Impl::split_groups(int top_from, std::span<const double> own) {
+    // The groups as the columns below the top, split where no column's parent crosses
+    // (postordered: between two subtrees), halving the work (sweep and passes over L, each as
+    // a share of its whole). No boundary near the middle: no split.
+    const auto* Lnz = static_cast<const int*>(L->nz);
+    split_mid = split_top = n;
     const auto k_top = static_cast<std::size_t>(top_from);
     std::vector<int> crossing(k_top + 1, 0);  // boundaries m with some j < m <= parent(j) < top_from
     for (std::size_t j = 0; j < k_top; ++j)
@@ -327,7 +357,7 @@ void CholmodUpdatedFactor::Impl::choose_split() {
             split_mid = static_cast<int>(m);
         }
     }
-    if (best_gap > 0.5) {  // no boundary near the middle: no split
+    if (best_gap > 0.5) {
         split_mid = n;
         return;
     }

@@ -172,6 +172,7 @@ bool contact_residual_within(std::span<const double> bx, std::span<const double>
     if (size >= kThreadedLoopMin && kernel_threads() > 1) {
         // Two threads: x on one, y on the other, each component's sums in the order below.
         bool within[2] = {false, false};
+        const TimedRegion timed;
 #pragma omp parallel num_threads(2)
         {
             const int thread = omp_get_thread_num();

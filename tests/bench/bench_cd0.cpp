@@ -219,7 +219,12 @@ constexpr long kLongRun = 4000;
 /// in the other core's cache, on both sides alike.) Counters: speedup (one thread's time per
 /// step over T threads'), cd0_us and cd0_1_us (per step on T threads and on one), cd0_over_rd0
 /// on T threads (RD0 timed before and after, on T threads), fresh_factors_per_1000 (steps
-/// whose solve factorised afresh: a new ordering and analysis, or a failed downdate).
+/// whose solve factorised afresh: a new ordering and analysis, or a failed downdate) and
+/// fresh_us, their time per step (over all steps). The serial part of a step on T threads:
+/// serial_us, its wall time outside parallel regions (TimedRegion), of which fresh factors
+/// are part; serial_fraction, Amdahl's S / (S + T R) from it (R: the time inside regions,
+/// where a thread waiting for another also counts); amdahl_fraction, the f that gives the
+/// measured speed-up, (T / speedup − 1) / (T − 1), which counts the waits too.
 void BM_Cd0ThreadsInterleaved(benchmark::State& state) {
     const int before = kernel_threads();
     ReplicaParams p = bench_params(state);
@@ -234,14 +239,18 @@ void BM_Cd0ThreadsInterleaved(benchmark::State& state) {
     double seconds[2] = {0, 0};  // [0]: one thread, [1]: T threads
     long counted[2] = {0, 0};
     long k = 0, fresh = 0;
+    double inside = 0, fresh_seconds = 0;  // T threads: time in parallel regions; all: fresh factors
     for (auto _ : state) {
         const int which = static_cast<int>(k++ % 2);
         set_kernel_threads(which == 0 ? 1 : threads);
+        const double in_regions = region_clock().seconds;
         const double t0 = wall_seconds();
         step(model, sys, ff, p);
         seconds[which] += wall_seconds() - t0;
+        if (which == 1) inside += region_clock().seconds - in_regions;
         ++counted[which];
         fresh += model.last_solve().refactored ? 1 : 0;
+        fresh_seconds += model.last_solve().factor_fresh_seconds;
     }
     set_kernel_threads(threads);
     const double one = seconds[0] / static_cast<double>(counted[0]);
@@ -253,6 +262,11 @@ void BM_Cd0ThreadsInterleaved(benchmark::State& state) {
     state.counters["cd0_1_us"] = one * 1e6;
     state.counters["cd0_over_rd0"] = many / rd0;
     state.counters["fresh_factors_per_1000"] = 1000.0 * static_cast<double>(fresh) / static_cast<double>(k);
+    state.counters["fresh_us"] = 1e6 * fresh_seconds / static_cast<double>(k);
+    const double serial = seconds[1] - inside, team = static_cast<double>(threads);
+    state.counters["serial_us"] = 1e6 * serial / static_cast<double>(counted[1]);
+    state.counters["serial_fraction"] = serial / (serial + team * inside);
+    state.counters["amdahl_fraction"] = (team * many / one - 1.0) / (team - 1.0);
     set_kernel_threads(before);
 }
 

@@ -29,8 +29,9 @@ struct SolveInfo {
     int factor_updates = 0;   // rank-one updates/downdates applied to the factor
     bool relabelled = false;  // a new candidate list: the factor was carried over (relabelled)
     // Wall-clock seconds in the updated CHOLMOD factor (petsc and cholmod backends) during
-    // this solve: keeping it equal to the matrix (updates, factorisations) and applying it.
-    double factor_upkeep_seconds = 0, factor_solve_seconds = 0;
+    // this solve: keeping it equal to the matrix (updates, factorisations) and applying it;
+    // of the upkeep, the part in a factorisation from scratch (serial).
+    double factor_upkeep_seconds = 0, factor_solve_seconds = 0, factor_fresh_seconds = 0;
 };
 
 /// PETSc is initialised on first use (on PETSC_COMM_SELF problems only) and finalised by
