@@ -283,16 +283,20 @@ std::pair<int, std::size_t> CholmodUpdatedFactor::Impl::gather_changes(std::span
         formed_second.clear();
         broken_second.clear();
         std::size_t touching[2] = {0, 0};
-        const TimedRegion timed;
-#pragma omp parallel num_threads(2)
         {
-            const int thread = omp_get_thread_num();
-            const bool alone = omp_get_num_threads() == 1;  // a team of one takes both halves
-            if (thread == 0) touching[0] = gather_range(pairs, in_contact, 0, last_touching, half, 0, formed, broken);
-            if (thread == 1 || alone) {
-                std::size_t before = 0;
-                for (std::size_t k = 0; k < half; ++k) before += in_contact[k] != 0;
-                touching[1] = gather_range(pairs, in_contact, half, size, size, before, formed_second, broken_second);
+            const TimedRegion timed;
+#pragma omp parallel num_threads(2)
+            {
+                const int thread = omp_get_thread_num();
+                const bool alone = omp_get_num_threads() == 1;  // a team of one takes both halves
+                if (thread == 0)
+                    touching[0] = gather_range(pairs, in_contact, 0, last_touching, half, 0, formed, broken);
+                if (thread == 1 || alone) {
+                    std::size_t before = 0;
+                    for (std::size_t k = 0; k < half; ++k) before += in_contact[k] != 0;
+                    touching[1] =
+                        gather_range(pairs, in_contact, half, size, size, before, formed_second, broken_second);
+                }
             }
         }
         formed.insert(formed.end(), formed_second.begin(), formed_second.end());

@@ -121,6 +121,7 @@ template <class Run> SolveInfo with_factor_timings(const CholmodUpdatedFactor* f
         info.factor_upkeep_seconds = after.upkeep_seconds - before.upkeep_seconds;
         info.factor_solve_seconds = after.solve_seconds - before.solve_seconds;
         info.factor_fresh_seconds = after.fresh_seconds - before.fresh_seconds;
+        if (after.refactored > before.refactored) info.refactored = true;  // a failed downdate's fresh factor
     }
     return info;
 }

@@ -303,7 +303,7 @@ void CholmodUpdatedFactor::Impl::split_step(const Pass* last, std::span<const st
     };
     double alpha_second[kSweepRank];  // thread 1's α: its own copy (the threads would share cache lines)
     if (last) std::copy(alpha, alpha + last->rank, alpha_second);
-    const TimedRegion timed;
+    const TimedRegion timed;  // to the end: merge_second_columns after it takes a few ns
 #pragma omp parallel num_threads(2)
     {
         const int thread = omp_get_thread_num();

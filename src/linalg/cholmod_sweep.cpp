@@ -130,13 +130,15 @@ void CholmodUpdatedFactor::Impl::run_pass(const Pass& pass, std::span<const std:
     // threads would otherwise write the same cache lines column after column).
     double alpha_second[kSweepRank];
     std::copy(alpha, alpha + pass.rank, alpha_second);
-    const TimedRegion timed;
-#pragma omp parallel num_threads(2)
     {
-        const int thread = omp_get_thread_num();
-        const bool alone = omp_get_num_threads() == 1;  // a team of one (nested or limited OpenMP) takes both
-        if (thread == 0) sweep_group(0, pass, alpha, columns);
-        if (thread == 1 || alone) sweep_group(1, pass, alpha_second, second_columns);
+        const TimedRegion timed;  // the region alone: the top's sweep below is serial
+#pragma omp parallel num_threads(2)
+        {
+            const int thread = omp_get_thread_num();
+            const bool alone = omp_get_num_threads() == 1;  // a team of one (nested or limited OpenMP) takes both
+            if (thread == 0) sweep_group(0, pass, alpha, columns);
+            if (thread == 1 || alone) sweep_group(1, pass, alpha_second, second_columns);
+        }
     }
     take_alpha(pass, rows, 1, alpha_second, alpha);
     sweep_group(kTopGroup, pass, alpha, columns);
