@@ -395,7 +395,7 @@ struct CholmodUpdatedFactor::Impl {
     /// = n. Computed with the tree on two threads only (split_computed); a split that still
     /// holds after fill is kept, and a new L (analysis, factorisation) resets it.
     void split_tree();
-    void choose_split();  // split_tree's choice of split_mid and split_top
+    void choose_split(std::span<const double> own);  // split_tree's choice of split_mid and split_top
     /// The choice of split_mid below the top [top_from, n), given each column's share of a
     /// sweep (sweep_shares); no split (split_mid = split_top = n) if no boundary halves them.
     void split_groups(int top_from, std::span<const double> own);

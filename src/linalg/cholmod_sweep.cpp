@@ -253,14 +253,13 @@ void CholmodUpdatedFactor::Impl::split_tree() {
     if (holds) {
         split_mid = kept_mid;
         split_top = kept_top;
-    } else if (is_split(kept_mid, kept_top)) {
+    } else {
         // Fill joined a subtree of one group to the other: the top still holds every ancestor
         // of the columns below it, so only the groups are chosen again (choosing the top too
         // cost 9 ms at N = 65536, some 40 times in 4000 steps); afresh if no boundary halves them.
-        split_groups(kept_top, sweep_shares());
-        if (!is_split(split_mid, split_top)) choose_split();
-    } else {
-        choose_split();
+        const std::vector<double> own = sweep_shares();
+        if (is_split(kept_mid, kept_top)) split_groups(kept_top, own);
+        if (!is_split(split_mid, split_top)) choose_split(own);
     }
     if (is_split(split_mid, split_top)) find_split_tails();
 }
@@ -277,12 +276,11 @@ std::vector<double> CholmodUpdatedFactor::Impl::sweep_shares() const {
     return below;
 }
 
-void CholmodUpdatedFactor::Impl::choose_split() {
+void CholmodUpdatedFactor::Impl::choose_split(std::span<const double> own) {
     const auto un = static_cast<std::size_t>(n);
     split_mid = split_top = n;  // no split: every column in the first group's place (see group_of)
-    // A column's share of a sweep (sweep_shares); a subtree's, the sum over its columns.
-    const std::vector<double> own = sweep_shares();
-    std::vector<double> subtree(own);
+    // A column's share of a sweep (own, sweep_shares); a subtree's, the sum over its columns.
+    std::vector<double> subtree(own.begin(), own.end());
     for (std::size_t j = 0; j < un; ++j)
         if (const int up = etree[j]; up >= 0) subtree[static_cast<std::size_t>(up)] += subtree[j];
     std::vector<int> first_child(un + 1, 0), children(un);
