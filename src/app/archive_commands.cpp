@@ -1,4 +1,5 @@
 #include "campaign_commands.hpp"
+#include "path_option.hpp"
 #include "exit_status.hpp"
 
 #include <cmath>
@@ -98,6 +99,7 @@ CLI::App* add_merge_command(CLI::App& app, int& argc, char**& argv) {
     cmd->add_option("-o,--output", *output,
                     "Merged archive (created, or completed if it exists); without -o the first "
                     "archive named is the output")
+        ->check(nonempty_path())
         ->type_name("FILE");
     cmd->add_option("archives", *shards, "[OUTPUT] then the archives to merge")->required()->type_name("FILE");
     cmd->callback([output, shards, &argc, &argv] {

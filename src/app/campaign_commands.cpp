@@ -1,4 +1,5 @@
 #include "campaign_commands.hpp"
+#include "path_option.hpp"
 #include "dry_run.hpp"
 #include "exit_status.hpp"
 #include "threads_option.hpp"
@@ -199,7 +200,9 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
     auto opt = std::make_shared<RunOptions>();
     auto* cmd = app.add_subcommand("run", "Run a campaign over MPI ranks into one HDF5 archive");
     cmd->add_option("campaign", opt->spec_path, "Campaign file (TOML)")->required()->type_name("FILE");
-    cmd->add_option("-o,--output", opt->output, "Archive path (overrides [campaign] output)")->type_name("FILE");
+    cmd->add_option("-o,--output", opt->output, "Archive path (overrides [campaign] output)")
+        ->check(nonempty_path())
+        ->type_name("FILE");
     cmd->add_flag("--dry-run", opt->dry_run, "List replicas and costs; write nothing");
     add_threads_option(*cmd);
     cmd->add_option_function<std::string>(

@@ -3,6 +3,7 @@
 // is checked before anything is written; each file is written under a temporary name and
 // renamed, and a failure removes what this call wrote.
 #include "export_command.hpp"
+#include "path_option.hpp"
 #include "exit_status.hpp"
 
 #include <unistd.h>
@@ -198,6 +199,7 @@ CLI::App* add_export_command(CLI::App& app) {
     cmd->add_option("-o,--output", opt->output,
                     "Output file; {id} is replaced by the replica id (required for several replicas)")
         ->required()
+        ->check(nonempty_path())
         ->type_name("FILE");
     cmd->add_option("--format", opt->format,
                     "lammps (data file, atom_style sphere) or h5md; default from the name: .h5md or .h5 -> h5md, "

@@ -3,6 +3,7 @@
 // optionally the start configuration as a LAMMPS data file so that another code can minimise
 // the very same configuration.
 #include "minimize_command.hpp"
+#include "path_option.hpp"
 
 #include <chrono>
 #include <cstdio>
@@ -71,6 +72,7 @@ CLI::App* add_minimize_command(CLI::App& app) {
         "--no-split", [opt] { opt->criteria.split_positions = false; },
         "Plain positions instead of base + offset (for comparison)");
     cmd->add_option("--lammps-data", opt->lammps_data, "Also write the start configuration here (LAMMPS data file)")
+        ->check(nonempty_path())
         ->type_name("FILE");
     cmd->callback([opt] {
         if (opt->n < 8 || opt->n % 2) throw CLI::ValidationError("--N", "an even number >= 8");

@@ -1,6 +1,7 @@
 // `jamsim plan`: a campaign's wall time on machines this one is not, by the farm's scheduler
 // simulated (plan_command.hpp).
 #include "plan_command.hpp"
+#include "path_option.hpp"
 #include "dry_run.hpp"
 #include "wall_time.hpp"
 
@@ -170,6 +171,7 @@ CLI::App* add_plan_command(CLI::App& app, int& argc, char**& argv) {
                     "instead of probing again")
         ->type_name("FILE");
     cmd->add_option("-o,--output", opt->output, "The archive whose finished replicas calibrate the throughput")
+        ->check(nonempty_path())
         ->type_name("FILE");
     cmd->add_flag_callback(
         "--no-calibrate", [opt] { opt->estimate.calibrate = false; },

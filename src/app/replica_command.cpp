@@ -1,18 +1,22 @@
 #include "replica_command.hpp"
+#include "path_option.hpp"
 #include "threads_option.hpp"
 
 #include <unistd.h>
 
 #include <cstdio>
+#include <fstream>
 #include <filesystem>
 #include <iostream>
 #include <map>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "jamsim/run/model_registry.hpp"
 #include "jamsim/run/replica.hpp"
+#include "jamsim/io/hdf5.hpp"
 #include "jamsim/io/initial_states.hpp"
 #include "jamsim/io/replica_file.hpp"
 #include "jamsim/linalg/contact_solver.hpp"
@@ -33,7 +37,24 @@ struct ReplicaOptions {
     throw CLI::ValidationError("jamsim replica: --" + key + " = " + value + " is not allowed: " + allowed);
 }
 
-void check_output_path(const std::string& path) {
+/// Whether `path` is a single-replica file of jamsim replica (an HDF5 file whose root has
+/// the identity and model attributes): the one kind of existing file a replica may replace.
+bool is_replica_file(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    char head[8] = {};
+    if (!in.read(head, sizeof head) || std::string_view(head, 8) != std::string_view("\x89HDF\r\n\x1a\n", 8))
+        return false;
+    h5::quiet_errors();
+    try {
+        const h5::Handle file = h5::open_unlocked_readonly(path);
+        return H5Aexists(file.get(), "identity") > 0 && H5Aexists(file.get(), "model") > 0;
+    } catch (const h5::Error&) { return false; }
+}
+
+/// The output: a file in a writable directory, and when it exists an earlier replica file
+/// (replaced by this run, as a rerun expects), never a campaign archive, another kind of file
+/// or the replica's own --initial, which the run would destroy.
+void check_output_path(const std::string& path, const std::string& initial) {
     namespace fs = std::filesystem;
     const fs::path p(path);
     const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
@@ -43,6 +64,13 @@ void check_output_path(const std::string& path) {
     if (::access(dir.c_str(), W_OK) != 0)
         usage_error("output", path, "a file in a writable directory ('" + dir.string() + "' is not writable)");
     if (fs::is_directory(p, ec)) usage_error("output", path, "a file name, not a directory");
+    if (!fs::exists(p, ec)) return;
+    if (!initial.empty() && fs::equivalent(p, fs::path(initial), ec))
+        usage_error("output", path, "another file than --initial, which it would overwrite");
+    if (!is_replica_file(path))
+        usage_error("output", path,
+                    "a new file or an earlier jamsim replica file: '" + path +
+                        "' exists and is not one (a campaign archive, or another file), so it is not overwritten");
 }
 
 /// The parameters from the command line: defaults, then each given option, checked against
@@ -68,7 +96,7 @@ ReplicaParams params_of(const ReplicaOptions& opt) {
 
 void run(const ReplicaOptions& opt) {
     const ReplicaParams params = params_of(opt);
-    check_output_path(opt.output);
+    check_output_path(opt.output, params.initial);
     const linalg::PetscScope petsc;  // CD0 initialises PETSc on first use; finalise it here
     // PETSc options that PETSc does not recognise or the CD0 solver does not use.
     if (!params.petsc_options.empty() && uses_parameter(params, "petsc_options"))
@@ -123,7 +151,10 @@ CLI::App* add_replica_command(CLI::App& app) {
             ->default_str(default_text(info))
             ->type_name(type);
     }
-    cmd->add_option("-o,--output", opt->output, "Output HDF5 file")->required()->type_name("FILE");
+    cmd->add_option("-o,--output", opt->output, "Output HDF5 file")
+        ->required()
+        ->check(nonempty_path())
+        ->type_name("FILE");
     add_threads_option(*cmd);
     cmd->callback([opt] { run(*opt); });
     return cmd;

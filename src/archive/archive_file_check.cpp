@@ -9,6 +9,8 @@
 #include <cstring>
 #include <fstream>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "jamsim/spec/campaign_spec.hpp"
 #include "jamsim/io/hdf5.hpp"
@@ -87,6 +89,108 @@ bool has_link(hid_t file, const char* name) {
 
 std::string quoted(const std::string& path) { return "'" + path + "'"; }
 
+/// The names of the links in `group` (an absolute path), in name order.
+std::vector<std::string> link_names(hid_t file, const std::string& group) {
+    const h5::Handle g(H5Gopen2(file, group.c_str(), H5P_DEFAULT), H5Gclose, "open " + group);
+    H5G_info_t info{};
+    h5::check(H5Gget_info(g.get(), &info), "list " + group);
+    std::vector<std::string> names;
+    for (hsize_t k = 0; k < info.nlinks; ++k) {
+        const ssize_t length = H5Lget_name_by_idx(g.get(), ".", H5_INDEX_NAME, H5_ITER_INC, k, nullptr, 0, H5P_DEFAULT);
+        h5::check(static_cast<hid_t>(length), "list " + group);
+        std::string name(static_cast<std::size_t>(length) + 1, '\0');
+        h5::check(static_cast<hid_t>(H5Lget_name_by_idx(g.get(), ".", H5_INDEX_NAME, H5_ITER_INC, k, name.data(),
+                                                        name.size(), H5P_DEFAULT)),
+                  "list " + group);
+        name.resize(static_cast<std::size_t>(length));
+        names.push_back(name);
+    }
+    return names;
+}
+
+/// The HDF5 type class of a dataset (H5T_INTEGER, H5T_FLOAT, H5T_STRING, ...).
+H5T_class_t type_class(hid_t file, const std::string& path) {
+    const h5::Handle set(H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose, "open " + path);
+    const h5::Handle type(H5Dget_type(set.get()), H5Tclose, "type of " + path);
+    const H5T_class_t c = H5Tget_class(type.get());
+    if (c == H5T_NO_CLASS) throw h5::Error("HDF5: type class of " + path + " failed");
+    return c;
+}
+
+std::string shape_text(const std::vector<hsize_t>& dims) {
+    if (dims.empty()) return "a scalar";
+    std::string text;
+    for (std::size_t k = 0; k < dims.size(); ++k) text += (k ? " x " : "") + std::to_string(dims[k]);
+    if (dims.size() == 1) return text + (dims[0] == 1 ? " entry" : " entries");
+    return text;
+}
+
+/// The archive's datasets against its n_replicas: every /replicas column and /final/box_side,
+/// box_strain of n entries, numbers (failure_reason text); /timeseries and /correlation each
+/// of one shape with n rows; /frames' x and y of one shape, its strains of one shape with n
+/// rows; /final/x, y, diameter of one length; every status 0 to 3. "" when they agree, else what a damaged or hand-edited file got wrong (reading or
+/// resuming it would fail half-way, or misread its replicas).
+std::string check_layout(hid_t f) {
+    if (!has_attribute(f, "n_replicas")) return "it has no n_replicas attribute";
+    const std::int64_t stored = h5::read_int64_attribute(f, "n_replicas");
+    if (stored < 0) return "n_replicas is " + std::to_string(stored);
+    const auto n = static_cast<hsize_t>(stored);
+    for (const char* group : {"/timeseries", "/final"})
+        if (!has_link(f, group)) return std::string("it has no ") + group;
+    const std::string rows = " (n_replicas is " + std::to_string(n) + ")";
+    for (const std::string& name : link_names(f, "/replicas")) {
+        const std::string path = "/replicas/" + name;
+        const auto dims = h5::dataset_shape(f, path);
+        if (dims != std::vector<hsize_t>{n}) return path + " has " + shape_text(dims) + rows;
+        const H5T_class_t c = type_class(f, path);
+        const bool text = name == "failure_reason";
+        if (text ? c != H5T_STRING : (c != H5T_INTEGER && c != H5T_FLOAT))
+            return path + (text ? " is not text" : " is not numbers");
+    }
+    const auto status = h5::read_all<std::int8_t>(f, "/replicas/status", H5T_NATIVE_INT8);
+    for (std::size_t r = 0; r < status.size(); ++r)
+        if (status[r] < 0 || status[r] > 3)
+            return "/replicas/status[" + std::to_string(r) + "] is " + std::to_string(status[r]) +
+                   " (0 pending, 1 running, 2 done, 3 failed)";
+    // Groups whose datasets share one shape; `first` rows must be n when `per_replica`.
+    auto one_shape = [&](const std::string& group, const std::vector<std::string>& names,
+                         bool per_replica) -> std::string {
+        std::vector<hsize_t> shape;
+        std::string first;
+        for (const std::string& name : names) {
+            const std::string path = group + "/" + name;
+            const auto dims = h5::dataset_shape(f, path);
+            if (type_class(f, path) != H5T_FLOAT) return path + " is not floating-point numbers";
+            if (per_replica && (dims.size() != 2 || dims[0] != n))
+                return path + " is " + shape_text(dims) + ", not n_replicas rows" + rows;
+            if (first.empty()) {
+                shape = dims;
+                first = path;
+            } else if (dims != shape) {
+                return path + " is " + shape_text(dims) + " where " + first + " is " + shape_text(shape);
+            }
+        }
+        return "";
+    };
+    if (std::string bad = one_shape("/timeseries", link_names(f, "/timeseries"), true); !bad.empty()) return bad;
+    if (has_link(f, "/correlation"))
+        if (std::string bad = one_shape("/correlation", link_names(f, "/correlation"), true); !bad.empty()) return bad;
+    if (has_link(f, "/frames")) {  // x, y: frames x disks; strain, box_strain: replicas x frames
+        if (std::string bad = one_shape("/frames", {"x", "y"}, false); !bad.empty()) return bad;
+        if (std::string bad = one_shape("/frames", {"strain", "box_strain"}, true); !bad.empty()) return bad;
+    }
+    for (const char* name : {"box_side", "box_strain"}) {
+        const std::string path = std::string("/final/") + name;
+        if (!h5::exists(f, path)) return "it has no " + path;
+        if (const auto dims = h5::dataset_shape(f, path); dims != std::vector<hsize_t>{n})
+            return path + " has " + shape_text(dims) + rows;
+    }
+    for (const char* name : {"x", "y", "diameter"})
+        if (!h5::exists(f, std::string("/final/") + name)) return std::string("it has no /final/") + name;
+    if (std::string bad = one_shape("/final", {"x", "y", "diameter"}, false); !bad.empty()) return bad;
+    return "";
+}
+
 /// The fingerprint version ("jamsim campaign v7") at the start of a fingerprint.
 std::string fingerprint_version(const std::string& fingerprint) {
     const std::string prefix = "jamsim campaign v";
@@ -127,6 +231,8 @@ std::string check_contents(const std::string& path) {
                "archive)";
     if (!has_link(f, "/replicas") || !has_link(f, "/replicas/status"))
         return quoted(path) + " is damaged: a jamsim campaign archive without /replicas/status";
+    if (const std::string bad = check_layout(f); !bad.empty())
+        return quoted(path) + " is damaged: " + bad + "; jamsim writes no such archive (a hand-edited or broken copy?)";
     return "";
 }
 

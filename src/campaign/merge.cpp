@@ -137,6 +137,9 @@ MergeOutcome merge_archives(const std::string& output, const std::vector<std::st
     if (const std::string too_large = check_capacity(estimate_capacity(spec, output, 1, 1), {}, spec, output);
         !too_large.empty())
         throw CampaignRefused(too_large);
+    // A refused output is refused before its lock file is made (which a refusal would leave
+    // behind); checked again under the lock, as the file may change in between.
+    if (exists) check_existing_output(output, spec);
     // The output is written by this process alone, and no input may still be written.
     std::optional<ArchiveLock> lock;
     try {

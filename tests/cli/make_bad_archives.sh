@@ -4,12 +4,16 @@
 # kind that is not a usable archive, for the tests of `status`, `run` and `merge` on them:
 # empty.h5, text.h5 (not HDF5), truncated.h5, plain.h5 (HDF5, not jamsim), replica.h5 (a
 # single-replica file), layout.h5 (another archive layout), version.h5 (another campaign
-# fingerprint version), a_directory/; missing.h5 is removed.
+# fingerprint version), a_directory/; missing.h5 is removed. Damaged copies of good.h5 (its
+# datasets edited as by hand): status_rows.h5 (/replicas/status of 2 entries, n_replicas 1),
+# status_value.h5 (a status of 9), series_cut.h5 (/timeseries/pressure cut to 2 samples),
+# final_cut.h5 (/final/x cut to 3 disks), no_series.h5 (no /timeseries).
 set -euo pipefail
 jamsim=$1 spec=$2
 here=$(cd "$(dirname "$0")" && pwd)
 rm -rf good.h5 good.h5.checkpoints empty.h5 text.h5 truncated.h5 plain.h5 replica.h5 \
-  layout.h5 version.h5 missing.h5 a_directory
+  layout.h5 version.h5 missing.h5 a_directory status_rows.h5 status_value.h5 series_cut.h5 final_cut.h5 \
+  no_series.h5
 "$jamsim" run "$spec" -o good.h5 >/dev/null 2>&1
 : > empty.h5
 echo "not an archive" > text.h5
@@ -24,5 +28,18 @@ with h5py.File("plain.h5", "w") as f:
     f["x"] = [1.0, 2.0]
 with h5py.File("layout.h5", "r+") as f:
     f.attrs["layout_version"] = 2
+import shutil
+def damaged(name, edit):
+    shutil.copy("good.h5", name)
+    with h5py.File(name, "r+") as f:
+        edit(f)
+def replace(f, path, data):
+    del f[path]
+    f[path] = data
+damaged("status_rows.h5", lambda f: replace(f, "replicas/status", [2, 2]))
+damaged("status_value.h5", lambda f: f["replicas/status"].__setitem__(0, 9))
+damaged("series_cut.h5", lambda f: replace(f, "timeseries/pressure", f["timeseries/pressure"][:, :2]))
+damaged("final_cut.h5", lambda f: replace(f, "final/x", f["final/x"][:3]))
+damaged("no_series.h5", lambda f: f.__delitem__("timeseries"))
 PY
 /usr/bin/python3 "$here/../mpi/other_version.py" version.h5
