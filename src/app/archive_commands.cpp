@@ -1,5 +1,5 @@
 #include "campaign_commands.hpp"
-#include "path_option.hpp"
+#include "option_checks.hpp"
 #include "exit_status.hpp"
 
 #include <cmath>

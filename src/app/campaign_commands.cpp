@@ -1,5 +1,5 @@
 #include "campaign_commands.hpp"
-#include "path_option.hpp"
+#include "option_checks.hpp"
 #include "dry_run.hpp"
 #include "exit_status.hpp"
 #include "threads_option.hpp"
@@ -236,15 +236,7 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
         ->type_name("DURATION");
     cmd->add_option("--max-replicas", opt->max_replicas,
                     "Refuse a campaign of more replicas (a typo in seeds or a sweep list)")
-        ->check(CLI::Validator(
-            [](std::string& v) -> std::string {
-                char* end = nullptr;
-                const long long n = std::strtoll(v.c_str(), &end, 10);
-                return end != v.c_str() && *end == '\0' && n >= 1
-                           ? ""
-                           : "value " + v + " is not allowed: a whole number of replicas >= 1";
-            },
-            "COUNT >= 1"))
+        ->check(count_at_least_one("replicas"))
         ->capture_default_str();
     cmd->add_option_function<std::string>(
            "--max-archive-size",
@@ -259,10 +251,10 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
         ->default_str("1T")
         ->type_name("SIZE");
     cmd->add_option("--ranks", opt->plan.ranks, "--dry-run: ranks of the planned run")
-        ->check(CLI::PositiveNumber)
+        ->check(count_at_least_one("ranks"))
         ->default_str("1");
     cmd->add_option("--shards", opt->plan.shards, "--dry-run: Slurm array tasks of the planned run")
-        ->check(CLI::PositiveNumber)
+        ->check(count_at_least_one("shards"))
         ->default_str("1");
     add_serial_fraction_option(*cmd, opt->plan.serial_fraction);
     add_probe_seconds_option(*cmd, opt->plan.probe_seconds);

@@ -3,7 +3,7 @@
 // is checked before anything is written; each file is written under a temporary name and
 // renamed, and a failure removes what this call wrote.
 #include "export_command.hpp"
-#include "path_option.hpp"
+#include "option_checks.hpp"
 #include "exit_status.hpp"
 
 #include <unistd.h>

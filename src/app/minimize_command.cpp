@@ -3,7 +3,7 @@
 // optionally the start configuration as a LAMMPS data file so that another code can minimise
 // the very same configuration.
 #include "minimize_command.hpp"
-#include "path_option.hpp"
+#include "option_checks.hpp"
 
 #include <chrono>
 #include <cstdio>

@@ -1,7 +1,7 @@
 // `jamsim plan`: a campaign's wall time on machines this one is not, by the farm's scheduler
 // simulated (plan_command.hpp).
 #include "plan_command.hpp"
-#include "path_option.hpp"
+#include "option_checks.hpp"
 #include "dry_run.hpp"
 #include "wall_time.hpp"
 

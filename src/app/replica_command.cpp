@@ -1,5 +1,5 @@
 #include "replica_command.hpp"
-#include "path_option.hpp"
+#include "option_checks.hpp"
 #include "threads_option.hpp"
 
 #include <unistd.h>
