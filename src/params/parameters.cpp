@@ -6,7 +6,6 @@
 #include <cstdlib>
 #include <sstream>
 
-#include "jamsim/core/system.hpp"
 #include "jamsim/linalg/contact_solver.hpp"
 #include "jamsim/minimize/minimizer.hpp"
 
@@ -27,27 +26,7 @@ bool non_negative(double v) { return std::isfinite(v) && v >= 0.0; }
 std::string check_n(const R& p) {
     if (p.n < 2) return "an integer >= 2";
     if (p.size_ratio != 1.0 && p.n % 2 != 0) return "an even number (50:50 mixture; size_ratio = 1 allows odd N)";
-    // The periodic box must hold twice the neighbour list's range (the large diameter + skin),
-    // else the list cannot tell a pair from its image and the replica fails at its first step.
-    if (!(p.phi > 0.0 && p.phi < 1.0 && positive(p.skin) && std::isfinite(p.size_ratio) && p.size_ratio >= 1.0))
-        return "";  // those parameters' own checks speak first
-    const double range = p.size_ratio + p.skin;
-    if (box_side_for(p.n, p.phi, p.size_ratio) >= 2.0 * range) return "";
-    // The side grows as sqrt(N): the smallest N that fits, from N = 2's side, checked upwards.
-    const std::int64_t step = p.size_ratio == 1.0 ? 1 : 2;
-    const double two = box_side_for(2, p.phi, p.size_ratio);
-    const double estimate = std::ceil(2.0 * std::pow(2.0 * range / two, 2.0));
-    if (!(estimate < 1e15)) return "an N whose box holds twice the neighbour range (size_ratio + skin): none does here";
-    auto least = std::max<std::int64_t>(2, static_cast<std::int64_t>(estimate) - 2 * step);
-    least += least % step;
-    while (box_side_for(least, p.phi, p.size_ratio) < 2.0 * range) least += step;
-    char text[400];
-    std::snprintf(text, sizeof text,
-                  "N >= %lld at phi = %g, size_ratio = %g, skin = %g (the periodic box, side %.3g at this N, must "
-                  "span twice the neighbour range size_ratio + skin = %g)",
-                  static_cast<long long>(least), p.phi, p.size_ratio, p.skin, box_side_for(p.n, p.phi, p.size_ratio),
-                  range);
-    return text;
+    return "";
 }
 
 std::string check_minimizer(const R& p) {

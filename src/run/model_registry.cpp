@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <stdexcept>
 
+#include "jamsim/core/system.hpp"
 #include "jamsim/dynamics/cd0.hpp"
 #include "jamsim/dynamics/rd0.hpp"
 #include "jamsim/dynamics/sllod.hpp"
@@ -162,6 +164,32 @@ std::string three_digits(double v) {
     return buffer;
 }
 
+/// "" when the periodic box of p.n disks holds twice the neighbour list's range (the large
+/// diameter + skin), else what N is allowed: below it the list cannot tell a pair from its
+/// image, and the replica failed at its first step.
+std::string box_holds_the_list(const ReplicaParams& p) {
+    if (!(p.phi > 0.0 && p.phi < 1.0 && std::isfinite(p.skin) && p.skin > 0.0 && std::isfinite(p.size_ratio) &&
+          p.size_ratio >= 1.0))
+        return "";  // those parameters' own checks speak first
+    const double range = p.size_ratio + p.skin;
+    if (box_side_for(p.n, p.phi, p.size_ratio) >= 2.0 * range) return "";
+    // The side grows as sqrt(N): the smallest N that fits, from N = 2's side, checked upwards.
+    const std::int64_t step = p.size_ratio == 1.0 ? 1 : 2;
+    const double two = box_side_for(2, p.phi, p.size_ratio);
+    const double estimate = std::ceil(2.0 * std::pow(2.0 * range / two, 2.0));
+    if (!(estimate < 1e15)) return "an N whose box holds twice the neighbour range (size_ratio + skin): none does here";
+    auto least = std::max<std::int64_t>(2, static_cast<std::int64_t>(estimate) - 2 * step);
+    least += least % step;
+    while (box_side_for(least, p.phi, p.size_ratio) < 2.0 * range) least += step;
+    char text[400];
+    std::snprintf(text, sizeof text,
+                  "N >= %lld at phi = %g, size_ratio = %g, skin = %g (the periodic box, side %.3g at this N, must "
+                  "span twice the neighbour range size_ratio + skin = %g)",
+                  static_cast<long long>(least), p.phi, p.size_ratio, p.skin, box_side_for(p.n, p.phi, p.size_ratio),
+                  range);
+    return text;
+}
+
 }  // namespace
 
 std::vector<ParamError> validate(const ReplicaParams& p) {
@@ -173,6 +201,8 @@ std::vector<ParamError> validate(const ReplicaParams& p) {
             if (std::string allowed = info->check(p); !allowed.empty())
                 errors.push_back({std::string(info->key), show_value(get_value(p, *info)), allowed});
     if (!errors.empty()) return errors;
+    if (std::string allowed = box_holds_the_list(p); !allowed.empty())
+        errors.push_back({"N", show_value(static_cast<double>(p.n)), allowed});
     if (uses_parameter(p, "dt") && p.dt > m->stable_dt(p))
         errors.push_back({"dt", show_value(p.dt),
                           "dt <= " + show_value(m->stable_dt(p)) + " " +
