@@ -2,8 +2,8 @@
 # The test command: install what is missing, build, run the CTest suite.
 #   tools/run-tests.sh            the quick set: every test not labelled `heavy`, `slow`,
 #                                 `faults` or `slurm` (unit, physics, 2-rank campaigns, the
-#                                 command line's refusals, the Python tools; about 2 minutes
-#                                 on 2 cores after the build, tests/README.md)
+#                                 command line's refusals, the Python tools; about 3.5
+#                                 minutes on 2 cores after the build, tests/README.md)
 #   tools/run-tests.sh --all      everything, including `heavy`, `slow`, `faults` and `slurm`
 #   tools/run-tests.sh --rest     only what the quick set leaves out (CI runs it after the quick set)
 #   tools/run-tests.sh -L physics extra arguments go to ctest
