@@ -5,11 +5,14 @@
 #include "minimize_command.hpp"
 #include "option_checks.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <memory>
 #include <stdexcept>
+#include <string>
 
 #include "jamsim/core/system.hpp"
 #include "jamsim/force/force_field.hpp"
@@ -52,12 +55,44 @@ void write_lammps_data(const System& sys, const std::string& path) {
 
 }  // namespace
 
+namespace {
+
+/// The stopping rule, the exponent and the minimiser: the rules of their campaign keys
+/// (src/params/parameters.cpp), said for the options; exit status 2.
+void check_options(const Options& opt) {
+    auto refuse = [](const char* option, double value, const std::string& allowed) {
+        char shown[64];
+        std::snprintf(shown, sizeof shown, "%g", value);
+        throw CLI::ValidationError(std::string("jamsim minimize: ") + option + " = " + shown +
+                                   " is not allowed: " + allowed);
+    };
+    const MinimizeCriteria& c = opt.criteria;
+    if (!(std::isfinite(c.energy_floor) && c.energy_floor > 0))
+        refuse("--energy-floor", c.energy_floor, "a number > 0");
+    if (!(std::isfinite(c.force_tol) && c.force_tol >= 0)) refuse("--force-tol", c.force_tol, "a number >= 0");
+    if (!(std::isfinite(c.force_tol_abs) && c.force_tol_abs >= 0))
+        refuse("--force-tol-abs", c.force_tol_abs, "a number >= 0");
+    if (c.force_tol == 0 && c.force_tol_abs == 0)
+        refuse("--force-tol", 0, "> 0 when --force-tol-abs is 0 (a reachable stopping rule)");
+    if (c.max_iterations < 1) refuse("--max-iterations", static_cast<double>(c.max_iterations), "a whole number >= 1");
+    if (!(std::isfinite(opt.alpha) && opt.alpha > 1)) refuse("--alpha", opt.alpha, "a number > 1");
+    const auto names = minimizer_names();
+    if (std::find(names.begin(), names.end(), opt.minimizer) == names.end()) {
+        std::string list;
+        for (const auto& name : names) list += (list.empty() ? "" : ", ") + std::string(name);
+        throw CLI::ValidationError("jamsim minimize: --minimizer = " + opt.minimizer + " is not allowed: one of " +
+                                   list);
+    }
+}
+
+}  // namespace
+
 CLI::App* add_minimize_command(CLI::App& app) {
     auto opt = std::make_shared<Options>();
     auto* cmd = app.add_subcommand("minimize", "Minimise one random (RAND) configuration and report the cost");
-    cmd->add_option("--N", opt->n, "Number of disks (even)")->capture_default_str();
+    cmd->add_option("--N", opt->n, "Number of disks (even)")->check(whole_number())->capture_default_str();
     cmd->add_option("--phi", opt->phi, "Packing fraction")->capture_default_str();
-    cmd->add_option("--seed", opt->seed, "Random seed")->capture_default_str();
+    cmd->add_option("--seed", opt->seed, "Random seed")->check(whole_number())->capture_default_str();
     cmd->add_option("--minimizer", opt->minimizer, "cg (default), cg-pr or fire")->capture_default_str();
     cmd->add_option("--alpha", opt->alpha, "Potential exponent (2 harmonic, 2.5 Hertzian)")->capture_default_str();
     cmd->add_option("--energy-floor", opt->criteria.energy_floor, "E/N below which the state is unjammed")
@@ -77,6 +112,7 @@ CLI::App* add_minimize_command(CLI::App& app) {
     cmd->callback([opt] {
         if (opt->n < 8 || opt->n % 2) throw CLI::ValidationError("--N", "an even number >= 8");
         if (!(opt->phi > 0 && opt->phi < 1)) throw CLI::ValidationError("--phi", "0 < phi < 1");
+        check_options(*opt);
         auto minimizer = make_minimizer(opt->minimizer);
         System sys = random_system(opt->n, opt->phi, SizeMix{}, opt->seed, 0);
         if (!opt->lammps_data.empty()) write_lammps_data(sys, opt->lammps_data);

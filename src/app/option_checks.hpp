@@ -1,5 +1,6 @@
 #pragma once
 // Checks shared by the commands' options: a file path that names a file, a count >= 1.
+#include <cerrno>
 #include <cstdlib>
 #include <string>
 
@@ -30,6 +31,21 @@ inline CLI::Validator count_at_least_one(const std::string& what) {
                        : "value " + v + " is not allowed: a whole number of " + what + " >= 1";
         },
         "COUNT >= 1");
+}
+
+/// A whole number in decimal digits that fits 64 bits: no sign (CLI11 read "-1" into an
+/// unsigned option as 2^64 - 1), no hexadecimal, no exponent.
+inline CLI::Validator whole_number() {
+    return CLI::Validator(
+        [](std::string& v) -> std::string {
+            const bool digits = !v.empty() && v.find_first_not_of("0123456789") == std::string::npos;
+            errno = 0;
+            if (digits) (void)std::strtoull(v.c_str(), nullptr, 10);
+            return digits && errno != ERANGE
+                       ? ""
+                       : "value " + v + " is not allowed: a whole number from 0 to 18446744073709551615 in decimal";
+        },
+        "INTEGER >= 0");
 }
 
 }  // namespace jamsim::app
