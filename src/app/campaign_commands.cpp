@@ -282,7 +282,15 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
         ->type_name("MODE")
         ->check(CLI::IsMember({"auto", "lines", "redraw"}))
         ->capture_default_str();
-    cmd->callback([opt, &argc, &argv] {
+    cmd->callback([opt, cmd, &argc, &argv] {
+        // The planned run's options describe a dry run's plan; a run takes its ranks from
+        // mpirun and its time limit from Slurm, so there they would be silently ignored.
+        if (!opt->dry_run)
+            for (const char* name : {"--ranks", "--shards", "--time-limit", "--summary", "--no-calibrate"})
+                if (cmd->count(name) > 0)
+                    throw CLI::ValidationError(std::string("jamsim run: ") + name +
+                                               " is not allowed without --dry-run: it describes the run a dry run "
+                                               "plans (a run's ranks are mpirun's -n, its time limit Slurm's)");
         parse_shard(opt->shard);  // bad value: message and exit before MPI starts
         const int rc = run(*opt, argc, argv);
         if (rc != 0) throw CLI::RuntimeError(rc);
