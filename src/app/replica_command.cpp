@@ -88,9 +88,15 @@ ReplicaParams params_of(const ReplicaOptions& opt) {
         usage_error(info ? std::string(info->flag.substr(2)) : e.key, e.value, e.allowed);
     }
     // A parameter the model does not use would be silently ignored: refuse it.
-    for (const auto& [key, text] : opt.given)
+    // (--initial and --initial-match are used by every model, once --initial names a file.)
+    for (const auto& [key, text] : opt.given) {
+        if (key == "initial" && text.empty())
+            usage_error("initial", "''", "the path of an archive or a LAMMPS data file to start from");
+        if (key == "initial_match" && params.initial.empty())
+            usage_error("initial-match", text, "only with --initial (it says how to match that file's states)");
         if (!uses_parameter(params, key))
             usage_error(std::string(find_parameter(key)->flag.substr(2)), text, "not used by model " + params.model);
+    }
     return params;
 }
 
