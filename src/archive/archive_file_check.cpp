@@ -128,8 +128,9 @@ std::string shape_text(const std::vector<hsize_t>& dims) {
 /// The archive's datasets against its n_replicas: every /replicas column and /final/box_side,
 /// box_strain of n entries, numbers (failure_reason text); /timeseries and /correlation each
 /// of one shape with n rows; /frames' x and y of one shape, its strains of one shape with n
-/// rows; /final/x, y, diameter of one length; every status 0 to 3. "" when they agree, else what a damaged or hand-edited file got wrong (reading or
-/// resuming it would fail half-way, or misread its replicas).
+/// rows; /final/x, y, diameter of one length; every status 0 to 3. "" when they agree, else
+/// what a damaged or hand-edited file got wrong (reading or resuming it would fail half-way,
+/// or misread its replicas).
 std::string check_layout(hid_t f) {
     if (!has_attribute(f, "n_replicas")) return "it has no n_replicas attribute";
     const std::int64_t stored = h5::read_int64_attribute(f, "n_replicas");
