@@ -5,18 +5,16 @@
 #include <unistd.h>
 
 #include <cstdio>
-#include <fstream>
 #include <filesystem>
 #include <iostream>
 #include <map>
 #include <memory>
 #include <optional>
 #include <string>
-#include <string_view>
 
+#include "jamsim/archive/archive_file_check.hpp"
 #include "jamsim/run/model_registry.hpp"
 #include "jamsim/run/replica.hpp"
-#include "jamsim/io/hdf5.hpp"
 #include "jamsim/io/initial_states.hpp"
 #include "jamsim/io/replica_file.hpp"
 #include "jamsim/linalg/contact_solver.hpp"
@@ -37,20 +35,6 @@ struct ReplicaOptions {
     throw CLI::ValidationError("jamsim replica: --" + key + " = " + value + " is not allowed: " + allowed);
 }
 
-/// Whether `path` is a single-replica file of jamsim replica (an HDF5 file whose root has
-/// the identity and model attributes): the one kind of existing file a replica may replace.
-bool is_replica_file(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    char head[8] = {};
-    if (!in.read(head, sizeof head) || std::string_view(head, 8) != std::string_view("\x89HDF\r\n\x1a\n", 8))
-        return false;
-    h5::quiet_errors();
-    try {
-        const h5::Handle file = h5::open_unlocked_readonly(path);
-        return H5Aexists(file.get(), "identity") > 0 && H5Aexists(file.get(), "model") > 0;
-    } catch (const h5::Error&) { return false; }
-}
-
 /// The output: a file in a writable directory, and when it exists an earlier replica file
 /// (replaced by this run, as a rerun expects), never a campaign archive, another kind of file
 /// or the replica's own --initial, which the run would destroy.
@@ -67,7 +51,7 @@ void check_output_path(const std::string& path, const std::string& initial) {
     if (!fs::exists(p, ec)) return;
     if (!initial.empty() && fs::equivalent(p, fs::path(initial), ec))
         usage_error("output", path, "another file than --initial, which it would overwrite");
-    if (!is_replica_file(path))
+    if (!is_single_replica_file(path))
         usage_error("output", path,
                     "a new file or an earlier jamsim replica file: '" + path +
                         "' exists and is not one (a campaign archive, or another file), so it is not overwritten");

@@ -108,13 +108,22 @@ std::vector<std::string> link_names(hid_t file, const std::string& group) {
     return names;
 }
 
-/// The HDF5 type class of a dataset (H5T_INTEGER, H5T_FLOAT, H5T_STRING, ...).
-H5T_class_t type_class(hid_t file, const std::string& path) {
+/// A dataset's shape and HDF5 type class (H5T_INTEGER, H5T_FLOAT, H5T_STRING, ...).
+struct DatasetForm {
+    std::vector<hsize_t> dims;
+    H5T_class_t type;
+};
+DatasetForm dataset_form(hid_t file, const std::string& path) {
     const h5::Handle set(H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose, "open " + path);
+    const h5::Handle space(H5Dget_space(set.get()), H5Sclose, "dataspace of " + path);
+    const int rank = H5Sget_simple_extent_ndims(space.get());
+    h5::check(rank, "rank of " + path);
+    DatasetForm form{std::vector<hsize_t>(static_cast<std::size_t>(rank)), H5T_NO_CLASS};
+    h5::check(H5Sget_simple_extent_dims(space.get(), form.dims.data(), nullptr), "shape of " + path);
     const h5::Handle type(H5Dget_type(set.get()), H5Tclose, "type of " + path);
-    const H5T_class_t c = H5Tget_class(type.get());
-    if (c == H5T_NO_CLASS) throw h5::Error("HDF5: type class of " + path + " failed");
-    return c;
+    form.type = H5Tget_class(type.get());
+    if (form.type == H5T_NO_CLASS) throw h5::Error("HDF5: type class of " + path + " failed");
+    return form;
 }
 
 std::string shape_text(const std::vector<hsize_t>& dims) {
@@ -141,9 +150,8 @@ std::string check_layout(hid_t f) {
     const std::string rows = " (n_replicas is " + std::to_string(n) + ")";
     for (const std::string& name : link_names(f, "/replicas")) {
         const std::string path = "/replicas/" + name;
-        const auto dims = h5::dataset_shape(f, path);
+        const auto [dims, c] = dataset_form(f, path);
         if (dims != std::vector<hsize_t>{n}) return path + " has " + shape_text(dims) + rows;
-        const H5T_class_t c = type_class(f, path);
         const bool text = name == "failure_reason";
         if (text ? c != H5T_STRING : (c != H5T_INTEGER && c != H5T_FLOAT))
             return path + (text ? " is not text" : " is not numbers");
@@ -160,8 +168,8 @@ std::string check_layout(hid_t f) {
         std::string first;
         for (const std::string& name : names) {
             const std::string path = group + "/" + name;
-            const auto dims = h5::dataset_shape(f, path);
-            if (type_class(f, path) != H5T_FLOAT) return path + " is not floating-point numbers";
+            const auto [dims, type] = dataset_form(f, path);
+            if (type != H5T_FLOAT) return path + " is not floating-point numbers";
             if (per_replica && (dims.size() != 2 || dims[0] != n))
                 return path + " is " + shape_text(dims) + ", not n_replicas rows" + rows;
             if (first.empty()) {
@@ -199,13 +207,16 @@ std::string fingerprint_version(const std::string& fingerprint) {
     return fingerprint.substr(0, fingerprint.find(' ', prefix.size()));
 }
 
+/// A single-replica file's root: the identity and model attributes of jamsim replica.
+bool is_replica_root(hid_t f) { return has_attribute(f, "identity") && has_attribute(f, "model"); }
+
 /// The checks that need HDF5 to open the file; "" when it is a usable archive.
 std::string check_contents(const std::string& path) {
     const h5::Handle file = h5::open_unlocked_readonly(path);
     const hid_t f = file.get();
     const bool archive = has_attribute(f, "spec_fingerprint") && has_attribute(f, "campaign");
     if (!archive) {
-        if (has_attribute(f, "identity") && has_attribute(f, "model"))
+        if (is_replica_root(f))
             return quoted(path) + " is a single-replica file of jamsim replica, not a campaign "
                                   "archive (jamsim run writes those)";
         return quoted(path) + " is an HDF5 file but not a jamsim campaign archive (it has no "
@@ -265,6 +276,18 @@ std::string diagnose_archive_file(const std::string& path) {
     } catch (const h5::Error& e) {
         return quoted(path) + " is a damaged HDF5 file (it has the HDF5 signature but " + e.what() + ")";
     }
+}
+
+bool is_single_replica_file(const std::string& path) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode) || st.st_size == 0) return false;
+    std::ifstream in(path, std::ios::binary);
+    if (!in || !read_superblock(in, static_cast<std::uint64_t>(st.st_size)).found) return false;
+    h5::quiet_errors();
+    try {
+        const h5::Handle file = h5::open_unlocked_readonly(path);
+        return is_replica_root(file.get()) && !has_attribute(file.get(), "spec_fingerprint");
+    } catch (const h5::Error&) { return false; }
 }
 
 }  // namespace jamsim

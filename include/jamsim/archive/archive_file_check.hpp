@@ -17,4 +17,10 @@ inline constexpr std::int64_t kArchiveLayoutVersion = 4;
 /// printed. Never throws for a bad file.
 std::string diagnose_archive_file(const std::string& path);
 
+/// Whether `path` is a single-replica file of jamsim replica (an HDF5 file whose root has the
+/// identity and model attributes, and not a campaign archive's): the one kind of existing
+/// file `jamsim replica -o` replaces. False for a missing, unreadable or damaged file; never
+/// throws.
+bool is_single_replica_file(const std::string& path);
+
 }  // namespace jamsim
