@@ -4,7 +4,10 @@
 
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -47,6 +50,16 @@ void check_output_path(const std::string& path, const std::string& initial) {
         usage_error("output", path, "a file in an existing directory ('" + dir.string() + "' does not exist)");
     if (::access(dir.c_str(), W_OK) != 0)
         usage_error("output", path, "a file in a writable directory ('" + dir.string() + "' is not writable)");
+    // A file made and removed there: access() passes for root where nothing can be created
+    // (/proc, a read-only mount), and the run would fail only at its end.
+    std::string probe = (dir / ".jamsim-replica-XXXXXX").string();
+    const int fd = ::mkstemp(probe.data());
+    if (fd < 0)
+        usage_error("output", path,
+                    "a file in a directory where files can be made ('" + dir.string() + "': " + std::strerror(errno) +
+                        ")");
+    ::close(fd);
+    ::unlink(probe.c_str());
     if (fs::is_directory(p, ec)) usage_error("output", path, "a file name, not a directory");
     if (!fs::exists(p, ec)) return;
     if (!initial.empty() && fs::equivalent(p, fs::path(initial), ec))
@@ -98,6 +111,8 @@ void run(const ReplicaOptions& opt) {
 
     std::optional<System> initial;
     if (!params.initial.empty()) {
+        if (const std::string bad = diagnose_initial_source(params.initial); !bad.empty())
+            usage_error("initial", params.initial, "a jamsim campaign archive or a LAMMPS data file: " + bad);
         try {
             initial = InitialStates(params.initial).load(params, 0);
         } catch (const InitialStateError& e) { usage_error("initial", params.initial, e.what()); }

@@ -14,6 +14,7 @@
 
 #include "jamsim/spec/campaign_spec.hpp"
 #include "jamsim/io/hdf5.hpp"
+#include "jamsim/io/lammps_data.hpp"
 
 namespace jamsim {
 
@@ -276,6 +277,10 @@ std::string diagnose_archive_file(const std::string& path) {
     } catch (const h5::Error& e) {
         return quoted(path) + " is a damaged HDF5 file (it has the HDF5 signature but " + e.what() + ")";
     }
+}
+
+std::string diagnose_initial_source(const std::string& path) {
+    return is_hdf5_file(path) ? diagnose_archive_file(path) : "";
 }
 
 bool is_single_replica_file(const std::string& path) {

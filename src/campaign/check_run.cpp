@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "jamsim/archive/archive.hpp"
+#include "jamsim/archive/archive_file_check.hpp"
 #include "jamsim/archive/archive_lock.hpp"
 #include "jamsim/campaign/lifecycle.hpp"
 
@@ -36,6 +37,10 @@ void finish_interrupted_growth(const CampaignSpec& spec, RunDecision& d) {
 /// replicas already in the archive must start from the same states as when they ran.
 std::string check_initial_states(const CampaignSpec& spec, const RunDecision& d) {
     if (spec.replicas.front().initial.empty()) return "";
+    const std::string& path = spec.replicas.front().initial;
+    if (const std::string bad = diagnose_initial_source(path); !bad.empty())
+        return spec.path + ": [run] initial = \"" + path +
+               "\" is not allowed: a jamsim campaign archive or a LAMMPS data file (" + bad + ")";
     try {
         const InitialStates source(spec.replicas.front().initial);
         for (std::size_t id = 0; id < spec.replicas.size(); ++id)

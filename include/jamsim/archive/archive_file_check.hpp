@@ -17,6 +17,11 @@ inline constexpr std::int64_t kArchiveLayoutVersion = 4;
 /// printed. Never throws for a bad file.
 std::string diagnose_archive_file(const std::string& path);
 
+/// For a [run] initial or --initial source: "" when `path` is not an HDF5 file (a LAMMPS
+/// data file, which its reader checks) or opens as a campaign archive; else
+/// diagnose_archive_file's sentence (a single-replica file, an export, a damaged archive).
+std::string diagnose_initial_source(const std::string& path);
+
 /// Whether `path` is a single-replica file of jamsim replica (an HDF5 file whose root has the
 /// identity and model attributes, and not a campaign archive's): the one kind of existing
 /// file `jamsim replica -o` replaces. False for a missing, unreadable or damaged file; never
