@@ -16,6 +16,7 @@
 #include <string>
 
 #include "jamsim/archive/archive_file_check.hpp"
+#include "jamsim/archive/capacity.hpp"
 #include "jamsim/run/model_registry.hpp"
 #include "jamsim/run/replica.hpp"
 #include "jamsim/io/initial_states.hpp"
@@ -94,6 +95,10 @@ ReplicaParams params_of(const ReplicaOptions& opt) {
         if (!uses_parameter(params, key))
             usage_error(std::string(find_parameter(key)->flag.substr(2)), text, "not used by model " + params.model);
     }
+    // Memory, as jamsim run checks a campaign's: a large N or a dilute box (the cell grid)
+    // would otherwise run into std::bad_alloc, or the node's out-of-memory killer.
+    if (const std::string too_large = check_replica_memory(params); !too_large.empty())
+        throw CLI::ValidationError("jamsim replica: " + too_large);
     return params;
 }
 

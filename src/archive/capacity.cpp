@@ -123,6 +123,15 @@ std::string check_capacity(const CapacityEstimate& e, const CapacityLimits& limi
     return "";
 }
 
+std::string check_replica_memory(const ReplicaParams& p) {
+    const double needed = kLibraryBytes + estimated_memory(p);
+    const double available = available_memory();
+    if (!std::isfinite(available) || needed <= kMemoryMargin * available) return "";
+    return "a replica of N = " + std::to_string(p.n) + " at phi = " + show_value(p.phi) + " needs about " +
+           show_bytes(needed) + " of memory, but this node has " + show_bytes(available) +
+           " available (jamsim plans for 80% of it): check N and phi, or run it on a larger node";
+}
+
 std::string show_bytes(double bytes) {
     if (!std::isfinite(bytes)) return "unknown";
     const char* units[] = {"B", "kB", "MB", "GB", "TB", "PB", "EB"};

@@ -43,7 +43,24 @@ struct CellGrid {
     }
 };
 
+/// floor(side / cell), checked against kMaxCellsPerSide (beyond it the int conversion
+/// and the cell indices would overflow).
+int cells_per_side(double side, double cell) {
+    const double cells = std::floor(side / cell);
+    if (!(cells <= NeighborList::kMaxCellsPerSide))
+        throw std::invalid_argument("neighbour list: a box of side " + std::to_string(side) + " is " +
+                                    std::to_string(cells) + " list ranges wide, more than the " +
+                                    std::to_string(NeighborList::kMaxCellsPerSide) +
+                                    " a cell grid takes: the system is too dilute (raise phi)");
+    return static_cast<int>(cells);
+}
+
 }  // namespace
+
+double NeighborList::cell_grid_bytes(double side, double reach) {
+    const double cells = std::floor(side / reach);
+    return cells >= 5 ? 8.0 * cells * cells : 0.0;
+}
 
 void NeighborList::build(std::span<const double> x, std::span<const double> y, std::span<const double> diameter,
                          const Box& box) {
@@ -53,7 +70,7 @@ void NeighborList::build(std::span<const double> x, std::span<const double> y, s
     if (box.side() < 2.0 * reach)
         throw std::invalid_argument("neighbour list: box side " + std::to_string(box.side()) +
                                     " is below twice the list range " + std::to_string(reach) + "; use more particles");
-    const int cells = static_cast<int>(std::floor(box.side() / reach));
+    const int cells = cells_per_side(box.side(), reach);
     if (cells >= 5)
         build_with_cells(x, y, diameter, box, cells);
     else
@@ -248,7 +265,7 @@ bool NeighborList::needs_rebuild(std::span<const double> x, std::span<const doub
 }
 
 std::vector<std::int32_t> spatial_order(const Particles& p, const Box& box, double cell) {
-    const int nc = std::max(1, static_cast<int>(std::floor(box.side() / cell)));
+    const int nc = std::max(1, cells_per_side(box.side(), cell));
     const CellGrid grid(p.x, p.y, box, nc);
     return grid.members;
 }

@@ -4,12 +4,14 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <optional>
 #include <stdexcept>
 
 #include "jamsim/core/system.hpp"
 #include "jamsim/dynamics/cd0.hpp"
 #include "jamsim/dynamics/rd0.hpp"
 #include "jamsim/dynamics/sllod.hpp"
+#include "jamsim/neighbor/neighbor_list.hpp"
 #include "jamsim/observe/time_series.hpp"
 #include "jamsim/run/replica.hpp"
 
@@ -190,6 +192,43 @@ std::string box_holds_the_list(const ReplicaParams& p) {
     return text;
 }
 
+/// "" when the neighbour list's cell grid can cover the box (at most kMaxCellsPerSide list
+/// ranges per side); else the refusal, blamed on phi when a larger phi fits this N, else on
+/// N (with the most disks that fit at this phi).
+std::optional<ParamError> cell_grid_fits(const ReplicaParams& p) {
+    if (!(p.phi > 0.0 && p.phi < 1.0 && std::isfinite(p.skin) && p.skin > 0.0 && std::isfinite(p.size_ratio) &&
+          p.size_ratio >= 1.0))
+        return std::nullopt;  // those parameters' own checks speak first
+    const double range = p.size_ratio + p.skin;
+    const double widest = NeighborList::kMaxCellsPerSide * range;
+    const double side = box_side_for(p.n, p.phi, p.size_ratio);
+    if (side < widest) return std::nullopt;
+    // side² = N × mean disk area / phi. The least phi whose box is `widest` wide (from the
+    // side at phi = 1, finite where this one is not), and the most disks at this phi.
+    const double side_at_one = box_side_for(p.n, 1.0, p.size_ratio);
+    const double least_phi = (side_at_one / widest) * (side_at_one / widest) * 1.0000001;
+    const std::int64_t step = p.size_ratio == 1.0 ? 1 : 2;
+    auto most = static_cast<std::int64_t>(static_cast<double>(p.n) * p.phi / least_phi) + 2 * step;
+    most -= most % step;
+    while (most > step && box_side_for(most, p.phi, p.size_ratio) >= widest) most -= step;
+    char why[300], text[500];
+    std::snprintf(why, sizeof why,
+                  "size_ratio = %g, skin = %g: the periodic box, side %.3g here, may span at most %d neighbour "
+                  "ranges size_ratio + skin = %g, the cell grid of the neighbour list",
+                  p.size_ratio, p.skin, side, NeighborList::kMaxCellsPerSide, range);
+    if (box_side_for(most, p.phi, p.size_ratio) >= widest) {  // no N at all at this phi
+        std::snprintf(text, sizeof text, "phi >= %.3g at N = %lld (%s)", least_phi, static_cast<long long>(p.n), why);
+        return ParamError{"phi", show_value(p.phi), text};
+    }
+    if (least_phi < 1.0) {
+        std::snprintf(text, sizeof text, "phi >= %.3g at N = %lld, or N <= %lld at phi = %g (%s)", least_phi,
+                      static_cast<long long>(p.n), static_cast<long long>(most), p.phi, why);
+        return ParamError{"phi", show_value(p.phi), text};
+    }
+    std::snprintf(text, sizeof text, "N <= %lld at phi = %g (%s)", static_cast<long long>(most), p.phi, why);
+    return ParamError{"N", show_value(static_cast<double>(p.n)), text};
+}
+
 }  // namespace
 
 std::vector<ParamError> validate(const ReplicaParams& p) {
@@ -203,6 +242,7 @@ std::vector<ParamError> validate(const ReplicaParams& p) {
     if (!errors.empty()) return errors;
     if (std::string allowed = box_holds_the_list(p); !allowed.empty())
         errors.push_back({"N", show_value(static_cast<double>(p.n)), allowed});
+    if (auto too_wide = cell_grid_fits(p)) errors.push_back(*too_wide);
     if (uses_parameter(p, "dt") && p.dt > m->stable_dt(p))
         errors.push_back({"dt", show_value(p.dt),
                           "dt <= " + show_value(m->stable_dt(p)) + " " +
@@ -277,8 +317,11 @@ int evaluations_per_step(const ReplicaParams& p) { return model_of(p).evaluation
 
 double estimated_memory(const ReplicaParams& p) {
     const double row_bytes = 8.0 * static_cast<double>(std::size(kSampleColumns));
+    const double grid =
+        p.phi > 0.0 ? NeighborList::cell_grid_bytes(box_side_for(p.n, p.phi, p.size_ratio), p.size_ratio + p.skin)
+                    : 0.0;
     return static_cast<double>(p.n) * model_of(p).bytes_per_disk +
-           3.0 * row_bytes * static_cast<double>(sample_count(p));
+           3.0 * row_bytes * static_cast<double>(sample_count(p)) + grid;
 }
 
 std::int64_t sample_count(const ReplicaParams& p) {

@@ -35,6 +35,10 @@ struct CapacityLimits {
 std::string check_capacity(const CapacityEstimate& e, const CapacityLimits& limits, const CampaignSpec& spec,
                            const std::string& output);
 
+/// "" when one replica of `p` (jamsim replica: one process) fits this node's available
+/// memory with the libraries' base, else one sentence with the figures.
+std::string check_replica_memory(const ReplicaParams& p);
+
 /// Free bytes for this user on the filesystem that holds (or would hold) `path`; NaN unknown.
 double free_bytes(const std::string& path);
 /// The filesystem of `path` has (almost) no space left (under 1 MB): a failed write there is

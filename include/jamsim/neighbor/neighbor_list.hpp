@@ -24,6 +24,14 @@ namespace jamsim {
 /// touch. So no contact is missed while 2 max_i |M(γ)δs_i| + |Δγ|(d_max + skin) ≤ skin.
 class NeighborList {
   public:
+    /// Cells per side of the build's grid at most: cell indices (nc² of them) are 32-bit. A
+    /// box wider than that many list ranges (a dilute system, φ ≈ 1e-9 at N = 64) is refused
+    /// by the parameter checks first; the grid's memory (8 bytes a cell while it is built)
+    /// counts in the memory check.
+    static constexpr int kMaxCellsPerSide = 46340;
+    /// Bytes of the cell grid for this box and list range (`reach` = largest diameter + skin).
+    static double cell_grid_bytes(double side, double reach);
+
     explicit NeighborList(double skin = 0.3) : skin_(skin) {}
 
     double skin() const { return skin_; }

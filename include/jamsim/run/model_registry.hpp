@@ -112,8 +112,9 @@ Schedule schedule_of(const ReplicaParams& p);
 std::int64_t checkpointed_steps(const ReplicaParams& p);
 double estimated_cost(const ReplicaParams& p);
 int evaluations_per_step(const ReplicaParams& p);
-/// Memory one running replica needs (bytes, without the libraries' base): its disks and its
-/// rows (held in memory, copied at checkpoints).
+/// Memory one running replica needs (bytes, without the libraries' base): its disks, its
+/// rows (held in memory, copied at checkpoints) and the neighbour list's cell grid (which
+/// dominates in a dilute box).
 double estimated_memory(const ReplicaParams& p);
 /// Samples (rows) a replica writes.
 std::int64_t sample_count(const ReplicaParams& p);
