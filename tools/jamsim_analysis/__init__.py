@@ -16,18 +16,41 @@ archive.
 Every raw read of an HDF5 file happens in archive.py; everything else takes DataFrames and
 numpy arrays.
 """
-from .errors import AnalysisError
-from .archive import open_archives, Archive, FinalConfiguration
-from .stats import (autocorrelation, integrated_autocorrelation_time, blocking_error,
-                    mean_with_error, jackknife, steady_window, replica_averages, group_averages)
-from .scaling import fit_collapse, collapse_points, bootstrap_collapse, compare_collapses
-from .rheology import fit_divergence, newtonian_divergence, bagnold_analysis, local_slopes
-from .jamming import jamming_probability, phi_j_samples, finite_size_scaling
-from .correlations import correlation_minima, fit_minimum_growth
-from .comparison import compare_averages
-from .pictures import contact_network, rattlers, animate_frames
-from . import order
-from .order import psi6, psi6_over_strain
-from .tables import to_dataset, replica_dataset, group_dataset, means_table, write_means_csv
+import importlib
 
-__all__ = [name for name in dir() if not name.startswith("_")]
+# Where each public name lives. They are imported on first use (PEP 562 __getattr__), not by
+# `import jamsim_analysis`: the modules import pandas, scipy, h5py and matplotlib (over a
+# second), which the commands' --help and argument errors do not need.
+_NAMES = {
+    "errors": ("AnalysisError",),
+    "archive": ("open_archives", "Archive", "FinalConfiguration"),
+    "stats": ("autocorrelation", "integrated_autocorrelation_time", "blocking_error", "mean_with_error", "jackknife",
+              "steady_window", "replica_averages", "group_averages"),
+    "scaling": ("fit_collapse", "collapse_points", "bootstrap_collapse", "compare_collapses"),
+    "rheology": ("fit_divergence", "newtonian_divergence", "bagnold_analysis", "local_slopes"),
+    "jamming": ("jamming_probability", "phi_j_samples", "finite_size_scaling"),
+    "correlations": ("correlation_minima", "fit_minimum_growth"),
+    "comparison": ("compare_averages",),
+    "pictures": ("contact_network", "rattlers", "animate_frames"),
+    "order": ("psi6", "psi6_over_strain"),
+    "tables": ("to_dataset", "replica_dataset", "group_dataset", "means_table", "write_means_csv"),
+}
+_WHERE = {name: module for module, names in _NAMES.items() for name in names}
+
+# The names above and their modules (as when they were imported eagerly).
+__all__ = sorted(set(_WHERE) | set(_NAMES))
+
+
+def __getattr__(name):
+    """A public name or module, imported on first use."""
+    if name in _NAMES:
+        return importlib.import_module(f".{name}", __name__)  # the import binds it here too
+    if name in _WHERE:
+        value = getattr(importlib.import_module(f".{_WHERE[name]}", __name__), name)
+        globals()[name] = value  # later uses find it without this function
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

@@ -3,31 +3,39 @@
 tools/jamsim_analyze.py and tools/jamsim_report.py. Bad input: one message on
 stderr naming what is missing, exit status 2, no traceback."""
 import argparse
+import ast
+import functools
+import importlib.util
+import math
 import os
 import sys
+import types
 
-import numpy as np
-import pandas as pd
-
-from . import (comparison, correlations, figures, jamming, order, pictures, report, rheology, scaling, stats, tables,
-               trends)
-from .archive import open_archives
 from .errors import AnalysisError
 
-pd.set_option("display.width", 160)
-pd.set_option("display.max_columns", 30)
-pd.set_option("display.max_rows", 500)
-# Six significant digits, not six decimals (which leave one digit of 2e-6).
-pd.set_option("display.float_format", lambda v: f"{v:.6g}")
+# numpy, pandas and the analysis modules (scipy, h5py, matplotlib: over a second) are imported
+# by the functions that use them, after the arguments are parsed: --help needs none of them.
 
 # Columns that hold counts or ids (stored as floats in a table that has NaN elsewhere).
 _INTEGER_COLUMNS = ("replica", "N", "seed", "n_samples", "samples", "status", "force_evaluations", "predecessor",
                     "seeds", "replicas")
 
 
+def _display_options():
+    """pandas' options for the printed tables (set when a command runs)."""
+    import pandas as pd
+    pd.set_option("display.width", 160)
+    pd.set_option("display.max_columns", 30)
+    pd.set_option("display.max_rows", 500)
+    # Six significant digits, not six decimals (which leave one digit of 2e-6).
+    pd.set_option("display.float_format", lambda v: f"{v:.6g}")
+
+
 def _shown(table):
     """`table` for printing: count and id columns whose values are whole numbers as integers
     (N = 1024, not 1024.0); a column with a missing value stays as it is."""
+    import numpy as np
+    import pandas as pd
     out = table.copy()
     for c in _INTEGER_COLUMNS:
         if c in out and pd.api.types.is_float_dtype(out[c]):
@@ -44,7 +52,9 @@ def _print_table(table):
 
 def _flow_archive(paths):
     """The archive(s), refused unless every model is a sheared-flow model."""
+    from .archive import open_archives
     run = open_archives(paths)
+    from . import report  # after the archives: a missing one is reported sooner
     other = sorted(set(run.models) - set(report.OVERDAMPED + report.MASSIVE))
     if other:
         raise AnalysisError(f"{', '.join(paths)}: model {', '.join(other)} has no flow curves; this analysis "
@@ -53,12 +63,14 @@ def _flow_archive(paths):
 
 
 def _averages(archive, observables):
+    from . import stats
     table = stats.replica_averages(archive, observables)
     return table, stats.group_averages(table, observables)
 
 
 def cmd_summary(a):
     """One row per replica: parameters, status, force evaluations, wall time."""
+    from .archive import open_archives
     run = open_archives(a.archives)
     cols = [c for c in ("replica", "model", "N", "phi", "rate", "seed", "status_name", "n_samples",
                         "force_evaluations", "wall_seconds", "failure_reason") if c in run.replicas]
@@ -67,6 +79,7 @@ def cmd_summary(a):
 
 def cmd_averages(a):
     """Steady windows, per-replica means with errors and tau_int, averages over seeds."""
+    from .archive import open_archives
     table, groups = _averages(open_archives(a.archives), a.observable)
     cols = ["replica", "model", "N", "phi", "rate", "seed", "window_start", "samples", "drift_z", "left_out"]
     for o in a.observable:
@@ -80,6 +93,8 @@ def cmd_averages(a):
 
 def cmd_csv(a):
     """Per-replica steady means with errors and tau_int as a flat CSV (one row per replica)."""
+    from . import stats, tables
+    from .archive import open_archives
     run = open_archives(a.archives)
     observables = a.observable or [o for o in ("pressure", "shear_stress", "energy_per_particle",
                                                 "contact_number", "packing_fraction") if o in run.observables()]
@@ -93,12 +108,15 @@ def cmd_csv(a):
 
 def _check_window_options(parser, a):
     """--auto-window and an explicit window exclude each other (argparse's error: exit 2)."""
-    if a.auto_window and (np.isfinite(a.phi_min) or np.isfinite(a.phi_max) or np.isfinite(a.rate_max)):
+    if a.auto_window and (math.isfinite(a.phi_min) or math.isfinite(a.phi_max) or math.isfinite(a.rate_max)):
         parser.error("--auto-window chooses the window itself: give it without --phi-min, --phi-max and --rate-max")
 
 
 def cmd_collapse(a):
     """Critical scaling collapse of p or sigma in the (phi, rate) plane."""
+    import numpy as np
+    import pandas as pd
+    from . import figures, scaling
     table, groups = _averages(_flow_archive(a.archives), [a.observable])
     if a.auto_window:
         every = scaling.collapse_points(groups, a.observable, a.N, model=a.model)
@@ -140,6 +158,9 @@ def cmd_sizes(a):
     (the window given, else the one chosen from the data at the largest N), each value's
     trend in N, and the local Newtonian exponents with their trend; tables and a figure in
     OUTDIR (sizes.tsv, newtonian_local.tsv, sizes.png)."""
+    import numpy as np
+    import pandas as pd
+    from . import figures, scaling, trends
     table, groups = _averages(_flow_archive(a.archives), [a.observable])
     window = (a.phi_min, a.phi_max, a.rate_max)
     if not any(np.isfinite(window)):
@@ -180,6 +201,10 @@ def cmd_compare(a):
     separate ones, with an F test (needs >= 3 rates)."""
     if a.collapse:
         return _compare_collapses(a)
+    import numpy as np
+    import pandas as pd
+    from . import comparison, figures, report, stats
+    from .archive import open_archives
     if a.by == "file":
         tables = []
         names = [os.path.splitext(os.path.basename(p))[0] for p in a.archives]
@@ -224,6 +249,8 @@ def cmd_compare(a):
 
 def _compare_collapses(a):
     """RD0 against CD0 (or any two models): joint collapse with shared phi_J, q, znu against separate ones."""
+    import pandas as pd
+    from . import scaling
     observable = a.observable[0]
     _, groups = _averages(_flow_archive(a.archives), [observable])
     models = sorted(groups.loc[groups["rate"] > 0, "model"].unique())
@@ -236,6 +263,7 @@ def _compare_collapses(a):
 
 
 def _divergence_command(a, power):
+    from . import figures, rheology
     _, groups = _averages(_flow_archive(a.archives), [a.observable])
     func = rheology.newtonian_divergence if power == 1 else rheology.bagnold_analysis
     plateau, fit = func(groups, a.observable, phi_j=a.phi_j, correction=a.correction, N=a.N, model=a.model,
@@ -261,6 +289,8 @@ def cmd_bagnold(a):
 
 def cmd_jamming(a):
     """P_J(phi, N), thresholds per N and their finite-size scaling (phi_J(inf), nu)."""
+    from . import jamming
+    from .archive import open_archives
     states = jamming.static_states(open_archives(a.archives))
     _print_table(jamming.jamming_probability(states))
     thr = jamming.thresholds(states)
@@ -273,6 +303,7 @@ def cmd_jamming(a):
 
 def cmd_correlation(a):
     """x_min of g_y(x) per (model, N, phi, rate) over seeds and its growth x_min = A rate^-a."""
+    from . import correlations
     run = _flow_archive(a.archives)
     _, grouped = correlations.correlation_minima(run)
     _print_table(grouped)
@@ -283,6 +314,9 @@ def cmd_correlation(a):
 
 def cmd_picture(a):
     """Picture of one replica's final configuration with its contact-force network."""
+    import numpy as np
+    from . import pictures
+    from .archive import open_archives
     run = open_archives(a.archives)
     done = run.done()
     if a.replica not in set(done["replica"]):
@@ -301,6 +335,9 @@ def cmd_picture(a):
 
 def cmd_frames(a):
     """psi6 per configuration frame of one replica, and an animated GIF of its frames."""
+    import numpy as np
+    from . import order, pictures
+    from .archive import open_archives
     run = open_archives(a.archives)
     if a.replica not in set(run.replicas["replica"]):
         raise AnalysisError(f"replica {a.replica} is not in these files ({len(run.replicas)} replicas)")
@@ -323,18 +360,45 @@ def _common(p, observable=True, size_help="system size (default: the largest)"):
 
 
 def _window_options(p):
-    p.add_argument("--phi-min", type=float, default=-np.inf, help="only points with phi >= this")
-    p.add_argument("--phi-max", type=float, default=np.inf, help="only points with phi <= this")
-    p.add_argument("--rate-max", type=float, default=np.inf, help="only points with rate <= this")
+    p.add_argument("--phi-min", type=float, default=-math.inf, help="only points with phi >= this")
+    p.add_argument("--phi-max", type=float, default=math.inf, help="only points with phi <= this")
+    p.add_argument("--rate-max", type=float, default=math.inf, help="only points with rate <= this")
 
 
 def _plateau_option(p):
+    rheology = _module_text("rheology")
     p.add_argument("--plateau-p", type=float, default=rheology.PLATEAU_P,
                    help="level of the plateau test: the lowest rates whose O/rate^power agree with one constant at "
                    f"this chi2 p-value or above form the plateau (default {rheology.PLATEAU_P:g}; larger: stricter)")
 
 
+@functools.lru_cache(maxsize=None)
+def _module_text(name):
+    """The package's module `name` for the parsers: the module once imported, else its docstring
+    and literal constants read from its source (importing it takes pandas, scipy, matplotlib)."""
+    full = f"{__package__}.{name}"
+    if full in sys.modules:
+        return sys.modules[full]
+    spec = importlib.util.find_spec(full)
+    source = spec.loader.get_source(full) if hasattr(spec.loader, "get_source") else None
+    if source is None:  # installed without its source: import it
+        return importlib.import_module(full)
+    tree = ast.parse(source)
+    text = {"__doc__": ast.get_docstring(tree, clean=False)}
+    for node in tree.body:
+        if (isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.targets[0], ast.Name)
+                and node.targets[0].id.isupper()):
+            try:
+                text[node.targets[0].id] = ast.literal_eval(node.value)
+            except ValueError:
+                pass  # computed from other names: not a constant the parsers use
+    return types.SimpleNamespace(**text)
+
+
 def analyze_parser():
+    # The modules' docstrings and constants under their names, read without importing them.
+    comparison, correlations, jamming, order, pictures, rheology, scaling, tables, trends = map(
+        _module_text, "comparison correlations jamming order pictures rheology scaling tables trends".split())
     ap = argparse.ArgumentParser(
         prog=prog_name("jamsim_analyze.py"),
         description="One analysis of jamsim campaign archives (shards and replica files too); "
@@ -421,6 +485,7 @@ def analyze_parser():
 
 
 def _run(func, a, prog):
+    _display_options()
     try:
         func(a)
     except AnalysisError as e:
@@ -438,7 +503,7 @@ def analyze_main(argv=None):
 
 
 def report_main(argv=None):
-    ap = argparse.ArgumentParser(prog=prog_name("jamsim_report.py"), description=report.__doc__,
+    ap = argparse.ArgumentParser(prog=prog_name("jamsim_report.py"), description=_module_text("report").__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("paths", nargs="+", metavar="ARCHIVE... OUTDIR",
                     help="campaign archives, shards or replica files, then the report directory")
@@ -447,9 +512,9 @@ def report_main(argv=None):
     ap.add_argument("--bootstrap", type=int, default=100, help="bootstrap resamples over seeds (0: none)")
     ap.add_argument("--N", type=int, help="system size of the fits (default: the largest; the Newtonian "
                     "and Bagnold fits: the size with the most phi at their plateau)")
-    ap.add_argument("--phi-min", type=float, default=-np.inf, help="collapse window: smallest phi (default: all)")
-    ap.add_argument("--phi-max", type=float, default=np.inf, help="collapse window: largest phi (default: all)")
-    ap.add_argument("--rate-max", type=float, default=np.inf, help="collapse window: largest rate (default: all)")
+    ap.add_argument("--phi-min", type=float, default=-math.inf, help="collapse window: smallest phi (default: all)")
+    ap.add_argument("--phi-max", type=float, default=math.inf, help="collapse window: largest phi (default: all)")
+    ap.add_argument("--rate-max", type=float, default=math.inf, help="collapse window: largest rate (default: all)")
     window = ap.add_mutually_exclusive_group()
     window.add_argument("--auto-window", action="store_true",
                         help="choose each collapse's window from the data (the largest whose fit is acceptable; "
@@ -462,6 +527,7 @@ def report_main(argv=None):
     _check_window_options(ap, a)
 
     def run(a):
+        from . import report
         output_directory(a.paths[-1], create=False)
         opts = report.ReportOptions(a.degree, a.correction, a.bootstrap, a.N, a.phi_min, a.phi_max, a.rate_max,
                                     not a.full_window)
@@ -477,6 +543,14 @@ def report_main(argv=None):
 
 
 # -- helpers of the commands (scripts/: plot_campaign, plot_replica, analyze_jamming, ...) --
+def pyplot():
+    """matplotlib.pyplot on the Agg backend (files, never a window), imported when a figure is drawn."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
 def prog_name(default):
     """The command's name as the user ran it (bin/jamsim-NAME, tools/NAME.py: sys.argv[0]);
     `default` when it runs otherwise (python3 -m pytest, an interpreter)."""

@@ -43,18 +43,15 @@ import argparse
 import os
 import sys
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from .. import AnalysisError, open_archives  # noqa: E402
-from .. import jamming  # noqa: E402
-from ..cli import output_directory, prog_name, run_script  # noqa: E402
+# numpy, matplotlib (Agg) and the analysis modules are imported where they are used, so that
+# --help and argument errors do not wait for them.
+from .. import AnalysisError
+from ..cli import output_directory, prog_name, pyplot, run_script
 
 
 def analyze(a):
+    import numpy as np
+    from .. import jamming, open_archives
     paths, out = a.archives, a.outdir
     names = ", ".join(paths)
     run = open_archives(paths)
@@ -73,6 +70,7 @@ def analyze(a):
                             "or SHEARED (flow campaigns: plot_campaign.py, jamsim_analyze.py collapse)")
     states = jamming.static_states(run)  # finished replicas, the state's columns
     output_directory(out)
+    plt = pyplot()
     N = states["N"].to_numpy().astype(int)
     phi = states["phi"].to_numpy()
     jammed = states["jammed"].to_numpy()

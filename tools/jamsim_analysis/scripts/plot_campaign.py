@@ -21,15 +21,10 @@ import argparse
 import os
 import sys
 
-import matplotlib
-import numpy as np
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from .. import AnalysisError, open_archives, stats  # noqa: E402
-from ..cli import describe_ids, output_directory, prog_name, run_script  # noqa: E402
-from ..report import MASSIVE, OVERDAMPED  # noqa: E402
+# numpy, matplotlib (Agg) and the analysis modules are imported where they are used, so that
+# --help and argument errors do not wait for them.
+from .. import AnalysisError
+from ..cli import describe_ids, output_directory, prog_name, pyplot, run_script
 
 OBSERVABLES = ["pressure", "shear_stress"]
 
@@ -37,6 +32,7 @@ OBSERVABLES = ["pressure", "shear_stress"]
 def seed_averages(run):
     """Mean and standard error over seeds per (model, N, phi, rate) of the finished replicas
     with rate > 0."""
+    from .. import stats
     table = stats.replica_averages(run, OBSERVABLES, detect=False)
     table = table[(table["left_out"] == "") & (table["rate"] > 0)]
     if table.empty:
@@ -50,6 +46,7 @@ def label(row_keys, models):
 
 
 def flow_curves(groups, path, title):
+    plt = pyplot()
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
     models = sorted(groups["model"].unique())
     for key, part in groups.groupby(["model", "N", "rate"]):
@@ -70,6 +67,8 @@ def flow_curves(groups, path, title):
 
 
 def stress_vs_rate(groups, path, title):
+    import numpy as np
+    plt = pyplot()
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
     models = sorted(groups["model"].unique())
     keys = list(groups.groupby(["model", "N", "phi"]).groups)
@@ -93,6 +92,7 @@ def stress_vs_rate(groups, path, title):
 
 
 def replica_series(run, r, path):
+    plt = pyplot()
     rep = run.replicas.iloc[r]
     strain = run.series(r, "strain")
     panels = [("pressure", "$p$"), ("shear_stress", r"$\sigma$"),
@@ -113,7 +113,9 @@ def replica_series(run, r, path):
 
 
 def plot(a):
+    from .. import open_archives
     run = open_archives(a.archives)
+    from ..report import MASSIVE, OVERDAMPED  # after the archives: a missing one is reported sooner
     other = sorted(set(run.models) - set(OVERDAMPED + MASSIVE))
     if other:
         raise AnalysisError(f"{', '.join(a.archives)}: model {', '.join(other)} has no flow curves; "

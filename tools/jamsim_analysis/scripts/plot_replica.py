@@ -17,14 +17,10 @@ A replica still running is drawn up to its last written row.
 import argparse
 import sys
 
-import matplotlib
-import numpy as np
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from .. import AnalysisError, open_archives  # noqa: E402
-from ..cli import describe_ids, output_file, prog_name, run_script  # noqa: E402
+# numpy, matplotlib (Agg) and the archive reader are imported where they are used, so that
+# --help and argument errors do not wait for them.
+from .. import AnalysisError
+from ..cli import describe_ids, output_file, prog_name, pyplot, run_script
 
 PANELS = [("pressure", "$p$"), ("shear_stress", r"$\sigma$"), ("energy_per_particle", "$E/N$"),
           ("contact_number", "$z$")]
@@ -48,9 +44,12 @@ def choose(run, a):
 
 
 def plot(a):
+    import numpy as np
+    from .. import open_archives
     run = open_archives(a.files)
     output_file(a.figure)
     r = choose(run, a)
+    plt = pyplot()
     rep = run.replicas.iloc[r]
     strain = run.series(r, "strain")
     transient = rep.get("transient", 0.0)

@@ -19,14 +19,15 @@ band and the transient strain (nan: never within the band)."""
 import argparse
 import sys
 
-import numpy as np
-
-from .. import AnalysisError, open_archives
+# numpy and the archive reader are imported where they are used, so that --help and argument
+# errors do not wait for them.
+from .. import AnalysisError
 from ..cli import prog_name, run_script
 
 
 def groups_of(run, rate):
     """Finished replicas with rate > 0 per (model, N, phi, rate)."""
+    import numpy as np
     done = run.done()
     done = done[done["rate"] > 0] if "rate" in done else done.iloc[0:0]
     if done.empty:
@@ -44,6 +45,8 @@ def groups_of(run, rate):
 
 
 def transient(a):
+    import numpy as np
+    from .. import open_archives
     run = open_archives(a.archives)
     groups = groups_of(run, a.rate)
     models = {k[0] for k in groups}
