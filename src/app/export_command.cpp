@@ -151,7 +151,12 @@ int run_export(const ExportOptions& opt) {
     }
     // Read every replica before writing anything: a replica that cannot be read writes nothing.
     std::vector<StoredReplica> replicas;
-    for (std::int64_t id : ids) replicas.push_back(stored.read(id));
+    for (std::int64_t id : ids) {
+        replicas.push_back(stored.read(id));
+        if (const std::string why = damaged_final(replicas.back().final); !why.empty())
+            refuse("replica " + std::to_string(id) + " of '" + opt.archive + "' cannot be exported: its final state " +
+                   why + "; jamsim writes no such state (a hand-edited or damaged archive?)");
+    }
 
     std::vector<std::string> written;
     try {

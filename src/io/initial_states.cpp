@@ -124,6 +124,9 @@ System InitialStates::load(const ReplicaParams& p, std::int64_t id) const {
         const h5::Handle f = h5::open_unlocked_readonly(source_);
         FinalConfiguration c =
             read_final_configuration(f.get(), static_cast<std::int64_t>(k), static_cast<std::int64_t>(n));
+        if (const std::string why = damaged_final(c); !why.empty())
+            throw InitialStateError("[run] initial = \"" + source_ + "\": replica " + std::to_string(k) +
+                                    "'s final state " + why + " (a hand-edited or damaged archive?)");
         Particles q;
         q.resize(n);
         q.x = std::move(c.x);

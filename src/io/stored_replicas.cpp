@@ -64,6 +64,18 @@ FinalConfiguration read_final_configuration(hid_t archive, std::int64_t id, std:
     return c;
 }
 
+std::string damaged_final(const FinalConfiguration& c) {
+    if (!(std::isfinite(c.box_side) && c.box_side > 0.0)) return "has box_side = " + show_value(c.box_side);
+    if (!std::isfinite(c.box_strain)) return "has box_strain = " + show_value(c.box_strain);
+    for (std::size_t i = 0; i < c.x.size(); ++i) {
+        if (!std::isfinite(c.x[i])) return "has x = " + show_value(c.x[i]) + " at disk " + std::to_string(i);
+        if (!std::isfinite(c.y[i])) return "has y = " + show_value(c.y[i]) + " at disk " + std::to_string(i);
+        if (!(std::isfinite(c.diameter[i]) && c.diameter[i] > 0.0))
+            return "has diameter = " + show_value(c.diameter[i]) + " at disk " + std::to_string(i);
+    }
+    return "";
+}
+
 StoredReplica StoredReplicas::read(std::int64_t id) const {
     const auto k = static_cast<std::size_t>(id);
     const auto kk = static_cast<hsize_t>(id);

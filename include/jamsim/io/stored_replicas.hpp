@@ -15,6 +15,10 @@ namespace jamsim {
 /// replica's disks end to end from /replicas/particle_offset, layout 3 one row per replica.
 /// Throws h5::Error when it cannot be read.
 FinalConfiguration read_final_configuration(hid_t archive, std::int64_t id, std::int64_t n);
+/// "" when `c` is a state jamsim can have written (finite positions, positive finite
+/// diameters, a positive finite box side, a finite strain); else what is wrong, in words
+/// ("has x = nan at disk 3"), for export and [run] initial to refuse a hand-edited archive.
+std::string damaged_final(const FinalConfiguration& c);
 
 /// One replica's final state with what describes it.
 struct StoredReplica {
