@@ -211,6 +211,29 @@ std::string fingerprint_version(const std::string& fingerprint) {
 /// A single-replica file's root: the identity and model attributes of jamsim replica.
 bool is_replica_root(hid_t f) { return has_attribute(f, "identity") && has_attribute(f, "model"); }
 
+/// The root attributes that jamsim reads, of the class it writes them with (a hand-edited
+/// n_ranks of text made `status` fail with an HDF5 read error); "" when they are.
+std::string check_attribute_classes(hid_t f) {
+    static constexpr const char* kText[] = {"campaign",     "spec_path",   "spec_text",    "spec_fingerprint",
+                                            "code_version", "run_started", "run_finished", "merged"};
+    static constexpr const char* kInteger[] = {"layout_version", "n_replicas", "n_ranks"};
+    const auto class_of = [f](const char* name) {
+        const h5::Handle attr(H5Aopen(f, name, H5P_DEFAULT), H5Aclose, std::string("open attribute ") + name);
+        const h5::Handle type(H5Aget_type(attr.get()), H5Tclose, std::string("type of attribute ") + name);
+        const h5::Handle space(H5Aget_space(attr.get()), H5Sclose, std::string("space of attribute ") + name);
+        return std::pair{H5Tget_class(type.get()), H5Sget_simple_extent_npoints(space.get())};
+    };
+    for (const char* name : kText)
+        if (has_attribute(f, name) && class_of(name).first != H5T_STRING)
+            return std::string("its attribute ") + name + " is not text";
+    for (const char* name : kInteger)
+        if (has_attribute(f, name)) {
+            const auto [cls, points] = class_of(name);
+            if (cls != H5T_INTEGER || points != 1) return std::string("its attribute ") + name + " is not one integer";
+        }
+    return "";
+}
+
 /// The checks that need HDF5 to open the file; "" when it is a usable archive.
 std::string check_contents(const std::string& path) {
     const h5::Handle file = h5::open_unlocked_readonly(path);
@@ -223,6 +246,8 @@ std::string check_contents(const std::string& path) {
         return quoted(path) + " is an HDF5 file but not a jamsim campaign archive (it has no "
                               "campaign and spec_fingerprint attributes)";
     }
+    if (const std::string bad = check_attribute_classes(f); !bad.empty())
+        return quoted(path) + " is damaged: " + bad + "; jamsim writes no such archive (a hand-edited or broken copy?)";
     const std::string written_by = has_attribute(f, "code_version")
                                        ? " (written by jamsim " + h5::read_string_attribute(f, "code_version") + ")"
                                        : "";
