@@ -5,7 +5,9 @@
 #include "dry_run.hpp"
 #include "wall_time.hpp"
 
+#include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <regex>
@@ -13,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "jamsim/archive/archive_file_check.hpp"
 #include "jamsim/campaign/scheduler.hpp"
 #include "jamsim/spec/campaign_spec.hpp"
 #include "jamsim/linalg/contact_solver.hpp"
@@ -41,6 +44,9 @@ struct PlanError : std::runtime_error {
 /// rows "id N phi rate seed samples cost est.s sampling"): every replica of `spec` once, with
 /// its N.
 ReplicaSeconds seconds_from_listing(const std::string& path, const CampaignSpec& spec) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
+        throw PlanError("jamsim plan: --costs " + path + ": is a directory, not the listing of a dry run");
     std::ifstream in(path);
     if (!in) throw PlanError("jamsim plan: --costs " + path + ": cannot be read");
     static const std::regex row(
@@ -61,6 +67,10 @@ ReplicaSeconds seconds_from_listing(const std::string& path, const CampaignSpec&
         if (seconds[id] >= 0) throw PlanError(where + " is listed twice");
         seconds[id] = std::stod(m[3]);
         serial[id] = std::stod(m[4]);
+        if (!(std::isfinite(seconds[id]) && seconds[id] >= 0 && std::isfinite(serial[id]) && serial[id] >= 0 &&
+              serial[id] <= seconds[id]))
+            throw PlanError(where + ": est.s = " + m[3].str() + ", sampling = " + m[4].str() +
+                            " are not allowed: seconds >= 0, the sampling's part of them at most all of them");
         ++found;
     }
     if (found != spec.replicas.size())
@@ -83,6 +93,13 @@ int plan(const PlanOptions& opt, int& argc, char**& argv) {
     if (!opt.costs.empty()) {
         estimate = seconds_from_listing(opt.costs, spec);
     } else {
+        // An archive that exists but cannot be read gives no recorded rates: say so.
+        const std::string archive = opt.output.empty() ? spec.output : opt.output;
+        std::error_code ec;
+        if (opt.estimate.calibrate && std::filesystem::exists(archive, ec))
+            if (const std::string bad = diagnose_archive_file(archive); !bad.empty())
+                std::fprintf(stderr, "jamsim plan: warning: no recorded rates are taken from the archive: %s\n",
+                             bad.c_str());
         estimate = replica_seconds(spec, opt.output.empty() ? spec.output : opt.output, opt.estimate.calibrate,
                                    opt.estimate.probe_seconds);
     }
