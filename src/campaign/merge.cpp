@@ -26,8 +26,16 @@ std::string replica_label(const ReplicaParams& p) {
 /// input's only in its sweeps.
 std::vector<StoredCampaign> read_inputs(const std::string& output, const std::vector<std::string>& inputs) {
     std::vector<StoredCampaign> stored;
-    for (const auto& path : inputs) {
+    for (std::size_t k = 0; k < inputs.size(); ++k) {
+        const std::string& path = inputs[k];
         if (path == output) throw CampaignRefused("'" + path + "' is both the output and an input: name a new output");
+        // The same file twice (by name, link or path) adds nothing, and its count misleads.
+        for (std::size_t j = 0; j < k; ++j) {
+            std::error_code ec;
+            if (inputs[j] == path || std::filesystem::equivalent(inputs[j], path, ec))
+                throw CampaignRefused("shard '" + path + "' is given twice (as '" + inputs[j] +
+                                      "' too): name each shard once");
+        }
         if (const std::string bad = diagnose_archive_file(path); !bad.empty()) throw CampaignRefused("shard " + bad);
         try {
             stored.push_back(read_stored_campaign(path));
