@@ -5,7 +5,6 @@
 #include "minimize_command.hpp"
 #include "option_checks.hpp"
 
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -17,6 +16,8 @@
 #include "jamsim/core/system.hpp"
 #include "jamsim/force/force_field.hpp"
 #include "jamsim/minimize/minimizer.hpp"
+#include "jamsim/params/parameters.hpp"
+#include "jamsim/run/model_registry.hpp"
 
 namespace jamsim::app {
 
@@ -57,32 +58,30 @@ void write_lammps_data(const System& sys, const std::string& path) {
 
 namespace {
 
-/// The stopping rule, the exponent and the minimiser: the rules of their campaign keys
-/// (src/params/parameters.cpp), said for the options; exit status 2.
+/// The options as the parameters of one RAND replica, checked by the campaign keys' own rules
+/// (src/params/parameters.cpp, validate): the stopping rule, the exponent, the minimiser, and a
+/// box the neighbour list can cover. Each refusal names the option; exit status 2.
 void check_options(const Options& opt) {
-    auto refuse = [](const char* option, double value, const std::string& allowed) {
-        char shown[64];
-        std::snprintf(shown, sizeof shown, "%g", value);
-        throw CLI::ValidationError(std::string("jamsim minimize: ") + option + " = " + shown +
-                                   " is not allowed: " + allowed);
-    };
-    const MinimizeCriteria& c = opt.criteria;
-    if (!(std::isfinite(c.energy_floor) && c.energy_floor > 0))
-        refuse("--energy-floor", c.energy_floor, "a number > 0");
-    if (!(std::isfinite(c.force_tol) && c.force_tol >= 0)) refuse("--force-tol", c.force_tol, "a number >= 0");
-    if (!(std::isfinite(c.force_tol_abs) && c.force_tol_abs >= 0))
-        refuse("--force-tol-abs", c.force_tol_abs, "a number >= 0");
-    if (c.force_tol == 0 && c.force_tol_abs == 0)
-        refuse("--force-tol", 0, "> 0 when --force-tol-abs is 0 (a reachable stopping rule)");
-    if (c.max_iterations < 1) refuse("--max-iterations", static_cast<double>(c.max_iterations), "a whole number >= 1");
-    if (!(std::isfinite(opt.alpha) && opt.alpha > 1)) refuse("--alpha", opt.alpha, "a number > 1");
-    const auto names = minimizer_names();
-    if (std::find(names.begin(), names.end(), opt.minimizer) == names.end()) {
-        std::string list;
-        for (const auto& name : names) list += (list.empty() ? "" : ", ") + std::string(name);
-        throw CLI::ValidationError("jamsim minimize: --minimizer = " + opt.minimizer + " is not allowed: one of " +
-                                   list);
+    ReplicaParams p;
+    p.model = "RAND";
+    p.n = opt.n;
+    p.phi = opt.phi;
+    p.seed = opt.seed;
+    p.alpha = opt.alpha;
+    p.minimizer = opt.minimizer;
+    p.energy_floor = opt.criteria.energy_floor;
+    p.force_tol = opt.criteria.force_tol;
+    p.force_tol_abs = opt.criteria.force_tol_abs;
+    for (const auto& e : validate(p)) {
+        const ParamInfo* info = find_parameter(e.key);
+        throw CLI::ValidationError("jamsim minimize: " + (info ? std::string(info->flag) : e.key) + " = " + e.value +
+                                   " is not allowed: " + e.allowed);
     }
+    // Not a campaign key: the campaign's minimisations take their own limit.
+    if (opt.criteria.max_iterations < 1)
+        throw CLI::ValidationError(
+            "jamsim minimize: --max-iterations = " + std::to_string(opt.criteria.max_iterations) +
+            " is not allowed: a whole number >= 1");
 }
 
 }  // namespace
