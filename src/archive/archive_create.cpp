@@ -1,6 +1,8 @@
 // Creating a campaign archive (archive.hpp, Archive::create): its layout, its attributes and
 // every dataset, filled with "not run yet" where a reader may look before a replica is done.
 #include <algorithm>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <limits>
 
@@ -226,6 +228,19 @@ void write_parameter_columns(hid_t f, const CampaignSpec& spec, const std::vecto
 
 Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSpec& spec) {
     h5::quiet_errors();
+    // The marker, not a temporary name renamed into place: MPI-IO takes no longer names.
+    const std::string marker = creation_marker(path);
+    const bool root = mpi::rank(comm) == 0;
+    int failed = 0;
+    if (root) {
+        std::ofstream note(marker, std::ios::trunc);
+        note << "jamsim: the archive beside this file is being created; a kill left it half-made if this "
+                "file is still here\n";
+        note.flush();
+        failed = note ? 0 : 1;
+    }
+    mpi::check(MPI_Bcast(&failed, 1, MPI_INT, 0, comm), "MPI_Bcast");
+    if (failed) throw h5::Error("cannot write '" + marker + "'");
     const auto fapl = h5::mpio_file_access(comm);
     Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose,
                 "create archive '" + path + "'");
@@ -242,7 +257,26 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
     create_frames(f, layout, replicas);
     if (mpi::rank(comm) == 0) write_parameter_columns(f, spec, columns, layout, replicas);
     h5::check(H5Fflush(f, H5F_SCOPE_GLOBAL), "flush '" + path + "'");
+    mpi::check(MPI_Barrier(comm), "MPI_Barrier");  // every rank's part is written
+    if (root) {
+        std::error_code ec;
+        std::filesystem::remove(marker, ec);
+        if (ec) throw h5::Error("cannot remove '" + marker + "': " + ec.message());
+    }
     return Archive(std::move(file), comm, layout);
+}
+
+std::string Archive::undo_interrupted_creation(const std::string& path) {
+    const std::string marker = creation_marker(path);
+    std::error_code ec;
+    if (!std::filesystem::exists(marker, ec)) return "";
+    const bool had_file = std::filesystem::exists(path, ec);
+    std::filesystem::remove(path, ec);
+    if (ec) throw h5::Error("cannot remove '" + path + "': " + ec.message());
+    std::filesystem::remove(marker, ec);
+    if (ec) throw h5::Error("cannot remove '" + marker + "': " + ec.message());
+    return had_file ? "removed '" + path + "', an archive whose creation was interrupted (nothing had run in it)"
+                    : "removed '" + marker + "', left by an interrupted creation";
 }
 
 }  // namespace jamsim

@@ -284,6 +284,9 @@ std::string diagnose_archive_file(const std::string& path) {
         return quoted(path) + " cannot be examined: " + std::strerror(errno);
     }
     if (S_ISDIR(st.st_mode)) return quoted(path) + " is a directory, not a campaign archive";
+    if (struct stat marker{}; ::stat((path + ".creating").c_str(), &marker) == 0)  // Archive::creation_marker
+        return quoted(path) + " is being created, or a kill interrupted its creation ('" + path +
+               ".creating' is beside it): a jamsim run or merge to it makes it anew";
     if (!S_ISREG(st.st_mode)) return quoted(path) + " is not a regular file";
     const auto size = static_cast<std::uint64_t>(st.st_size);
     std::ifstream in(path, std::ios::binary);

@@ -156,7 +156,8 @@ std::string Archive::finish_growth(const std::string& path) {
     const std::string next = growing_path(path);
     const fs::path folder = checkpoint_folder(path), next_folder = checkpoint_folder(next);
     std::error_code ec;
-    if (fs::exists(next, ec)) {  // killed before its rename: the old archive is whole
+    fs::remove(creation_marker(next), ec);  // killed while `next` was being made
+    if (fs::exists(next, ec)) {             // killed before its rename: the old archive is whole
         fs::remove(next, ec);
         if (ec) throw h5::Error("cannot remove '" + next + "': " + ec.message());
         fs::remove_all(next_folder, ec);

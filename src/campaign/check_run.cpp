@@ -33,6 +33,17 @@ void finish_interrupted_growth(const CampaignSpec& spec, RunDecision& d) {
     } catch (const h5::Error& e) { throw SpecError(spec.path + ": " + e.what()); }
 }
 
+/// An archive whose creation a kill interrupted (its marker beside it) is removed, to be
+/// created anew, unless another live run holds it (refused later for that reason).
+void undo_interrupted_creation(const CampaignSpec& spec, RunDecision& d) {
+    try {
+        ArchiveLock::check_free(d.output);
+        if (const std::string done = Archive::undo_interrupted_creation(d.output); !done.empty())
+            d.notes.push_back(done);
+    } catch (const ArchiveBusy&) {
+    } catch (const h5::Error& e) { throw SpecError(spec.path + ": " + e.what()); }
+}
+
 /// Every replica must find its starting state ([run] initial) before any work, and the
 /// replicas already in the archive must start from the same states as when they ran.
 std::string check_initial_states(const CampaignSpec& spec, const RunDecision& d) {
@@ -61,9 +72,15 @@ void check_campaign(const RunRequest& request, const CampaignSpec& spec, RunDeci
         if (!request.dry_run) throw SpecError(too_large);
         d.dry_run_refusal = std::move(too_large);
     }
-    if (!request.dry_run) finish_interrupted_growth(spec, d);
-    // A dry run writes nothing, but an existing archive it names must fit the campaign.
-    if (!request.dry_run || std::filesystem::exists(d.output))
+    if (!request.dry_run) {
+        undo_interrupted_creation(spec, d);
+        finish_interrupted_growth(spec, d);
+    }
+    // A dry run writes nothing, but an existing archive it names must fit the campaign (one
+    // whose creation was interrupted is made anew).
+    std::error_code ec;
+    const bool half_made = std::filesystem::exists(Archive::creation_marker(d.output), ec);
+    if (!request.dry_run || (std::filesystem::exists(d.output) && !half_made))
         d.error = check_output(d.output, spec, d.mode, d.grow_source);
     else
         d.error = check_output_folder(d.output, spec, false);  // what the run would refuse

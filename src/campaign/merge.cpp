@@ -141,6 +141,12 @@ MergeOutcome merge_archives(const std::string& output, const std::vector<std::st
     const CampaignSpec spec = merged_campaign(output, inputs, stored);
     const auto target = output_ids(spec, stored);
     check_duplicates_agree(inputs, stored, target);
+    try {  // an output whose creation a kill interrupted is made anew
+        if (std::filesystem::exists(Archive::creation_marker(output))) {
+            ArchiveLock::check_free(output);
+            (void)Archive::undo_interrupted_creation(output);
+        }
+    } catch (const ArchiveBusy& e) { throw CampaignRefused(e.what()); }
     const bool exists = std::filesystem::exists(output);
     if (const std::string too_large = check_capacity(estimate_capacity(spec, output, 1, 1), {}, spec, output);
         !too_large.empty())

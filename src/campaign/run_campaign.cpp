@@ -56,7 +56,10 @@ std::string create_archive(MPI_Comm comm, const CampaignSpec& spec, const std::s
     if (!any) return "";
     created.reset();
     std::error_code ignored;
-    if (mpi::rank(comm) == 0) std::filesystem::remove(output, ignored);
+    if (mpi::rank(comm) == 0) {
+        std::filesystem::remove(output, ignored);
+        std::filesystem::remove(Archive::creation_marker(output), ignored);
+    }
     return spec.path + ": creating the archive '" + output + "' failed" +
            (disk_full(output) ? ": no space left on device" : "") + "; nothing was kept (" +
            (why.empty() ? "on another rank" : why) + ")";

@@ -119,7 +119,21 @@ long_path)  # an archive path longer than MPI-IO takes: shortened, or refused in
   mkdir -p "$deep/$deep"
   cd "$deep/$deep" && cd / || fail "cannot reach $deep/$deep"
   run far.log run "$here/source.toml" -o "$work/$deep/$deep/src.h5"; expect_rc 2 far.log
-  expect_in 'is not allowed: an archive path of at most 240 characters' far.log
+  expect_in 'is not allowed: an archive path of at most 234 characters' far.log
+  # A path of the longest length taken (relative, as given): run, then extended (which
+  # opens PATH.extending, 10 characters more, through MPI-IO).
+  cd "$work" || fail "cannot return to $work"
+  longest=$(printf 'g%.0s' $(seq 100))/
+  mkdir -p "$longest"
+  longest+=$(printf 'f%.0s' $(seq $((234 - ${#longest} - 3)))).h5
+  [[ ${#longest} -eq 234 ]] || fail "the test's path has ${#longest} characters, not 234"
+  run edge.log run "$here/source.toml" -o "$longest"; expect_rc 0 edge.log; no_crash edge.log
+  run edge_longer.log run "$here/source_longer.toml" -o "$longest"; expect_rc 0 edge_longer.log
+  no_crash edge_longer.log
+  "$jamsim" status "$longest" | grep -q '4/4 done' || fail "the extended archive of 234 characters is not complete"
+  # ... and one of 240 is refused before any work (its extension aborted in Open MPI).
+  run edge240.log run "$here/source.toml" -o "${longest%.h5}ffffff.h5"; expect_rc 2 edge240.log
+  expect_in 'is not allowed: an archive path of at most 234 characters' edge240.log
   ;;
 signals)  # SIGHUP to a rank saves and exits 75; a closed pipe does not kill the run
   run ref.log run "$here/checkpointed.toml" -o ref.h5; expect_rc 0 ref.log

@@ -32,8 +32,12 @@ for k in $(seq "$kills"); do
   if [[ -n $(find "$work/loop.h5.checkpoints" -name '*.tmp' -newer "$work/attempt_start" 2>/dev/null) ]]; then
     during_write=$((during_write + 1))
   fi
-  # The killed archive stays readable and its finished replicas valid.
-  "$jamsim" status "$work/loop.h5" > /dev/null
+  # The killed archive stays readable and its finished replicas valid; a kill before or during
+  # its creation leaves none, or a half-made one with its creation marker (made anew next time).
+  if ! "$jamsim" status "$work/loop.h5" > "$work/status_$k.txt" 2>&1; then
+    grep -Eq "does not exist|being created, or a kill interrupted its creation" "$work/status_$k.txt" ||
+      { cat "$work/status_$k.txt"; echo "FAIL: the killed archive cannot be read"; exit 1; }
+  fi
 done
 timeout 300 "$mpirun" -n 2 "$jamsim" run "$spec" -o "$work/loop.h5" > "$work/final.log"
 /usr/bin/python3 "$py/compare_archives.py" "$work/ref.h5" "$work/loop.h5"

@@ -49,8 +49,16 @@ ArchiveLayout archive_layout(const CampaignSpec& spec);
 /// "Campaign archive".
 class Archive {
   public:
-    /// Collective: new archive for `spec` (truncating `path`).
+    /// Collective: new archive for `spec` (truncating `path`). PATH.creating (creation_marker)
+    /// is there from before the file is made until it is flushed whole: a kill in between
+    /// leaves a file without even the HDF5 signature (HDF5 writes the superblock from its
+    /// cache), and the marker says that it is such a leftover, not a file of the user's.
     static Archive create(MPI_Comm comm, const std::string& path, const CampaignSpec& spec);
+    static std::string creation_marker(const std::string& path) { return path + ".creating"; }
+    /// Serial, before anything else uses `path` (its lock free): when its creation marker is
+    /// there, removes the archive that a kill left half-made and the marker (nothing ran in
+    /// it: replicas start after the creation). Returns what it did ("" when nothing).
+    static std::string undo_interrupted_creation(const std::string& path);
     /// Collective: existing archive for read-write (its spec was checked with check_existing).
     static Archive open(MPI_Comm comm, const std::string& path);
 
