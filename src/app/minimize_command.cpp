@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <stdexcept>
@@ -36,7 +37,9 @@ struct Options {
 /// The start configuration as a LAMMPS `atom_style atomic` data file: type 1 = small
 /// (d = 1), type 2 = large (d = size ratio); orthogonal cell [0, L)², unit masses.
 void write_lammps_data(const System& sys, const std::string& path) {
-    std::ofstream out(path);
+    // Written as PATH.tmp and renamed: a full disk leaves no partial file under the name.
+    const std::string tmp = path + ".tmp";
+    std::ofstream out(tmp);
     if (!out) throw std::runtime_error("cannot write LAMMPS data file '" + path + "'");
     const Particles& p = sys.particles;
     const double L = sys.box.side();
@@ -51,7 +54,17 @@ void write_lammps_data(const System& sys, const std::string& path) {
                       p.diameter[i] > 1.0 ? 2 : 1, x, y);
         out << line;
     }
-    if (!out) throw std::runtime_error("writing LAMMPS data file '" + path + "' failed");
+    out.close();
+    std::error_code ec;
+    if (!out) {
+        std::filesystem::remove(tmp, ec);
+        throw std::runtime_error("writing LAMMPS data file '" + path + "' failed (no space left on the device?)");
+    }
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) {
+        std::filesystem::remove(tmp, ec);
+        throw std::runtime_error("cannot rename '" + tmp + "' to '" + path + "'");
+    }
 }
 
 }  // namespace
@@ -112,6 +125,10 @@ CLI::App* add_minimize_command(CLI::App& app) {
         if (opt->n < 8 || opt->n % 2) throw CLI::ValidationError("--N", "an even number >= 8");
         if (!(opt->phi > 0 && opt->phi < 1)) throw CLI::ValidationError("--phi", "0 < phi < 1");
         check_options(*opt);
+        if (std::error_code ec; !opt->lammps_data.empty() && std::filesystem::exists(opt->lammps_data, ec))
+            throw CLI::ValidationError("jamsim minimize: --lammps-data = " + opt->lammps_data +
+                                       " is not allowed: a new file (it exists, and jamsim minimize does not "
+                                       "overwrite; remove it or choose another name)");
         auto minimizer = make_minimizer(opt->minimizer);
         System sys = random_system(opt->n, opt->phi, SizeMix{}, opt->seed, 0);
         if (!opt->lammps_data.empty()) write_lammps_data(sys, opt->lammps_data);

@@ -11,6 +11,9 @@ namespace jamsim {
 
 namespace {
 
+/// Above any cell index (2^31): a scaled coordinate at or beyond it cannot be converted.
+constexpr double kNoCell = 2147483648.0;
+
 /// Particles binned into an nc × nc grid over the primary cell (sheared coordinates).
 struct CellGrid {
     int cells = 0;
@@ -27,13 +30,26 @@ struct CellGrid {
         image_y.resize(n);
         start.assign(static_cast<std::size_t>(nc) * nc + 1, 0);
         parallel_for(n, [&](std::size_t i) {
-            const double xw = box.fold(x[i], image_x[i]);
-            const double yw = box.fold(y[i], image_y[i]);
-            const int cx = std::min(static_cast<int>(xw * scale), nc - 1);
-            const int cy = std::min(static_cast<int>(yw * scale), nc - 1);
+            const double xw = box.fold(x[i], image_x[i]) * scale;
+            const double yw = box.fold(y[i], image_y[i]) * scale;
+            // A position that folds outside the cell (not finite, or too large to fold: a
+            // diverged run) gets -1, refused below, instead of an index out of the grid.
+            if (!(xw > -1.0 && xw < kNoCell && yw > -1.0 && yw < kNoCell)) {
+                cell_of[i] = -1;
+                return;
+            }
+            const int cx = std::min(static_cast<int>(xw), nc - 1);
+            const int cy = std::min(static_cast<int>(yw), nc - 1);
             cell_of[i] = cy * nc + cx;
         });
-        for (std::size_t i = 0; i < n; ++i) ++start[static_cast<std::size_t>(cell_of[i]) + 1];
+        for (std::size_t i = 0; i < n; ++i) {
+            if (cell_of[i] < 0)
+                throw std::runtime_error("disk " + std::to_string(i) + " is at (" + std::to_string(x[i]) + ", " +
+                                         std::to_string(y[i]) + "), which does not fold into the box of side " +
+                                         std::to_string(box.side()) +
+                                         ": the run diverged (a time step too large for its forces or temperature?)");
+            ++start[static_cast<std::size_t>(cell_of[i]) + 1];
+        }
         for (std::size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
         members.resize(n);
         std::vector<std::int32_t> fill(start.begin(), start.end() - 1);

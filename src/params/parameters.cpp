@@ -159,7 +159,7 @@ const ParamInfo kParameters[] = {
      "minimisation: absolute force floor at convergence", &R::force_tol_abs, kNum,
      JAMSIM_CHECK(non_negative(p.force_tol_abs), "force_tol_abs >= 0"), "force_tol_abs >= 0"},
     {"phi_tol", "model", "phi_tol", "--phi-tol", "1", "phi_J search: width of the final bracket", &R::phi_tol, kNum,
-     JAMSIM_CHECK(p.phi_tol > 0.0 && p.phi_tol < 1e-2, "0 < phi_tol < 0.01"), "0 < phi_tol < 0.01"},
+     JAMSIM_CHECK(p.phi_tol >= 1e-14 && p.phi_tol < 1e-2, "1e-14 <= phi_tol < 0.01"), "1e-14 <= phi_tol < 0.01"},
     {"alpha", "potential", "alpha", "--alpha", "1",
      "potential exponent: V = k_e/alpha (1 - r/d)^alpha ([potential] name = harmonic: 2, "
      "hertzian: 2.5)",

@@ -87,7 +87,13 @@ JammingPoint find_jamming_point(System& sys, ForceField& forces, Minimizer& mini
         if (!pending) {
             if (s.jammed && s.crossed && s.step < phi_tol) break;
             if (!s.jammed) s.phi_unjammed = s.phi;
+            const double before = s.phi;
             s.phi += s.jammed ? -s.step : s.step;
+            // A step below phi's resolution would repeat the same minimisation for ever
+            // (phi_tol >= 1e-14 keeps the steps above it).
+            if (s.phi == before)
+                throw std::runtime_error("jamming search: a step of " + str(s.step) + " leaves phi = " + str(before) +
+                                         " unchanged (raise phi_tol)");
             if (!(s.phi > 0.0 && s.phi < 1.0))
                 throw std::runtime_error("jamming search left 0 < phi < 1 (phi = " + str(s.phi) + ")");
             set_packing_fraction(sys, forces, s.phi);

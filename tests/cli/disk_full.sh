@@ -2,7 +2,9 @@
 # usage: disk_full.sh JAMSIM WORKDIR
 # On a small tmpfs mounted here (root only; exit 77 = skipped otherwise): a campaign whose
 # archive does not fit is refused before anything is created, with the sizes in the message;
-# the same campaign fits once --output points at a larger filesystem (dry run).
+# the same campaign fits once --output points at a larger filesystem (dry run); a run that
+# fills it stops in words and finishes once space is freed; minimize --lammps-data there fails
+# and leaves no file.
 set -euo pipefail
 jamsim=$1 work=$2
 [[ $(id -u) -eq 0 ]] || { echo "skipped: mounting a tmpfs needs root"; exit 77; }
@@ -54,3 +56,12 @@ rm filler
 "$jamsim" status big.h5 | grep -q "10/10 done"
 /usr/bin/python3 "$(dirname "$0")/../mpi/compare_archives.py" "$work/ref.h5" big.h5
 echo "ok: a filesystem filled during the run: stopped with a clear message, finished after space was freed, bitwise equal"
+# jamsim minimize --lammps-data on the full filesystem: an error, and no file, not an empty
+# one with exit 0.
+dd if=/dev/zero of=filler bs=64k 2>/dev/null || true
+rc=0; "$jamsim" minimize --N 64 --lammps-data start.data > "$work/minimize.txt" 2>&1 || rc=$?
+[[ $rc -ne 0 ]] || { cat "$work/minimize.txt"; echo "FAIL: minimize wrote to a full filesystem with exit 0"; exit 1; }
+grep -q "writing LAMMPS data file 'start.data' failed" "$work/minimize.txt" || { cat "$work/minimize.txt"; exit 1; }
+[[ ! -e start.data && ! -e start.data.tmp ]] || { echo "FAIL: a partial data file is left"; exit 1; }
+rm filler
+echo "ok: minimize --lammps-data on a full filesystem: refused, nothing left"
