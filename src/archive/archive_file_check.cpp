@@ -6,7 +6,9 @@
 
 #include <array>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <optional>
 #include <string>
@@ -305,6 +307,25 @@ std::string diagnose_archive_file(const std::string& path) {
     } catch (const h5::Error& e) {
         return quoted(path) + " is a damaged HDF5 file (it has the HDF5 signature but " + e.what() + ")";
     }
+}
+
+std::string output_path_problem(const std::string& path) {
+    const std::filesystem::path p(path);
+    const std::string name = p.filename().string();
+    if (name.empty() || name == "." || name == "..")
+        return "a file path, not a folder ('" + path + "' ends in '" + (name.empty() ? "/" : name) + "')";
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0) {
+        if (errno == ENOENT) return "";
+        return "'" + path + "' cannot be examined: " + std::strerror(errno);
+    }
+    if (S_ISREG(st.st_mode) && (st.st_mode & 0222) == 0) {
+        char mode[8];
+        std::snprintf(mode, sizeof mode, "%04o", static_cast<unsigned>(st.st_mode & 07777));
+        return "a writable file: '" + path + "' is read-only (mode " + mode +
+               "), and jamsim writes into it (chmod u+w to continue it)";
+    }
+    return "";
 }
 
 std::string diagnose_initial_source(const std::string& path) {

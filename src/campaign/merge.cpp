@@ -141,6 +141,8 @@ MergeOutcome merge_archives(const std::string& output, const std::vector<std::st
     const CampaignSpec spec = merged_campaign(output, inputs, stored);
     const auto target = output_ids(spec, stored);
     check_duplicates_agree(inputs, stored, target);
+    if (const std::string why = output_path_problem(output); !why.empty())
+        throw CampaignRefused("refusing the output: " + why);
     try {  // an output whose creation a kill interrupted is made anew
         if (std::filesystem::exists(Archive::creation_marker(output))) {
             ArchiveLock::check_free(output);

@@ -23,6 +23,8 @@ std::string check_output(const std::string& path, const CampaignSpec& spec, Outp
                          std::vector<std::int64_t>& source) {
     namespace fs = std::filesystem;
     std::error_code ec;
+    if (const std::string why = output_path_problem(path); !why.empty())
+        return spec.path + ": [campaign] output = \"" + path + "\" is not allowed: " + why;
     if (fs::exists(path, ec)) {
         if (fs::is_directory(path, ec))
             return spec.path + ": [campaign] output = \"" + path + "\" is not allowed: a file path, not a directory";
@@ -62,6 +64,8 @@ std::string check_output(const std::string& path, const CampaignSpec& spec, Outp
 std::string check_output_folder(const std::string& path, const CampaignSpec& spec, bool create) {
     namespace fs = std::filesystem;
     std::error_code ec;
+    if (const std::string why = output_path_problem(path); !why.empty())
+        return spec.path + ": [campaign] output = \"" + path + "\" is not allowed: " + why;
     const fs::path p(path);
     const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
     const auto quoted = [](const fs::path& f) { return std::string(1, '\'') + f.string() + std::string(1, '\''); };

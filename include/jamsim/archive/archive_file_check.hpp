@@ -22,6 +22,12 @@ std::string diagnose_archive_file(const std::string& path);
 /// diagnose_archive_file's sentence (a single-replica file, an export, a damaged archive).
 std::string diagnose_initial_source(const std::string& path);
 
+/// For an archive jamsim is to write (run's output, merge's -o): "" when `path` names a file
+/// that may be made or written; else why not, without the key: a path ending in '/' (a
+/// folder), one that cannot be examined (a loop of symbolic links), an existing file that is
+/// read-only (no write bit: kept even for root, who may write it anyway).
+std::string output_path_problem(const std::string& path);
+
 /// Whether `path` is a single-replica file of jamsim replica (an HDF5 file whose root has the
 /// identity and model attributes, and not a campaign archive's): the one kind of existing
 /// file `jamsim replica -o` replaces. False for a missing, unreadable or damaged file; never
