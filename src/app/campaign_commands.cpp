@@ -286,7 +286,8 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
         // The planned run's options describe a dry run's plan; a run takes its ranks from
         // mpirun and its time limit from Slurm, so there they would be silently ignored.
         if (!opt->dry_run)
-            for (const char* name : {"--ranks", "--shards", "--time-limit", "--summary", "--no-calibrate"})
+            for (const char* name : {"--ranks", "--shards", "--time-limit", "--summary", "--no-calibrate",
+                                     "--serial-fraction", "--probe-seconds"})
                 if (cmd->count(name) > 0)
                     throw CLI::ValidationError(std::string("jamsim run: ") + name +
                                                " is not allowed without --dry-run: it describes the run a dry run "

@@ -316,7 +316,7 @@ std::string output_path_problem(const std::string& path) {
         return "a file path, not a folder ('" + path + "' ends in '" + (name.empty() ? "/" : name) + "')";
     struct stat st {};
     if (::stat(path.c_str(), &st) != 0) {
-        if (errno == ENOENT) return "";
+        if (errno == ENOENT || errno == ENOTDIR) return "";  // the folder checks say why
         return "'" + path + "' cannot be examined: " + std::strerror(errno);
     }
     if (S_ISREG(st.st_mode) && (st.st_mode & 0222) == 0) {

@@ -229,6 +229,35 @@ std::optional<ParamError> cell_grid_fits(const ReplicaParams& p) {
     return ParamError{"N", show_value(static_cast<double>(p.n)), text};
 }
 
+/// Runs of whole steps: a run shorter than one step ran one step past the request (rate =
+/// 10: strain 2 for 0.05) or none (rate = 1e308) and was recorded done; a cooling ramp takes
+/// between one step and kMostSteps (cooling_time / dt overflowed to 0 steps); a quasistatic
+/// strain step no larger than the strain.
+std::vector<ParamError> run_in_whole_steps(const ReplicaParams& p, const ModelInfo& m) {
+    std::vector<ParamError> out;
+    if (uses_parameter(p, "dt") && m.kind == ModelKind::Dynamics) {
+        const double duration = p.rate > 0.0 ? p.strain / p.rate : p.time;
+        if (duration < p.dt)
+            out.push_back({"dt", show_value(p.dt),
+                           "dt <= " + three_digits(duration) + " here: " +
+                               (p.rate > 0.0 ? "strain = " + show_value(p.strain) + " at rate = " + show_value(p.rate) +
+                                                   " lasts " + three_digits(duration)
+                                             : "time = " + show_value(p.time)) +
+                               ", and one step would run past it (check dt, strain (time) and rate)"});
+    }
+    if (uses_parameter(p, "cooling_time") && uses_parameter(p, "dt")) {
+        const double steps = p.cooling_time / p.dt;
+        if (!(steps >= 1.0 && steps <= kMostSteps))
+            out.push_back({"cooling_time", show_value(p.cooling_time),
+                           "cooling_time between dt and " + three_digits(kMostSteps) + " steps of dt = " +
+                               show_value(p.dt) + " (it would take " + three_digits(steps) + " steps)"});
+    }
+    if (uses_parameter(p, "strain_step") && uses_parameter(p, "strain") && p.strain_step > p.strain)
+        out.push_back({"strain_step", show_value(p.strain_step),
+                       "strain_step <= strain = " + show_value(p.strain) + " (a larger step shears past the run)"});
+    return out;
+}
+
 }  // namespace
 
 std::vector<ParamError> validate(const ReplicaParams& p) {
@@ -243,6 +272,7 @@ std::vector<ParamError> validate(const ReplicaParams& p) {
     if (std::string allowed = box_holds_the_list(p); !allowed.empty())
         errors.push_back({"N", show_value(static_cast<double>(p.n)), allowed});
     if (auto too_wide = cell_grid_fits(p)) errors.push_back(*too_wide);
+    for (ParamError& e : run_in_whole_steps(p, *m)) errors.push_back(std::move(e));
     if (uses_parameter(p, "dt") && p.dt > m->stable_dt(p))
         errors.push_back({"dt", show_value(p.dt),
                           "dt <= " + show_value(m->stable_dt(p)) + " " +
@@ -272,6 +302,10 @@ std::vector<ParamError> validate(const ReplicaParams& p) {
             errors.push_back({"sample_interval", show_value(p.sample_interval),
                               std::string("sample_interval <= ") + run.key + " = " + show_value(run.value) +
                                   " (a longer interval samples only the initial state)"});
+        if (uses_parameter(p, "frame_interval") && p.frame_interval > run.value)
+            errors.push_back({"frame_interval", show_value(p.frame_interval),
+                              std::string("frame_interval <= ") + run.key + " = " + show_value(run.value) +
+                                  ", or 0 for none (a longer interval keeps only the initial state)"});
     }
     return errors;
 }

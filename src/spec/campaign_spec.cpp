@@ -108,6 +108,8 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
     if (!find_model(base.model)) r.fail("[model] name", base.model, "one of: " + model_list());
     if (const toml::table* pot = r.table(root, "potential")) {
         const std::string name = r.string(*pot, "[potential]", "name", "");
+        if (name.empty() && pot->get("name"))  // name = "" was taken as the default, harmonic
+            r.fail("[potential] name", "\"\"", "\"harmonic\" or \"hertzian\" (or no name, with alpha)");
         if (!name.empty() && pot->get("alpha"))
             r.fail("[potential] alpha", show(*pot->get("alpha")), "either name or alpha, not both");
         if (!name.empty()) {
