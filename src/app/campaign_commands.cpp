@@ -283,6 +283,7 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
         ->check(CLI::IsMember({"auto", "lines", "redraw"}))
         ->capture_default_str();
     cmd->callback([opt, cmd, &argc, &argv] {
+        check_threads_environment("jamsim run", true);
         // The planned run's options describe a dry run's plan; a run takes its ranks from
         // mpirun and its time limit from Slurm, so there they would be silently ignored.
         if (!opt->dry_run)

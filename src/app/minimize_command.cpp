@@ -4,6 +4,7 @@
 // the very same configuration.
 #include "minimize_command.hpp"
 #include "option_checks.hpp"
+#include "threads_option.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -122,6 +123,7 @@ CLI::App* add_minimize_command(CLI::App& app) {
         ->check(nonempty_path())
         ->type_name("FILE");
     cmd->callback([opt] {
+        check_threads_environment("jamsim minimize", false);
         if (opt->n < 8 || opt->n % 2) throw CLI::ValidationError("--N", "an even number >= 8");
         if (!(opt->phi > 0 && opt->phi < 1)) throw CLI::ValidationError("--phi", "0 < phi < 1");
         check_options(*opt);

@@ -3,6 +3,7 @@
 #include "plan_command.hpp"
 #include "option_checks.hpp"
 #include "dry_run.hpp"
+#include "threads_option.hpp"
 #include "wall_time.hpp"
 
 #include <cmath>
@@ -196,6 +197,7 @@ CLI::App* add_plan_command(CLI::App& app, int& argc, char**& argv) {
     add_serial_fraction_option(*cmd, opt->estimate.serial_fraction);
     add_probe_seconds_option(*cmd, opt->estimate.probe_seconds);
     cmd->callback([opt, &argc, &argv] {
+        check_threads_environment("jamsim plan", false);  // its probes run the kernel
         int rc = 2;
         try {
             rc = plan(*opt, argc, argv);

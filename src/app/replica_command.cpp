@@ -166,7 +166,10 @@ CLI::App* add_replica_command(CLI::App& app) {
         ->check(nonempty_path())
         ->type_name("FILE");
     add_threads_option(*cmd);
-    cmd->callback([opt] { run(*opt); });
+    cmd->callback([opt] {
+        check_threads_environment("jamsim replica", true);
+        run(*opt);
+    });
     return cmd;
 }
 

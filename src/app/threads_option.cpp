@@ -16,6 +16,9 @@ namespace jamsim::app {
 
 namespace {
 ThreadsChoice g_choice;
+/// Why OMP_NUM_THREADS is not allowed ("" when it is, or unset): refused by the commands
+/// that run the kernel, unless --threads gives the count.
+std::string g_environment_problem;
 
 /// A whole number from 1 to 4096 in the first n characters of text, else 0 (no allocation:
 /// also called before the process's libraries are initialised).
@@ -91,13 +94,23 @@ std::string threads_from_environment() {
         set_kernel_threads(1);
         return "";
     }
-    if (environment_count(text.c_str()) == 0)
-        return "OMP_NUM_THREADS = \"" + text + "\" is not allowed: a whole number of threads from 1 to 4096 " +
-               "(threads of each rank's replica; --threads sets it too)";
+    if (environment_count(text.c_str()) == 0) {
+        set_kernel_threads(1);  // until a command that runs the kernel refuses it
+        g_environment_problem = "OMP_NUM_THREADS = \"" + text +
+                                "\" is not allowed: a whole number of threads from 1 to 4096 (threads of each "
+                                "rank's replica)";
+        return g_environment_problem;
+    }
     g_choice.threads = static_cast<int>(environment_count(text.c_str()));
     g_choice.source = "OMP_NUM_THREADS";
     set_kernel_threads(g_choice.threads);
     return "";
+}
+
+void check_threads_environment(const std::string& who, bool has_threads_option) {
+    if (g_environment_problem.empty() || g_choice.source == "--threads") return;
+    throw CLI::ValidationError(who + ": " + g_environment_problem +
+                               (has_threads_option ? "; --threads T sets the count instead" : ""));
 }
 
 void add_threads_option(CLI::App& command) {

@@ -10,8 +10,14 @@ namespace jamsim::app {
 
 /// Before the command line: the kernel's threads from OMP_NUM_THREADS, or 1 when it is not
 /// set (an unset variable would give libgomp every core to each rank). Returns "" or why
-/// OMP_NUM_THREADS is not allowed (zero, negative, not a whole number).
+/// OMP_NUM_THREADS is not allowed (zero, negative, not a whole number), which only the
+/// commands that run the kernel refuse (check_threads_environment): --help, status or merge
+/// do not need it.
 std::string threads_from_environment();
+
+/// In a command that runs the kernel, after its options: a usage error when OMP_NUM_THREADS
+/// is not allowed and --threads (where the command has it) did not give the count.
+void check_threads_environment(const std::string& who, bool has_threads_option);
 
 /// `--threads T` on a command: T >= 1 threads for each replica this process runs; it wins
 /// over OMP_NUM_THREADS (report_threads says so); anything else is a usage error.

@@ -2,7 +2,8 @@
 # usage: threads_input.sh JAMSIM CAMPAIGN WORKDIR CASE
 # Threads as the user gives them (--threads, OMP_NUM_THREADS), one CASE per CTest test:
 #   refused cases: exit 2, one message naming the flag or variable, the value and what is
-#     allowed (and no libgomp line: jamsim's message is the only one), nothing written;
+#     allowed (and no libgomp line: jamsim's message is the only one), nothing written; a bad
+#     OMP_NUM_THREADS only where the kernel runs, and not with --threads;
 #   flag_wins: --threads wins over a different OMP_NUM_THREADS, and the log says so;
 #   oversubscribed / fits: more threads than the process's cores warn (and run), as many
 #     do not (also with OMP_PROC_BIND set); mpi_oversubscribed / mpi_fits: the same for ranks sharing a node's cores
@@ -51,13 +52,18 @@ case $case in
   flag_zero) refused "^--threads = 0 $allowed" "$jamsim" replica --threads 0 -o out.h5 ;;
   flag_negative) refused "^--threads = -3 $allowed" "$jamsim" run "$campaign" --threads -3 -o out.h5 ;;
   flag_fraction) refused "^--threads = 1.5 $allowed" "$jamsim" run "$campaign" --threads 1.5 -o out.h5 ;;
-  env_zero) refused "^jamsim: OMP_NUM_THREADS = \"0\" $allowed" env OMP_NUM_THREADS=0 "$jamsim" run "$campaign" -o out.h5 ;;
-  env_negative) refused "^jamsim: OMP_NUM_THREADS = \"-1\" $allowed" env OMP_NUM_THREADS=-1 "$jamsim" replica -o out.h5 ;;
+  env_zero) refused "^jamsim run: OMP_NUM_THREADS = \"0\" $allowed" env OMP_NUM_THREADS=0 "$jamsim" run "$campaign" -o out.h5 ;;
+  env_negative) refused "^jamsim replica: OMP_NUM_THREADS = \"-1\" $allowed" env OMP_NUM_THREADS=-1 "$jamsim" replica -o out.h5 ;;
   env_not_a_number)
-    # A refused OMP_NUM_THREADS is refused with --threads too: it also governs any other
-    # OpenMP code the process loads.
-    refused "^jamsim: OMP_NUM_THREADS = \"abc\" $allowed" env OMP_NUM_THREADS=abc "$jamsim" replica --threads 2 -o out.h5
-    [[ $(wc -l <<<"$msg") -eq 1 ]] || fail "more than one line" ;;
+    # Refused by the commands that run the kernel, unless --threads gives the count (the flag
+    # wins, and says so); the others (--help, status, models) do not need it.
+    refused "^jamsim replica: OMP_NUM_THREADS = \"abc\" $allowed.*; --threads T sets the count instead" \
+      env OMP_NUM_THREADS=abc "$jamsim" replica -o out.h5
+    refused "^jamsim minimize: OMP_NUM_THREADS = \"abc\" $allowed" env OMP_NUM_THREADS=abc "$jamsim" minimize --N 16
+    env OMP_NUM_THREADS=abc "$jamsim" --help > /dev/null || fail "--help refused a bad OMP_NUM_THREADS"
+    env OMP_NUM_THREADS=abc "$jamsim" models > /dev/null || fail "models refused a bad OMP_NUM_THREADS"
+    ran "jamsim replica: --threads 2 wins over OMP_NUM_THREADS=abc" "libgomp" \
+      env OMP_NUM_THREADS=abc "$jamsim" replica "${short[@]}" --threads 2 -o out.h5 ;;
   env_empty)  # set but empty: as if unset (1 thread), and no libgomp complaint
     ran "on 1 thread," "libgomp" env OMP_NUM_THREADS= "$jamsim" replica "${short[@]}" -o out.h5 ;;
   flag_wins)
