@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -124,6 +125,12 @@ LammpsData read_lammps_data(const std::string& path) {
         if (text.empty()) continue;
         const auto f = fields(text);
         if (!starts_numeric(f[0])) {  // a section keyword
+            // ... unless it is a header line with a value that is not a number ("nan 0 0 xy xz
+            // yz" was taken for a section, and the tilt for 0).
+            for (const char* header : {" xy xz yz", " xlo xhi", " ylo yhi", " zlo zhi", " atoms", " atom types"})
+                if (section.empty() && text.size() > std::strlen(header) && text.ends_with(header))
+                    throw LammpsDataError(where(line_no) + "'" + std::string(text) + "': finite numbers before '" +
+                                          std::string(header + 1) + "'");
             section = std::string(text);
             if (sections_seen.count(section))
                 throw LammpsDataError(where(line_no) + "a second '" + section + "' section");
@@ -279,6 +286,16 @@ System system_from_lammps_data(const LammpsData& d, const std::string& path, std
             throw LammpsDataError(file + ": atom " + std::to_string(d.id[i]) + " has z = " + show(d.z[i]) +
                                   ": a 2D configuration has z = 0");
     const double side = ly;
+    // Folding the tilt into [-L/2, L/2) and the atoms into the cell loses a bit of precision
+    // for each doubling beyond the cell: at most 20 of them (a tilt of 1e308 became 0).
+    constexpr double kMostCells = 1048576.0;
+    if (!(std::abs(d.xy) <= kMostCells * side))
+        throw LammpsDataError(file + ": tilt xy = " + show(d.xy) + " is not allowed: |xy| <= 2^20 (xhi - xlo) = " +
+                              show(kMostCells * side) + " (LAMMPS keeps it within half of xhi - xlo)");
+    for (std::size_t i = 0; i < d.x.size(); ++i)
+        if (!(std::abs(d.x[i] - d.xlo) <= kMostCells * side && std::abs(d.y[i] - d.ylo) <= kMostCells * side))
+            throw LammpsDataError(file + ": atom " + std::to_string(d.id[i]) + " at (" + show(d.x[i]) + ", " +
+                                  show(d.y[i]) + ") is not allowed: within 2^20 cell sides of the cell");
     double gamma = d.xy / side;
     gamma -= std::floor(gamma + 0.5);  // into [-1/2, 1/2): the same lattice (xy shifted by whole xprd)
     std::vector<std::size_t> order(d.id.size());
