@@ -51,10 +51,37 @@ void read_into(const Reader& r, ReplicaParams& p, const ParamInfo& info, const t
     if (const auto* text = std::get_if<std::string>(&*value)) r.no_nul(*text, where, node);
 }
 
+/// The first line (from 1) whose key or table header has more than `most` dotted parts, else
+/// 0. toml++ descends once per part: 60000 of them overflowed the stack (a crash, not a
+/// message), while its nesting of arrays and inline tables stops at 256. Counted on each line
+/// up to its first '=', '#' or ',' (a key, a header, not a line of an array's values); quoted
+/// parts with dots count too, which no campaign key has.
+std::size_t deeply_dotted_line(const std::string& text, std::size_t most) {
+    std::size_t line = 1, dots = 0;
+    bool in_key = true;
+    for (const char c : text) {
+        if (c == '\n') {
+            if (dots > most) return line;
+            ++line;
+            dots = 0;
+            in_key = true;
+        } else if (in_key && (c == '=' || c == '#' || c == ',')) {  // ',': a line of an array
+            in_key = false;
+        } else if (in_key && c == '.') {
+            ++dots;
+        }
+    }
+    return dots > most ? line : 0;
+}
+
 }  // namespace
 
 CampaignSpec parse_campaign(const std::string& text, const std::string& path, std::int64_t max_replicas) {
     const Reader r(path);
+    if (const std::size_t line = deeply_dotted_line(text, 256))
+        throw SpecError(path + ":" + std::to_string(line) +
+                        ": a key or table name of more than 256 dotted parts is not allowed (campaign keys have at "
+                        "most 2)");
     toml::table root;
     try {
         root = toml::parse(text, path);
