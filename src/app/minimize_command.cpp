@@ -15,6 +15,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "jamsim/archive/capacity.hpp"
 #include "jamsim/core/system.hpp"
 #include "jamsim/force/force_field.hpp"
 #include "jamsim/minimize/minimizer.hpp"
@@ -91,6 +92,8 @@ void check_options(const Options& opt) {
         throw CLI::ValidationError("jamsim minimize: " + (info ? std::string(info->flag) : e.key) + " = " + e.value +
                                    " is not allowed: " + e.allowed);
     }
+    if (const std::string too_large = check_replica_memory(p); !too_large.empty())
+        throw CLI::ValidationError("jamsim minimize: " + too_large);
     // Not a campaign key: the campaign's minimisations take their own limit.
     if (opt.criteria.max_iterations < 1)
         throw CLI::ValidationError(
@@ -127,6 +130,10 @@ CLI::App* add_minimize_command(CLI::App& app) {
         if (opt->n < 8 || opt->n % 2) throw CLI::ValidationError("--N", "an even number >= 8");
         if (!(opt->phi > 0 && opt->phi < 1)) throw CLI::ValidationError("--phi", "0 < phi < 1");
         check_options(*opt);
+        if (!opt->lammps_data.empty())
+            if (const std::string why = writable_new_file(opt->lammps_data); !why.empty())
+                throw CLI::ValidationError("jamsim minimize: --lammps-data = " + opt->lammps_data +
+                                           " is not allowed: " + why);
         if (std::error_code ec; !opt->lammps_data.empty() && std::filesystem::exists(opt->lammps_data, ec))
             throw CLI::ValidationError("jamsim minimize: --lammps-data = " + opt->lammps_data +
                                        " is not allowed: a new file (it exists, and jamsim minimize does not "

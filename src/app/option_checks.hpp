@@ -1,7 +1,12 @@
 #pragma once
-// Checks shared by the commands' options: a file path that names a file, a count >= 1.
+// Checks shared by the commands' options: a file path that names a file (one that can be
+// made), a count >= 1.
+#include <unistd.h>
+
 #include <cerrno>
 #include <cstdlib>
+#include <cstring>
+#include <filesystem>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -46,6 +51,28 @@ inline CLI::Validator whole_number() {
                        : "value " + v + " is not allowed: a whole number from 0 to 18446744073709551615 in decimal";
         },
         "INTEGER >= 0");
+}
+
+/// "" when `path` names a file that can be made: in an existing directory where a file can
+/// be created (tried: access() passes for root where nothing can be, /proc or a read-only
+/// mount), not a directory itself; else what is allowed and why not, for the command's
+/// refusal before any work (a write that fails only after the run loses it).
+inline std::string writable_new_file(const std::string& path) {
+    namespace fs = std::filesystem;
+    const fs::path p(path);
+    const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
+    std::error_code ec;
+    if (fs::is_directory(p, ec) || p.filename().empty()) return "a file name, not a directory";
+    if (!fs::is_directory(dir, ec)) return "a file in an existing directory ('" + dir.string() + "' does not exist)";
+    if (::access(dir.c_str(), W_OK) != 0)
+        return "a file in a writable directory ('" + dir.string() + "' is not writable)";
+    std::string probe = (dir / ".jamsim-probe-XXXXXX").string();
+    const int fd = ::mkstemp(probe.data());
+    if (fd < 0)
+        return "a file in a directory where files can be made ('" + dir.string() + "': " + std::strerror(errno) + ")";
+    ::close(fd);
+    ::unlink(probe.c_str());
+    return "";
 }
 
 }  // namespace jamsim::app

@@ -45,23 +45,8 @@ struct ReplicaOptions {
 void check_output_path(const std::string& path, const std::string& initial) {
     namespace fs = std::filesystem;
     const fs::path p(path);
-    const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
     std::error_code ec;
-    if (!fs::is_directory(dir, ec))
-        usage_error("output", path, "a file in an existing directory ('" + dir.string() + "' does not exist)");
-    if (::access(dir.c_str(), W_OK) != 0)
-        usage_error("output", path, "a file in a writable directory ('" + dir.string() + "' is not writable)");
-    // A file made and removed there: access() passes for root where nothing can be created
-    // (/proc, a read-only mount), and the run would fail only at its end.
-    std::string probe = (dir / ".jamsim-replica-XXXXXX").string();
-    const int fd = ::mkstemp(probe.data());
-    if (fd < 0)
-        usage_error("output", path,
-                    "a file in a directory where files can be made ('" + dir.string() + "': " + std::strerror(errno) +
-                        ")");
-    ::close(fd);
-    ::unlink(probe.c_str());
-    if (fs::is_directory(p, ec)) usage_error("output", path, "a file name, not a directory");
+    if (const std::string why = writable_new_file(path); !why.empty()) usage_error("output", path, why);
     if (!fs::exists(p, ec)) return;
     if (!initial.empty() && fs::equivalent(p, fs::path(initial), ec))
         usage_error("output", path, "another file than --initial, which it would overwrite");

@@ -203,6 +203,9 @@ std::optional<ParamError> cell_grid_fits(const ReplicaParams& p) {
     const double widest = NeighborList::kMaxCellsPerSide * range;
     const double side = box_side_for(p.n, p.phi, p.size_ratio);
     if (side < widest) return std::nullopt;
+    if (!std::isfinite(box_side_for(p.n, 1.0, p.size_ratio)))  // size_ratio = 1e308: no bound to give
+        return ParamError{"size_ratio", show_value(p.size_ratio),
+                          "a size_ratio whose disks' areas are finite (the box side is " + show_value(side) + ")"};
     // side² = N × mean disk area / phi. The least phi whose box is `widest` wide (from the
     // side at phi = 1, finite where this one is not), and the most disks at this phi.
     const double side_at_one = box_side_for(p.n, 1.0, p.size_ratio);
