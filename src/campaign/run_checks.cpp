@@ -68,7 +68,11 @@ std::string check_output_folder(const std::string& path, const CampaignSpec& spe
         return spec.path + ": [campaign] output = \"" + path + "\" is not allowed: " + why;
     const fs::path p(path);
     const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
-    const auto quoted = [](const fs::path& f) { return std::string(1, '\'') + f.string() + std::string(1, '\''); };
+    const auto quoted = [](const fs::path& f) {  // appended, not '+': GCC 12's -Wrestrict misfires on that here
+        std::string out(1, '\'');
+        out.append(f.string()).push_back('\'');
+        return out;
+    };
     const auto refuse = [&](const std::string& why) {
         std::string out = spec.path;
         out.append(": [campaign] output = \"").append(path);
