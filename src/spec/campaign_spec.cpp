@@ -152,10 +152,16 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
     const auto follows_rate = [&](const ParamInfo& info) {
         return (info.key == "strain" || info.key == "time") && model_of(base).kind == ModelKind::Dynamics;
     };
+    // Keys whose default means "none" may be written with it for any model (TEMPLATE.toml
+    // lists them so): frame_interval = 0 (no frames), initial = "" (random positions),
+    // rate_ladder = "" (no ladder).
+    const auto written_as_none = [&](const ParamInfo& info) {
+        return (info.key == "frame_interval" && base.frame_interval == 0.0) ||
+               (info.key == "initial" && base.initial.empty()) ||
+               (info.key == "rate_ladder" && base.rate_ladder.empty());
+    };
     for (const auto& [info, shown] : given)
-        // frame_interval = 0 (no frames, the default) may be written for any model.
-        if (!follows_rate(*info) && !uses_parameter(base, info->key) &&
-            !(info->key == "frame_interval" && base.frame_interval == 0.0)) {
+        if (!follows_rate(*info) && !uses_parameter(base, info->key) && !written_as_none(*info)) {
             std::string users;
             for (const auto& m : models()) {
                 ReplicaParams q = base;
