@@ -11,6 +11,7 @@ import os
 import sys
 import types
 
+from .command_support import output_directory, output_file, prog_name, run_command
 from .errors import AnalysisError
 
 # numpy, pandas and the analysis modules (scipy, h5py, matplotlib: over a second) are imported
@@ -19,16 +20,6 @@ from .errors import AnalysisError
 # Columns that hold counts or ids (stored as floats in a table that has NaN elsewhere).
 _INTEGER_COLUMNS = ("replica", "N", "seed", "n_samples", "samples", "status", "force_evaluations", "predecessor",
                     "seeds", "replicas")
-
-
-def _display_options():
-    """pandas' options for the printed tables (set when a command runs)."""
-    import pandas as pd
-    pd.set_option("display.width", 160)
-    pd.set_option("display.max_columns", 30)
-    pd.set_option("display.max_rows", 500)
-    # Six significant digits, not six decimals (which leave one digit of 2e-6).
-    pd.set_option("display.float_format", lambda v: f"{v:.6g}")
 
 
 def _shown(table):
@@ -484,22 +475,12 @@ def analyze_parser():
     return ap
 
 
-def _run(func, a, prog):
-    _display_options()
-    try:
-        func(a)
-    except AnalysisError as e:
-        print(f"{prog}: {e}", file=sys.stderr)
-        return 2
-    return 0
-
-
 def analyze_main(argv=None):
     parser = analyze_parser()
     a = parser.parse_args(argv)
     if a.command == "collapse":
         _check_window_options(parser, a)
-    return _run(globals()[f"cmd_{a.command}"], a, parser.prog)
+    return run_command(globals()[f"cmd_{a.command}"], a, parser.prog)
 
 
 def report_main(argv=None):
@@ -539,63 +520,4 @@ def report_main(argv=None):
         if not rep.ran:
             raise AnalysisError("no analysis could run on this archive (reasons above and in the report)")
 
-    return _run(run, a, ap.prog)
-
-
-# -- helpers of the commands (scripts/: plot_campaign, plot_replica, analyze_jamming, ...) --
-def pyplot():
-    """matplotlib.pyplot on the Agg backend (files, never a window), imported when a figure is drawn."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return plt
-
-
-def prog_name(default):
-    """The command's name as the user ran it (bin/jamsim-NAME, tools/NAME.py: sys.argv[0]);
-    `default` when it runs otherwise (python3 -m pytest, an interpreter)."""
-    name = os.path.basename(sys.argv[0]) if sys.argv and sys.argv[0] else ""
-    return name if name.startswith("jamsim") or (name.endswith(".py") and name != "__main__.py") else default
-
-
-def output_directory(path, what="OUTDIR", create=True):
-    """Create the output directory `path` (if needed; with create=False only check that it
-    is not a file); refused with a message naming it."""
-    if os.path.exists(path) and not os.path.isdir(path):
-        raise AnalysisError(f"{what} '{path}' is an existing file, not a directory "
-                            "(the output directory comes after the archives)")
-    if not create:
-        return path
-    try:
-        os.makedirs(path, exist_ok=True)
-    except OSError as e:
-        raise AnalysisError(f"cannot create {what} '{path}': {e.strerror}") from None
-    return path
-
-
-def output_file(path, what="FIGURE"):
-    """Check that the file `path` can be written (its directory exists, it is not a directory)."""
-    folder = os.path.dirname(path) or "."
-    if os.path.isdir(path):
-        raise AnalysisError(f"{what} '{path}' is a directory, not a file name")
-    if not os.path.isdir(folder):
-        raise AnalysisError(f"{what} '{path}': no directory '{folder}'")
-    return path
-
-
-def run_script(prog, func, args):
-    """Run a script's body; bad input (AnalysisError) becomes one line on stderr and exit
-    status 2, without a traceback."""
-    return _run(func, args, prog)
-
-
-def describe_ids(ids):
-    """'0-5, 7, 9-11' for a sorted list of integers."""
-    ids, parts, k = sorted(ids), [], 0
-    while k < len(ids):
-        j = k
-        while j + 1 < len(ids) and ids[j + 1] == ids[j] + 1:
-            j += 1
-        parts.append(str(ids[k]) if j == k else f"{ids[k]}-{ids[j]}")
-        k = j + 1
-    return ", ".join(parts) if parts else "none"
+    return run_command(run, a, ap.prog)

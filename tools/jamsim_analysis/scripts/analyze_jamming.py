@@ -46,7 +46,7 @@ import sys
 # numpy, matplotlib (Agg) and the analysis modules are imported where they are used, so that
 # --help and argument errors do not wait for them.
 from .. import AnalysisError
-from ..cli import output_directory, prog_name, pyplot, run_script
+from ..command_support import output_directory, prog_name, pyplot, run_script
 
 
 def analyze(a):

@@ -24,7 +24,7 @@ import sys
 # numpy, matplotlib (Agg) and the analysis modules are imported where they are used, so that
 # --help and argument errors do not wait for them.
 from .. import AnalysisError
-from ..cli import describe_ids, output_directory, prog_name, pyplot, run_script
+from ..command_support import describe_ids, output_directory, prog_name, pyplot, run_script
 
 OBSERVABLES = ["pressure", "shear_stress"]
 

@@ -22,7 +22,7 @@ import sys
 # numpy and the archive reader are imported where they are used, so that --help and argument
 # errors do not wait for them.
 from .. import AnalysisError
-from ..cli import prog_name, run_script
+from ..command_support import prog_name, run_script
 
 
 def groups_of(run, rate):

@@ -1,0 +1,88 @@
+"""What every command of the package shares: running a command's body with bad input as one
+line and exit status 2, pandas' display options, the command's name, checked output paths,
+matplotlib on Agg, id lists in words. Imports nothing heavy at load (numpy, pandas and
+matplotlib only inside the functions that need them), so --help stays quick."""
+import os
+import sys
+
+from .errors import AnalysisError
+
+
+def display_options():
+    """pandas' options for the printed tables (set when a command runs)."""
+    import pandas as pd
+    pd.set_option("display.width", 160)
+    pd.set_option("display.max_columns", 30)
+    pd.set_option("display.max_rows", 500)
+    # Six significant digits, not six decimals (which leave one digit of 2e-6).
+    pd.set_option("display.float_format", lambda v: f"{v:.6g}")
+
+
+def run_command(func, a, prog):
+    """Run a command's body on its parsed arguments; bad input (AnalysisError) becomes one
+    line on stderr and exit status 2, without a traceback."""
+    display_options()
+    try:
+        func(a)
+    except AnalysisError as e:
+        print(f"{prog}: {e}", file=sys.stderr)
+        return 2
+    return 0
+
+
+def pyplot():
+    """matplotlib.pyplot on the Agg backend (files, never a window), imported when a figure is drawn."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def prog_name(default):
+    """The command's name as the user ran it (bin/jamsim-NAME, tools/NAME.py: sys.argv[0]);
+    `default` when it runs otherwise (python3 -m pytest, an interpreter)."""
+    name = os.path.basename(sys.argv[0]) if sys.argv and sys.argv[0] else ""
+    return name if name.startswith("jamsim") or (name.endswith(".py") and name != "__main__.py") else default
+
+
+def output_directory(path, what="OUTDIR", create=True):
+    """Create the output directory `path` (if needed; with create=False only check that it
+    is not a file); refused with a message naming it."""
+    if os.path.exists(path) and not os.path.isdir(path):
+        raise AnalysisError(f"{what} '{path}' is an existing file, not a directory "
+                            "(the output directory comes after the archives)")
+    if not create:
+        return path
+    try:
+        os.makedirs(path, exist_ok=True)
+    except OSError as e:
+        raise AnalysisError(f"cannot create {what} '{path}': {e.strerror}") from None
+    return path
+
+
+def output_file(path, what="FIGURE"):
+    """Check that the file `path` can be written (its directory exists, it is not a directory)."""
+    folder = os.path.dirname(path) or "."
+    if os.path.isdir(path):
+        raise AnalysisError(f"{what} '{path}' is a directory, not a file name")
+    if not os.path.isdir(folder):
+        raise AnalysisError(f"{what} '{path}': no directory '{folder}'")
+    return path
+
+
+def run_script(prog, func, args):
+    """Run a script's body; bad input (AnalysisError) becomes one line on stderr and exit
+    status 2, without a traceback."""
+    return run_command(func, args, prog)
+
+
+def describe_ids(ids):
+    """'0-5, 7, 9-11' for a sorted list of integers."""
+    ids, parts, k = sorted(ids), [], 0
+    while k < len(ids):
+        j = k
+        while j + 1 < len(ids) and ids[j + 1] == ids[j] + 1:
+            j += 1
+        parts.append(str(ids[k]) if j == k else f"{ids[k]}-{ids[j]}")
+        k = j + 1
+    return ", ".join(parts) if parts else "none"
