@@ -2,6 +2,8 @@
 // kind of bad file gets its own sentence instead of HDF5's "open failed".
 #include "jamsim/archive/archive_file_check.hpp"
 
+#include <unistd.h>
+
 #include <sys/stat.h>
 
 #include <array>
@@ -14,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "jamsim/archive/archive.hpp"
 #include "jamsim/spec/campaign_spec.hpp"
 #include "jamsim/io/hdf5.hpp"
 #include "jamsim/io/lammps_data.hpp"
@@ -286,9 +289,9 @@ std::string diagnose_archive_file(const std::string& path) {
         return quoted(path) + " cannot be examined: " + std::strerror(errno);
     }
     if (S_ISDIR(st.st_mode)) return quoted(path) + " is a directory, not a campaign archive";
-    if (struct stat marker{}; ::stat((path + ".creating").c_str(), &marker) == 0)  // Archive::creation_marker
-        return quoted(path) + " is being created, or a kill interrupted its creation ('" + path +
-               ".creating' is beside it): a jamsim run or merge to it makes it anew";
+    if (const std::string marker = Archive::creation_marker(path); ::access(marker.c_str(), F_OK) == 0)
+        return quoted(path) + " is being created, or a kill interrupted its creation ('" + marker +
+               "' is beside it): a jamsim run or merge to it makes it anew";
     if (!S_ISREG(st.st_mode)) return quoted(path) + " is not a regular file";
     const auto size = static_cast<std::uint64_t>(st.st_size);
     std::ifstream in(path, std::ios::binary);
