@@ -3,6 +3,7 @@
 
 #include <exception>
 #include <iostream>
+#include <string>
 
 #include "jamsim/core/version.hpp"
 #include "campaign_commands.hpp"
@@ -26,6 +27,19 @@ int exit_status(const CLI::App& app, const CLI::ParseError& e) {
     return status >= static_cast<int>(CLI::ExitCodes::IncorrectConstruction) ? app::kExitRefused : status;
 }
 
+/// "" when the first argument is an option or one of the commands; else one message naming it
+/// and the commands (CLI11 says only "A subcommand is required").
+std::string unknown_command(const CLI::App& app, int argc, char** argv) {
+    if (argc < 2 || argv[1][0] == '-') return "";
+    std::string names;
+    for (const CLI::App* command : app.get_subcommands([](const CLI::App*) { return true; })) {
+        if (command->check_name(argv[1])) return "";
+        names += (names.empty() ? "" : ", ") + command->get_name();
+    }
+    return std::string("jamsim: '") + argv[1] + "' is not a command: one of " + names +
+           " (jamsim --help says what each does)";
+}
+
 }  // namespace jamsim::app
 
 int main(int argc, char** argv) {
@@ -42,6 +56,10 @@ int main(int argc, char** argv) {
     jamsim::app::add_parameters_command(app);
     jamsim::app::add_models_command(app);
     (void)jamsim::app::threads_from_environment();  // refused by the commands that run the kernel
+    if (const std::string unknown = jamsim::app::unknown_command(app, argc, argv); !unknown.empty()) {
+        std::cerr << unknown << '\n';
+        return jamsim::app::kExitRefused;
+    }
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) { return jamsim::app::exit_status(app, e); } catch (const std::exception& e) {

@@ -43,12 +43,13 @@ inline CLI::Validator count_at_least_one(const std::string& what) {
 inline CLI::Validator whole_number() {
     return CLI::Validator(
         [](std::string& v) -> std::string {
+            // At most 2^63 - 1, what a campaign (TOML) and an archive's parameter columns hold.
             const bool digits = !v.empty() && v.find_first_not_of("0123456789") == std::string::npos;
             errno = 0;
-            if (digits) (void)std::strtoull(v.c_str(), nullptr, 10);
+            if (digits) (void)std::strtoll(v.c_str(), nullptr, 10);
             return digits && errno != ERANGE
                        ? ""
-                       : "value " + v + " is not allowed: a whole number from 0 to 18446744073709551615 in decimal";
+                       : "value " + v + " is not allowed: a whole number from 0 to 9223372036854775807 in decimal";
         },
         "INTEGER >= 0");
 }

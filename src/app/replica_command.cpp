@@ -64,7 +64,7 @@ ReplicaParams params_of(const ReplicaOptions& opt) {
         const ParamInfo& info = *find_parameter(key);
         ParamValue value;
         if (!parse_value(info, text, value) || !set_value(params, info, value))
-            usage_error(std::string(info.flag.substr(2)), text, is_numeric(info) ? "a number" : "a string");
+            usage_error(std::string(info.flag.substr(2)), text, value_kind(info));
     }
     for (const auto& e : validate(params)) {
         const ParamInfo* info = find_parameter(e.key);
@@ -105,7 +105,14 @@ void run(const ReplicaOptions& opt) {
             usage_error("initial", params.initial, "a jamsim campaign archive or a LAMMPS data file: " + bad);
         try {
             initial = InitialStates(params.initial).load(params, 0);
-        } catch (const InitialStateError& e) { usage_error("initial", params.initial, e.what()); }
+        } catch (const InitialStateError& e) {
+            // The loader speaks of the campaign key; here the value is already named once.
+            std::string why = e.what();
+            for (const std::string& prefix : {"[run] initial = \"" + params.initial + "\" is not allowed: ",
+                                              "[run] initial = \"" + params.initial + "\": "})
+                if (why.starts_with(prefix)) why.erase(0, prefix.size());
+            usage_error("initial", params.initial, why);
+        }
     }
     const ReplicaResult result = run_replica(params, {.initial = initial ? &*initial : nullptr});
     write_replica_file(opt.output, params, result);

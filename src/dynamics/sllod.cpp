@@ -24,8 +24,12 @@ inline Vec2 contact_damping(Damping d, double kd, Vec2 w, Vec2 n) {
 }  // namespace
 
 double sllod_stable_dt(Damping damping, double m, double kd) {
-    const double elastic_limit = 1.5 / std::sqrt(8.0 / m);  // small disk: the lightest
-    if (damping == Damping::RD) return elastic_limit;       // drag integrated exactly
+    // Small disk: the lightest. 8 / m overflows for m < 8 / DBL_MAX (mass = 1e-308 gave a
+    // limit of 0); m / 8 then gives the limit, which the first form keeps to the bit elsewhere.
+    const double stiffness_over_mass = 8.0 / m;
+    const double elastic_limit =
+        std::isfinite(stiffness_over_mass) ? 1.5 / std::sqrt(stiffness_over_mass) : 1.5 * std::sqrt(m / 8.0);
+    if (damping == Damping::RD) return elastic_limit;  // drag integrated exactly
     const double damping_limit = 2.0 * m / (kd * 8.0);
     return std::min(damping_limit, elastic_limit);
 }

@@ -219,6 +219,22 @@ bool set_value(ReplicaParams& p, const ParamInfo& info, const ParamValue& value)
 
 bool is_numeric(const ParamInfo& info) { return !std::holds_alternative<std::string ReplicaParams::*>(info.field); }
 
+std::string value_kind(const ParamInfo& info) {
+    return std::visit(
+        [](auto member) -> std::string {
+            using T = std::decay_t<decltype(ReplicaParams{}.*member)>;
+            if constexpr (std::is_same_v<T, std::string>)
+                return "a string";
+            else if constexpr (std::is_same_v<T, double>)
+                return "a number";
+            else if constexpr (std::is_unsigned_v<T>)  // stored as a signed 64-bit integer
+                return "a whole number from 0 to 9223372036854775807";
+            else
+                return "an integer";
+        },
+        info.field);
+}
+
 double numeric_value(const ReplicaParams& p, const ParamInfo& info) {
     const ParamValue v = get_value(p, info);
     if (const auto* d = std::get_if<double>(&v)) return *d;

@@ -229,13 +229,14 @@ std::optional<ParamError> cell_grid_fits(const ReplicaParams& p) {
         return ParamError{"phi", show_value(p.phi), text};
     }
     std::snprintf(text, sizeof text, "N <= %lld at phi = %g (%s)", static_cast<long long>(most), p.phi, why);
-    return ParamError{"N", show_value(static_cast<double>(p.n)), text};
+    return ParamError{"N", show_value(ParamValue{p.n}), text};
 }
 
 /// Runs of whole steps: a run shorter than one step ran one step past the request (rate =
 /// 10: strain 2 for 0.05) or none (rate = 1e308) and was recorded done; a cooling ramp takes
 /// between one step and kMostSteps (cooling_time / dt overflowed to 0 steps); a quasistatic
-/// strain step no larger than the strain.
+/// strain step no larger than the strain, and at most kMostSteps of them (strain_step = 1e-300
+/// overflowed the step count and ran without end).
 std::vector<ParamError> run_in_whole_steps(const ReplicaParams& p, const ModelInfo& m) {
     std::vector<ParamError> out;
     if (uses_parameter(p, "dt") && m.kind == ModelKind::Dynamics) {
@@ -255,10 +256,33 @@ std::vector<ParamError> run_in_whole_steps(const ReplicaParams& p, const ModelIn
                            "cooling_time between dt and " + three_digits(kMostSteps) + " steps of dt = " +
                                show_value(p.dt) + " (it would take " + three_digits(steps) + " steps)"});
     }
-    if (uses_parameter(p, "strain_step") && uses_parameter(p, "strain") && p.strain_step > p.strain)
-        out.push_back({"strain_step", show_value(p.strain_step),
-                       "strain_step <= strain = " + show_value(p.strain) + " (a larger step shears past the run)"});
+    if (uses_parameter(p, "strain_step") && uses_parameter(p, "strain")) {
+        const double steps = p.strain / p.strain_step;
+        if (p.strain_step > p.strain)
+            out.push_back({"strain_step", show_value(p.strain_step),
+                           "strain_step <= strain = " + show_value(p.strain) + " (a larger step shears past the run)"});
+        else if (!(steps <= kMostSteps))  // each step is a minimisation; counted in 64 bits
+            out.push_back({"strain_step", show_value(p.strain_step),
+                           "strain_step >= strain / " + three_digits(kMostSteps) + " = " +
+                               three_digits(p.strain / kMostSteps) + " (strain = " + show_value(p.strain) +
+                               " would take " + three_digits(steps) + " minimisations)"});
+    }
     return out;
+}
+
+/// The thermal models' Euler–Maruyama kick, sqrt(2 T dt / kd) per component, must stay within
+/// a small diameter d_s, or a step jumps disks through each other instead of resolving their
+/// contacts (temperature = 1e308 ran to non-finite positions, blamed on dt). The models use
+/// T <= 1e-2 k_e; the bound, T <= kd d_s^2 / (2 dt), is 2.5 k_e at dt = 0.2, kd = 1.
+std::optional<ParamError> thermal_kick_resolved(const ReplicaParams& p) {
+    if (!uses_parameter(p, "temperature") || !uses_parameter(p, "dt") || !uses_parameter(p, "kd")) return std::nullopt;
+    const double most = p.kd / (2.0 * p.dt);  // d_s = 1
+    if (p.temperature <= most) return std::nullopt;
+    return ParamError{"temperature", show_value(p.temperature),
+                      "temperature <= kd / (2 dt) = " + three_digits(most) + " here: a step of dt = " +
+                          show_value(p.dt) + " would kick a disk by sqrt(2 temperature dt / kd) = " +
+                          three_digits(std::sqrt(2.0 * p.temperature * p.dt / p.kd)) +
+                          " small diameters, and the steps must resolve contacts (at most 1)"};
 }
 
 }  // namespace
@@ -273,7 +297,7 @@ std::vector<ParamError> validate(const ReplicaParams& p) {
                 errors.push_back({std::string(info->key), show_value(get_value(p, *info)), allowed});
     if (!errors.empty()) return errors;
     if (std::string allowed = box_holds_the_list(p); !allowed.empty())
-        errors.push_back({"N", show_value(static_cast<double>(p.n)), allowed});
+        errors.push_back({"N", show_value(ParamValue{p.n}), allowed});
     if (auto too_wide = cell_grid_fits(p)) errors.push_back(*too_wide);
     for (ParamError& e : run_in_whole_steps(p, *m)) errors.push_back(std::move(e));
     if (uses_parameter(p, "dt") && p.dt > m->stable_dt(p))
@@ -282,6 +306,7 @@ std::vector<ParamError> validate(const ReplicaParams& p) {
                               (m->stable_dt_basis ? m->stable_dt_basis(p)
                                                   : "for " + p.model + " with mass " + show_value(p.mass) + " and kd " +
                                                         show_value(p.kd) + " (stability of the integrator)")});
+    if (auto kick = thermal_kick_resolved(p)) errors.push_back(*kick);  // after dt's own limit
     // The transient and the sampling against the run length (strain, or time at rate 0): a
     // transient that covers the run leaves nothing to average (empty means, an all-NaN g_y),
     // a sample interval beyond it only the first sample.

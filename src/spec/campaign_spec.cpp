@@ -27,6 +27,18 @@ using spec_detail::show;
 
 namespace {
 
+/// Line `number` (from 1) of text, without its end of line; empty past the end.
+std::string line_of(const std::string& text, std::size_t number) {
+    std::size_t begin = 0;
+    for (std::size_t k = 1; k < number && begin != std::string::npos; ++k) {
+        begin = text.find('\n', begin);
+        if (begin != std::string::npos) ++begin;
+    }
+    if (begin == std::string::npos || begin >= text.size()) return "";
+    const std::size_t end = text.find_first_of("\r\n", begin);
+    return text.substr(begin, end == std::string::npos ? std::string::npos : end - begin);
+}
+
 /// Named potentials of [potential] name: presets of the exponent alpha.
 constexpr std::pair<std::string_view, double> kNamedPotentials[] = {{"harmonic", 2.0}, {"hertzian", 2.5}};
 
@@ -38,16 +50,11 @@ std::optional<ParamValue> scalar(const toml::node& node) {
     return std::nullopt;
 }
 
-std::string kind_of(const ParamInfo& info) {
-    if (!is_numeric(info)) return "a string";
-    return std::holds_alternative<double ReplicaParams::*>(info.field) ? "a number" : "an integer";
-}
-
 /// Set one parameter from a node, or fail naming where it was written.
 void read_into(const Reader& r, ReplicaParams& p, const ParamInfo& info, const toml::node& node,
                const std::string& where) {
     const auto value = scalar(node);
-    if (!value || !set_value(p, info, *value)) r.fail(where, show(node), kind_of(info));
+    if (!value || !set_value(p, info, *value)) r.fail(where, show(node), value_kind(info));
     if (const auto* text = std::get_if<std::string>(&*value)) r.no_nul(*text, where, node);
 }
 
@@ -87,8 +94,13 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
         root = toml::parse(text, path);
     } catch (const toml::parse_error& e) {
         std::ostringstream os;
+        std::string description(e.description());
+        // toml++ names a quoted duplicate key garbled ('"N"N"'): quote the line instead.
+        if (description.find("cannot redefine existing") != std::string::npos)
+            description = "a key or table defined a second time (TOML allows each once): '" +
+                          printable(line_of(text, e.source().begin.line)) + "'";
         os << path << ":" << e.source().begin.line << ":" << e.source().begin.column
-           << ": malformed TOML: " << e.description();
+           << ": malformed TOML: " << description;
         throw SpecError(os.str());
     }
     const std::set<std::string> tables{"campaign", "model", "potential", "system", "run", "sweep"};

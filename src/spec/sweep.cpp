@@ -16,6 +16,7 @@ struct Point {
     std::int64_t n;
     double phi, rate;
     std::vector<std::uint64_t> seeds;  ///< its own seeds (a point's `seeds`); empty: the sweep's
+    std::string where;                 ///< "[sweep] points[k]" for a listed point; empty: the grid's
 };
 
 /// The sweep's seeds: a list, or `seeds = K` (seeds 1..K, listed once the sweep's size is
@@ -90,7 +91,7 @@ void read_grid(const Reader& r, const toml::table& sweep, const SweepNumbers& sw
                    "at most " + std::to_string(max_replicas) + " replicas (jamsim run --max-replicas raises the cap)");
         for (auto n : ns)
             for (double phi : phis)
-                for (double rate : rates) points.push_back({n, phi, rate, {}});
+                for (double rate : rates) points.push_back({n, phi, rate, {}, {}});
     }
 }
 
@@ -112,7 +113,8 @@ void read_points(const Reader& r, const toml::table& sweep, const SweepNumbers& 
             points.push_back({r.integer(*t->get("N"), where + " N"),
                               sweep_number(*t->get("phi"), where + " phi", "phi"),
                               rate ? sweep_number(*rate, where + " rate", "rate") : 0.0,
-                              {}});
+                              {},
+                              where});
             // A point's own seeds (a list; e.g. a merged campaign's replicas), instead of the
             // sweep's.
             if (const toml::node* own = t->get("seeds")) {
@@ -162,7 +164,13 @@ void make_replicas(const Reader& r, const std::vector<Point>& points, Seeds seed
             if (!errors.empty()) {
                 const auto& e = errors.front();
                 const ParamInfo* info = find_parameter(e.key);
-                r.fail(info ? location(*info) : e.key, e.value, e.allowed);
+                // A listed point's own N, phi, rate or seeds are named where they are written.
+                const bool own = !pt.where.empty() && (e.key == "N" || e.key == "phi" || e.key == "rate" ||
+                                                       (e.key == "seed" && !pt.seeds.empty()));
+                r.fail(own    ? pt.where + " " + (e.key == "seed" ? "seeds" : e.key)
+                       : info ? location(*info)
+                              : e.key,
+                       e.value, e.allowed);
             }
             spec.replicas.push_back(p);
         }

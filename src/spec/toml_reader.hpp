@@ -3,6 +3,7 @@
 // what is allowed (internal to src/spec).
 #include <toml++/toml.h>
 
+#include <charconv>
 #include <cstdint>
 #include <set>
 #include <sstream>
@@ -37,10 +38,21 @@ inline std::string show(const toml::node& node) {
         os << ']';
     } else if (auto i = node.value<std::int64_t>(); i && node.is_integer())
         os << *i;
-    else if (auto d = node.value<double>())
-        os << *d;
-    else if (auto b = node.value<bool>())
+    else if (auto d = node.value<double>(); d && node.is_floating_point()) {
+        // As written: the shortest text that reads back the same, with a point (32.0, not 32).
+        char text[32];
+        const auto end = std::to_chars(text, text + sizeof text, *d).ptr;
+        std::string written(text, end);
+        if (written.find_first_of(".enai") == std::string::npos) written += ".0";
+        os << written;
+    } else if (auto b = node.value<bool>())
         os << (*b ? "true" : "false");
+    else if (auto date = node.as_date())
+        os << date->get() << " (a date)";
+    else if (auto time = node.as_time())
+        os << time->get() << " (a time)";
+    else if (auto date_time = node.as_date_time())
+        os << date_time->get() << " (a date and time)";
     else
         os << "(value)";
     return os.str();

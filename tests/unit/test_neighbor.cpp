@@ -71,3 +71,20 @@ TEST(NeighborList, RefusesBoxTooSmallForMinimumImage) {
     NeighborList nl(0.3);
     EXPECT_THROW(nl.build(sys.particles.x, sys.particles.y, sys.particles.diameter, sys.box), std::invalid_argument);
 }
+
+// A diverged run's positions (not finite) are refused with the disk, its
+// position and the reason, instead of indexing outside the cell grid (that crashed with SIGSEGV).
+TEST(NeighborList, RefusesPositionsThatDoNotFold) {
+    for (double bad : {std::nan(""), HUGE_VAL, -HUGE_VAL}) {
+        System sys = random_configuration(500, 0.8, 0.0, 1, false);
+        sys.particles.x[7] = bad;
+        NeighborList nl(0.3);
+        try {
+            nl.build(sys.particles.x, sys.particles.y, sys.particles.diameter, sys.box);
+            ADD_FAILURE() << "x = " << bad << " was binned";
+        } catch (const std::runtime_error& e) {
+            EXPECT_NE(std::string(e.what()).find("disk 7 is at ("), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("which does not fold into the box"), std::string::npos) << e.what();
+        }
+    }
+}

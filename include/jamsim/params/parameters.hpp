@@ -101,6 +101,9 @@ bool parse_value(const ParamInfo& info, const std::string& text, ParamValue& out
 /// True for numeric fields (stored as float64 columns); text fields are campaign-wide
 /// attributes.
 bool is_numeric(const ParamInfo& info);
+/// What a value of the field's kind is, for messages: "a number", "an integer", "a whole
+/// number from 0 to 9223372036854775807" (seeds) or "a string".
+std::string value_kind(const ParamInfo& info);
 double numeric_value(const ReplicaParams& p, const ParamInfo& info);
 
 /// A problem with one parameter, phrased for a person.
