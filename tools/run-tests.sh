@@ -2,7 +2,7 @@
 # The test command: install what is missing, build, run the CTest suite.
 #   tools/run-tests.sh            the quick set: every test not labelled `heavy`, `slow`,
 #                                 `faults` or `slurm` (unit, physics, 2-rank campaigns, the
-#                                 command line's refusals, the Python tools; about 3.5
+#                                 command line's refusals, the Python tools; about 3
 #                                 minutes on 2 cores after the build, tests/README.md)
 #   tools/run-tests.sh --all      everything, including `heavy`, `slow`, `faults` and `slurm`
 #   tools/run-tests.sh --rest     only what the quick set leaves out (CI runs it after the quick set)
