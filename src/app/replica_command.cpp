@@ -90,6 +90,8 @@ ReplicaParams params_of(const ReplicaOptions& opt) {
 void run(const ReplicaOptions& opt) {
     const ReplicaParams params = params_of(opt);
     check_output_path(opt.output, params.initial);
+    if (const std::string no_room = check_replica_disk(params, opt.output); !no_room.empty())
+        throw CLI::ValidationError("jamsim replica: " + no_room);
     const linalg::PetscScope petsc;  // CD0 initialises PETSc on first use; finalise it here
     // PETSc options that PETSc does not recognise or the CD0 solver does not use.
     if (!params.petsc_options.empty() && uses_parameter(params, "petsc_options"))

@@ -132,6 +132,18 @@ std::string check_replica_memory(const ReplicaParams& p) {
            " available (jamsim plans for 80% of it): check N and phi, or run it on a larger node";
 }
 
+std::string check_replica_disk(const ReplicaParams& p, const std::string& output) {
+    CampaignSpec one;
+    one.replicas = {p};
+    const double needed = archive_layout(one).bytes + 1e6;  // + metadata, as a campaign's archive
+    const double free = free_bytes(output);
+    if (!std::isfinite(free) || needed <= (1.0 - kDiskMargin) * free) return "";
+    return "the replica file '" + output + "' needs about " + show_bytes(needed) + " (N = " + std::to_string(p.n) +
+           ", " + std::to_string(sample_count(p)) + " samples), but its filesystem has " + show_bytes(free) +
+           " free (jamsim leaves 10% of it free): write it to a larger filesystem (-o) or take fewer samples (a "
+           "larger sample_interval)";
+}
+
 std::string show_bytes(double bytes) {
     if (!std::isfinite(bytes)) return "unknown";
     const char* units[] = {"B", "kB", "MB", "GB", "TB", "PB", "EB"};

@@ -4,7 +4,7 @@
 # archive does not fit is refused before anything is created, with the sizes in the message;
 # the same campaign fits once --output points at a larger filesystem (dry run); a run that
 # fills it stops in words and finishes once space is freed; minimize --lammps-data there fails
-# and leaves no file.
+# and leaves no file, and so does a replica there.
 set -euo pipefail
 jamsim=$1 work=$2
 [[ $(id -u) -eq 0 ]] || { echo "skipped: mounting a tmpfs needs root"; exit 77; }
@@ -63,5 +63,14 @@ rc=0; "$jamsim" minimize --N 64 --lammps-data start.data > "$work/minimize.txt" 
 [[ $rc -ne 0 ]] || { cat "$work/minimize.txt"; echo "FAIL: minimize wrote to a full filesystem with exit 0"; exit 1; }
 grep -q "writing LAMMPS data file 'start.data' failed" "$work/minimize.txt" || { cat "$work/minimize.txt"; exit 1; }
 [[ ! -e start.data && ! -e start.data.tmp ]] || { echo "FAIL: a partial data file is left"; exit 1; }
-rm filler
 echo "ok: minimize --lammps-data on a full filesystem: refused, nothing left"
+# jamsim replica -o on the full filesystem: refused before the run, which it used to run to the
+# end and then lose in the write.
+rc=0; "$jamsim" replica --N 64 --strain 0.5 -o r.h5 > "$work/replica.txt" 2>&1 || rc=$?
+cat "$work/replica.txt"
+[[ $rc -eq 2 ]] || { echo "FAIL: exit $rc, expected 2"; exit 1; }
+grep -Eq "^jamsim replica: the replica file 'r.h5' needs about [0-9.]+ [kM]B \(N = 64, 51 samples\), but its filesystem has [0-9.]+ [kM]?B free" "$work/replica.txt"
+! grep -q "replica RD0 N=64" "$work/replica.txt" || { echo "FAIL: the replica ran"; exit 1; }
+[[ ! -e r.h5 && ! -e r.h5.tmp ]] || { echo "FAIL: a replica file is left"; exit 1; }
+rm filler
+echo "ok: replica -o on a full filesystem: refused before the run"

@@ -38,6 +38,10 @@ std::string check_capacity(const CapacityEstimate& e, const CapacityLimits& limi
 /// "" when one replica of `p` (jamsim replica: one process) fits this node's available
 /// memory with the libraries' base, else one sentence with the figures.
 std::string check_replica_memory(const ReplicaParams& p);
+/// "" when the filesystem of `output` has room for replica p's file (jamsim replica -o), with
+/// the campaign's margin; else the sizes and what to change. Checked before the run, which a
+/// full filesystem would otherwise lose at its end.
+std::string check_replica_disk(const ReplicaParams& p, const std::string& output);
 
 /// Free bytes for this user on the filesystem that holds (or would hold) `path`; NaN unknown.
 double free_bytes(const std::string& path);
