@@ -125,12 +125,27 @@ void check_duplicates_agree(const std::vector<std::string>& inputs, const std::v
         }
 }
 
-/// The existing output must be an archive of the merged campaign.
-void check_existing_output(const std::string& output, const CampaignSpec& spec) {
+/// The existing output must be an archive of the merged campaign (one that an interrupted
+/// merge or run of it left). Another campaign's archive, even one of the inputs' sweeps, cannot
+/// take the union: say so, and how to merge into a new file instead.
+void check_existing_output(const std::string& output, const std::vector<std::string>& inputs,
+                           const CampaignSpec& spec) {
     if (const std::string bad = diagnose_archive_file(output); !bad.empty())
         throw CampaignRefused("refusing the output: " + bad);
-    if (const std::string why = Archive::check_existing(output, spec); !why.empty())
-        throw CampaignRefused("refusing: " + why);
+    const std::string why = Archive::check_existing(output, spec);
+    if (why.empty()) return;
+    if (why.find("belongs to a different campaign") == std::string::npos) throw CampaignRefused("refusing: " + why);
+    std::string named = output;
+    for (const auto& path : inputs) named += " " + path;
+    const std::string merged =
+        inputs.size() == 1 ? "'" + inputs.front() + "'"
+                           : "the merge of " + std::to_string(inputs.size()) + " archives (the union of their sweeps)";
+    throw CampaignRefused("refusing: '" + output + "' exists and holds another campaign than " + merged + ", of " +
+                          std::to_string(spec.replicas.size()) +
+                          " replicas; an existing output must hold that campaign already (as an interrupted merge "
+                          "leaves it). To add these replicas to those of '" +
+                          output + "', merge them all into a new file: jamsim merge NEW.h5 " + named + " (" + why +
+                          ")");
 }
 
 }  // namespace
@@ -155,14 +170,14 @@ MergeOutcome merge_archives(const std::string& output, const std::vector<std::st
         throw CampaignRefused(too_large);
     // A refused output is refused before its lock file is made (which a refusal would leave
     // behind); checked again under the lock, as the file may change in between.
-    if (exists) check_existing_output(output, spec);
+    if (exists) check_existing_output(output, inputs, spec);
     // The output is written by this process alone, and no input may still be written.
     std::optional<ArchiveLock> lock;
     try {
         for (const auto& path : inputs) ArchiveLock::check_free(path);
         lock.emplace(ArchiveLock::acquire(MPI_COMM_SELF, output, "jamsim merge"));
     } catch (const ArchiveBusy& e) { throw CampaignRefused(e.what()); }
-    if (exists) check_existing_output(output, spec);
+    if (exists) check_existing_output(output, inputs, spec);
     Archive out = exists ? Archive::open(MPI_COMM_SELF, output) : Archive::create(MPI_COMM_SELF, output, spec);
     std::vector<ReplicaStatus> have = out.read_status();
     MergeOutcome result{.replicas = spec.replicas.size(),
