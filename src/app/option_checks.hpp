@@ -11,6 +11,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "jamsim/archive/archive_file_check.hpp"
+
 namespace jamsim::app {
 
 /// Refuses an empty path (`-o ""`, an unset shell variable) before any work: a replica would
@@ -64,6 +66,7 @@ inline std::string writable_new_file(const std::string& path) {
     const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
     std::error_code ec;
     if (fs::is_directory(p, ec) || p.filename().empty()) return "a file name, not a directory";
+    if (const std::string why = spaced_file_name(p.filename().string()); !why.empty()) return why;
     if (!fs::is_directory(dir, ec)) return "a file in an existing directory ('" + dir.string() + "' does not exist)";
     if (::access(dir.c_str(), W_OK) != 0)
         return "a file in a writable directory ('" + dir.string() + "' is not writable)";

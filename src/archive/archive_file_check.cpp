@@ -7,6 +7,7 @@
 #include <sys/stat.h>
 
 #include <array>
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -312,15 +313,34 @@ std::string diagnose_archive_file(const std::string& path) {
     }
 }
 
+std::string spaced_file_name(const std::string& name) {
+    const auto blank = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
+    if (name.empty() || (!blank(name.front()) && !blank(name.back()))) return "";
+    return "a file name that neither starts nor ends with white space ('" + name +
+           "': a quoting mistake in the command line or campaign?)";
+}
+
 std::string output_path_problem(const std::string& path) {
     const std::filesystem::path p(path);
     const std::string name = p.filename().string();
     if (name.empty() || name == "." || name == "..")
         return "a file path, not a folder ('" + path + "' ends in '" + (name.empty() ? "/" : name) + "')";
+    if (const std::string why = spaced_file_name(name); !why.empty()) return why;
     struct stat st {};
     if (::stat(path.c_str(), &st) != 0) {
-        if (errno == ENOENT || errno == ENOTDIR) return "";  // the folder checks say why
-        return "'" + path + "' cannot be examined: " + std::strerror(errno);
+        const int stat_error = errno;
+        // A symbolic link to a file that does not exist is followed when the file is made;
+        // one into a folder that does not exist made HDF5's create fail without a reason.
+        if (std::error_code ec; stat_error == ENOENT && std::filesystem::is_symlink(p, ec)) {
+            const std::filesystem::path target = std::filesystem::read_symlink(p, ec);
+            const std::filesystem::path folder =
+                (target.is_absolute() ? target : p.parent_path() / target).parent_path();
+            if (!ec && !folder.empty() && !std::filesystem::is_directory(folder, ec))
+                return "a file that can be made: '" + path + "' is a symbolic link to '" + target.string() +
+                       "', whose folder '" + folder.string() + "' does not exist";
+        }
+        if (stat_error == ENOENT || stat_error == ENOTDIR) return "";  // the folder checks say why
+        return "'" + path + "' cannot be examined: " + std::strerror(stat_error);
     }
     if (S_ISREG(st.st_mode) && (st.st_mode & 0222) == 0) {
         char mode[8];
