@@ -102,6 +102,8 @@ std::string petsc_options_problem(const std::string& options) {
         double ux[] = {0.0, 0.0}, uy[] = {0.0, 0.0};
         solver.solve(pair, touching, 0, labels, bx, by, ux, uy);
         solver.solve(pair, apart, 0, labels, bx, by, ux, uy);
+    } catch (const std::invalid_argument& e) {  // a value jamsim itself refuses: the message says which
+        return e.what();
     } catch (const std::runtime_error& e) { return std::string("options PETSc accepts: ") + e.what(); }
     for (const auto& name : names) {
         PetscBool used = PETSC_FALSE;

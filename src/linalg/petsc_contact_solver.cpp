@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <span>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include "cholmod_factor.hpp"
@@ -77,6 +78,16 @@ struct PetscContactSolver::Impl {
         // rtol (default or -cd0_ksp_rtol) bounds each half: the joint test takes rtol/√2.
         PetscReal given = 0;
         check(KSPGetTolerances(ksp, &given, nullptr, nullptr, nullptr), "KSPGetTolerances");
+        // Checked here, as given: PETSc would refuse rtol >= 1 only below, naming rtol/√2;
+        // below 1e-16 (about half the double epsilon) round-off alone keeps the KSP from converging.
+        if (!(given >= 1e-16 && given < 1.0)) {
+            char text[160];
+            std::snprintf(text, sizeof text,
+                          "-%sksp_rtol from 1e-16 to below 1, relative to each half of the right-hand side (it "
+                          "is %g)",
+                          prefix.c_str(), static_cast<double>(given));
+            throw std::invalid_argument(text);
+        }
         half_rtol = given;
         check(KSPSetTolerances(ksp, given / std::sqrt(2.0), PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT),
               "KSPSetTolerances");
@@ -409,7 +420,10 @@ SolveInfo PetscContactSolver::Impl::run(std::span<const ContactPair> pairs, std:
     }
     if (its < 0)
         throw std::runtime_error(std::string("CD0 contact solve did not converge: ") +
-                                 KSPConvergedReasons[m.last_reason]);
+                                 KSPConvergedReasons[m.last_reason] + " (relative tolerance " +
+                                 std::to_string(m.half_rtol) +
+                                 " for each half; a tighter one than round-off allows, or a solver that "
+                                 "does not suit the contact matrix?)");
     if (m.shell && (!shortcut || check_here)) {
         // One application met the tolerance: the updated factor is exact for this matrix.
         // More: round-off accumulated by the updates; factorise afresh next time.
