@@ -123,9 +123,11 @@ void run(const ReplicaOptions& opt) {
     const double s = mean_after(result.series, &Sample::shear_stress, params.transient, by_time);
     const double steps_per_s =
         static_cast<double>(result.force_evaluations) * static_cast<double>(params.n) / result.wall_seconds;
-    std::printf("replica %s N=%lld phi=%.6g rate=%.6g: %zu samples, %.2f s on %d thread%s, %.3g particle-force-"
+    char rate[40] = "";  // only for the models that shear at a rate (not QS or the protocols)
+    if (uses_parameter(params, "rate")) std::snprintf(rate, sizeof rate, " rate=%.6g", params.rate);
+    std::printf("replica %s N=%lld phi=%.6g%s: %zu samples, %.2f s on %d thread%s, %.3g particle-force-"
                 "evaluations/s\n",
-                params.model.c_str(), static_cast<long long>(params.n), params.phi, params.rate, result.series.size(),
+                params.model.c_str(), static_cast<long long>(params.n), params.phi, rate, result.series.size(),
                 result.wall_seconds, kernel_threads(), kernel_threads() == 1 ? "" : "s", steps_per_s);
     std::printf("mean pressure     <p>     = %.10g\n", p);
     std::printf("mean shear stress <sigma> = %.10g\n", s);
