@@ -1,0 +1,127 @@
+# Included by tests/cli/CMakeLists.txt (its variables: expect, out, campaigns, jamsim_cli_error).
+# Files given as archives or outputs: bad kinds, outputs that name no writable file, merges.
+# Splits a table row "a|b|c" into the caller's variables named after it, in order.
+function(jamsim_row_fields row)
+  string(REPLACE "|" ";" parts "${row}")
+  set(i 0)
+  foreach(var IN LISTS ARGN)
+    list(GET parts ${i} value)
+    set(${var} "${value}" PARENT_SCOPE)
+    math(EXPR i "${i} + 1")
+  endforeach()
+endfunction()
+# Bad files given as archives: status, run and merge say which kind, exit 2, change nothing.
+set(bad_dir ${CMAKE_CURRENT_BINARY_DIR}/bad_archives)
+file(MAKE_DIRECTORY ${bad_dir})
+add_test(NAME archive_file.make_bad_files
+  COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/make_bad_archives.sh $<TARGET_FILE:jamsim> ${campaigns}/other_campaign.toml
+  WORKING_DIRECTORY ${bad_dir})
+set_tests_properties(archive_file.make_bad_files PROPERTIES LABELS unit FIXTURES_SETUP bad_archives)
+set(bad_kinds
+  "missing|missing.h5|'missing.h5' does not exist"
+  "directory|a_directory|'a_directory' is a directory, not a campaign archive"
+  "empty|empty.h5|'empty.h5' is empty \\(0 bytes\\), not a campaign archive"
+  "not_hdf5|text.h5|'text.h5' is not an HDF5 file \\(no HDF5 signature in its 15 bytes\\)"
+  "truncated|truncated.h5|'truncated.h5' is truncated: its HDF5 superblock says [0-9]+ bytes, the file has [0-9]+"
+  "not_jamsim|plain.h5|'plain.h5' is an HDF5 file but not a jamsim campaign archive"
+  "replica_file|replica.h5|'replica.h5' is a single-replica file of jamsim replica, not a campaign archive"
+  "other_layout|layout.h5|'layout.h5' has archive layout 2 .*this jamsim reads layout 4"
+  "other_version|version.h5|'version.h5' was written by another version of jamsim \\(jamsim campaign v1. this one writes jamsim campaign v7\\)"
+  "status_rows|status_rows.h5|'status_rows.h5' is damaged: /replicas/status has 2 entries \\(n_replicas is 1\\)"
+  "status_value|status_value.h5|'status_value.h5' is damaged: /replicas/status\\[0\\] is 9 \\(0 pending, 1 running, 2 done, 3 failed\\)"
+  "series_cut|series_cut.h5|'series_cut.h5' is damaged: /timeseries/pressure is 1 x 2 where /timeseries/[a-z_]+ is 1 x [0-9]+"
+  "final_cut|final_cut.h5|'final_cut.h5' is damaged: /final/y is 64 entries where /final/x is 3 entries"
+  "no_series|no_series.h5|'no_series.h5' is damaged: it has no /timeseries"
+  "ranks_text|ranks_text.h5|'ranks_text.h5' is damaged: its attribute n_ranks is not one integer")
+foreach(kind IN LISTS bad_kinds)
+  jamsim_row_fields("${kind}" name file regex)
+  add_test(NAME archive_file.status_${name}
+    COMMAND ${expect} "^jamsim status: ${regex}" ${bad_dir}/none.h5 $<TARGET_FILE:jamsim> status ${file}
+    WORKING_DIRECTORY ${bad_dir})
+  add_test(NAME archive_file.merge_shard_${name}
+    COMMAND ${expect} "^jamsim merge: shard ${regex}" ${bad_dir}/merged.h5 $<TARGET_FILE:jamsim> merge merged.h5 good.h5 ${file}
+    WORKING_DIRECTORY ${bad_dir})
+  set(tests archive_file.status_${name} archive_file.merge_shard_${name})
+  if(NOT name STREQUAL "missing" AND NOT name STREQUAL "directory")  # run creates a missing archive
+    add_test(NAME archive_file.run_${name}
+      COMMAND ${expect} "other_campaign.toml: refusing to use the archive: ${regex}" ${bad_dir}/none.h5 $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml -o ${file}
+      WORKING_DIRECTORY ${bad_dir})
+    add_test(NAME archive_file.merge_into_${name}
+      COMMAND ${expect} "^jamsim merge: refusing the output: ${regex}" ${bad_dir}/none.h5 $<TARGET_FILE:jamsim> merge ${file} good.h5
+      WORKING_DIRECTORY ${bad_dir})
+    list(APPEND tests archive_file.run_${name} archive_file.merge_into_${name})
+  endif()
+  # An HDF5 file as a replica's starting state (the others go to the LAMMPS reader).
+  if(NOT name MATCHES "^(missing|directory|empty|not_hdf5)$")
+    add_test(NAME archive_file.initial_${name}
+      COMMAND ${expect} "^jamsim replica: --initial = ${file} is not allowed: a jamsim campaign archive or a LAMMPS data file: ${regex}"
+        ${bad_dir}/q.h5 $<TARGET_FILE:jamsim> replica --N 16 --phi 0.8 --rate 1e-2 --strain 0.01 --initial ${file} -o q.h5
+      WORKING_DIRECTORY ${bad_dir})
+    list(APPEND tests archive_file.initial_${name})
+  endif()
+  set_tests_properties(${tests} PROPERTIES LABELS unit FIXTURES_REQUIRED bad_archives RESOURCE_LOCK bad_archives
+    ENVIRONMENT "EXPECT_STATUS=2;PROTECT=${file} good.h5")
+endforeach()
+# An output named with white space at an end (-o ' ': HDF5's create failed without a reason,
+# and replica wrote a file named ' '), and one through a symbolic link into a folder that does
+# not exist (the same failure): refused before any work.
+jamsim_cli_error(run_output_blank "\\[campaign\\] output = \" \" is not allowed: a file name that neither starts nor ends with white space"
+  run ${campaigns}/other_campaign.toml -o " ")
+jamsim_cli_error(replica_output_spaced "--output =  x.h5 is not allowed: a file name that neither starts nor ends with white space"
+  replica --N 16 -o " x.h5")
+add_test(NAME cli.run_output_dangling_link
+  COMMAND bash -c "ln -sfn /nonexistent-jamsim-folder/x.h5 dangling.h5 && exec \"$0\" \"$@\"" ${expect}
+    "output = \"dangling.h5\" is not allowed: a file that can be made: 'dangling.h5' is a symbolic link to '/nonexistent-jamsim-folder/x.h5', whose folder '/nonexistent-jamsim-folder' does not exist"
+    ${out} $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml -o dangling.h5
+  WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
+set_tests_properties(cli.run_output_dangling_link PROPERTIES LABELS unit ENVIRONMENT "EXPECT_STATUS=2")
+# A run on a directory says so too (a file path is needed).
+add_test(NAME archive_file.run_directory
+  COMMAND ${expect} "output = \"a_directory\" is not allowed: a file path, not a directory" ${bad_dir}/none.h5 $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml -o a_directory
+  WORKING_DIRECTORY ${bad_dir})
+# The good archive passes, and a finished one says it is complete.
+add_test(NAME archive_file.status_good
+  COMMAND bash -c "$<TARGET_FILE:jamsim> status good.h5 | grep -q 'finished .* (complete: every replica is finished)'"
+  WORKING_DIRECTORY ${bad_dir})
+set_tests_properties(archive_file.run_directory archive_file.status_good PROPERTIES LABELS unit FIXTURES_REQUIRED bad_archives
+  RESOURCE_LOCK bad_archives ENVIRONMENT "EXPECT_STATUS=2;PROTECT=good.h5")
+# The same shard twice (here through another path) is refused: it said "merged 1 replicas from
+# 2 archives".
+add_test(NAME archive_file.merge_shard_twice
+  COMMAND ${expect} "^jamsim merge: shard './good.h5' is given twice \\(as 'good.h5' too\\): name each shard once" ${bad_dir}/merged.h5
+    $<TARGET_FILE:jamsim> merge merged.h5 good.h5 ./good.h5
+  WORKING_DIRECTORY ${bad_dir})
+set_tests_properties(archive_file.merge_shard_twice PROPERTIES LABELS unit FIXTURES_REQUIRED bad_archives
+  RESOURCE_LOCK bad_archives ENVIRONMENT "EXPECT_STATUS=2;PROTECT=good.h5")
+# An archive whose creation a kill interrupted (no HDF5 signature yet, its creation marker
+# beside it, as mpi.kill_loop_resumes_from_checkpoints met it): status says so, and a run or
+# a merge to it makes it anew (it was refused as "not an HDF5 file" for good).
+add_test(NAME archive_file.interrupted_creation
+  COMMAND bash -c "set -e; rm -rf half.h5*; head -c 4096 /dev/zero > half.h5; touch half.h5.creating; ! $<TARGET_FILE:jamsim> status half.h5 2> half.txt; grep -q \"'half.h5' is being created, or a kill interrupted its creation\" half.txt; $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml -o half.h5 > /dev/null 2>&1; test ! -e half.h5.creating; $<TARGET_FILE:jamsim> status half.h5 | grep -q '1/1 done'; head -c 4096 /dev/zero > merged_half.h5; touch merged_half.h5.creating; $<TARGET_FILE:jamsim> merge merged_half.h5 half.h5 > /dev/null; test ! -e merged_half.h5.creating; $<TARGET_FILE:jamsim> status merged_half.h5 | grep -q '1/1 done'"
+  WORKING_DIRECTORY ${campaign_dir})
+set_tests_properties(archive_file.interrupted_creation PROPERTIES LABELS unit)
+# Outputs that name no writable file: a path ending in '/' (a folder was made, then an MPI
+# abort), a loop of symbolic links (an uncaught filesystem error and a leftover lock), a
+# read-only archive (written anyway by root, an HDF5 abort otherwise). Refused by run and
+# merge before any work, nothing left behind.
+add_test(NAME archive_file.output_not_a_file
+  COMMAND bash -c "set -e; rm -rf ro.h5 ro.h5.lock loop.h5 loop.h5.lock slash; $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml -o ro.h5 > /dev/null 2>&1; chmod 444 ro.h5; ln -s loop.h5 loop.h5; for o in slash/ slash/. loop.h5 ro.h5; do ! $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml -o $o 2> run.txt; cat run.txt; grep -q \"output = .$o. is not allowed: \" run.txt; ! $<TARGET_FILE:jamsim> merge $o good.h5 2> merge.txt; cat merge.txt; grep -q '^jamsim merge: refusing the output: ' merge.txt; done; grep -q 'read-only (mode 0444)' run.txt; test ! -e slash -a ! -e ro.h5.lock -a ! -e loop.h5.lock; ! grep -q MPI_ABORT run.txt merge.txt"
+  WORKING_DIRECTORY ${bad_dir})
+set_tests_properties(archive_file.output_not_a_file PROPERTIES LABELS unit FIXTURES_REQUIRED bad_archives
+  RESOURCE_LOCK bad_archives)
+# LAMMPS data files whose tilt or atoms cannot be folded into the cell (lammps_out_of_reach.sh).
+add_test(NAME archive_file.lammps_data_out_of_reach
+  COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/lammps_out_of_reach.sh $<TARGET_FILE:jamsim>
+  WORKING_DIRECTORY ${bad_dir})
+set_tests_properties(archive_file.lammps_data_out_of_reach PROPERTIES LABELS unit FIXTURES_REQUIRED bad_archives
+  RESOURCE_LOCK bad_archives)
+# A refused merge output leaves no lock file beside it.
+add_test(NAME archive_file.refused_merge_leaves_no_lock
+  COMMAND bash -c "rm -f text.h5.lock; ! $<TARGET_FILE:jamsim> merge text.h5 good.h5 2> refused.txt && grep -q 'refusing the output' refused.txt && test ! -e text.h5.lock"
+  WORKING_DIRECTORY ${bad_dir})
+set_tests_properties(archive_file.refused_merge_leaves_no_lock PROPERTIES LABELS unit FIXTURES_REQUIRED bad_archives
+  RESOURCE_LOCK bad_archives)
+# A merged archive is complete, not "(running or interrupted)".
+add_test(NAME archive_file.merged_is_complete
+  COMMAND bash -c "rm -rf m0.h5* m1.h5* merged_whole.h5*; $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml --shard 0/2 -o m0.h5 > /dev/null 2>&1 && $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml --shard 1/2 -o m1.h5 > /dev/null 2>&1 && $<TARGET_FILE:jamsim> merge merged_whole.h5 m0.h5 m1.h5 > merge.txt && grep -q 'finished - (complete: every replica is finished. merged 20' merge.txt && ! grep -q 'running or interrupted' merge.txt"
+  WORKING_DIRECTORY ${campaign_dir})

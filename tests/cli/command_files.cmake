@@ -1,0 +1,149 @@
+# Included by tests/cli/CMakeLists.txt (its variables: expect, out, campaigns, jamsim_cli_error).
+# The commands' file options (replica, export, minimize, dry runs): empty paths, outputs that
+# exist, files that cannot be made, hand-edited states.
+# An empty file path (-o "", an unset shell variable) is refused before any work, by every
+# command that takes one (a replica used to run to its end and fail at the write; merge took
+# its first input as the output). The merge's inputs must stay unchanged.
+set(empty_path_commands
+  "replica|--output|replica --N 16 --phi 0.84 --rate 1e-2 --strain 0.05 -o"
+  "run|--output|run ${campaigns}/other_campaign.toml -o"
+  "merge|--output|merge good.h5 version.h5 -o"
+  "export|--output|export good.h5 --replica 0 -o"
+  "plan|--output|plan ${campaigns}/other_campaign.toml -o"
+  "minimize|--lammps-data|minimize --N 16 --lammps-data")
+foreach(entry IN LISTS empty_path_commands)
+  jamsim_row_fields("${entry}" name option words)
+  separate_arguments(words UNIX_COMMAND "${words}")
+  add_test(NAME cli.empty_path_${name}
+    COMMAND ${expect} "^${option}: value '' is not allowed: the path of a file" ${bad_dir}/none.h5
+      $<TARGET_FILE:jamsim> ${words} "")
+  set_tests_properties(cli.empty_path_${name} PROPERTIES LABELS unit WORKING_DIRECTORY ${bad_dir}
+    FIXTURES_REQUIRED bad_archives RESOURCE_LOCK bad_archives ENVIRONMENT "EXPECT_STATUS=2;PROTECT=good.h5 version.h5")
+endforeach()
+
+# jamsim replica replaces an earlier replica file (a rerun) but no other existing file: not a
+# campaign archive, not a text file, not its own --initial.
+set(replica_keeps
+  "archive|good.h5|good.h5|exists and is not one \\(a campaign archive, or another file\\)"
+  "text|text.h5|text.h5|exists and is not one"
+  "initial|replica.h5|replica.h5 --initial replica.h5|another file than --initial")
+foreach(entry IN LISTS replica_keeps)
+  jamsim_row_fields("${entry}" name file words regex)
+  separate_arguments(words UNIX_COMMAND "${words}")
+  add_test(NAME cli.replica_keeps_${name}
+    COMMAND ${expect} "^jamsim replica: --output = ${file} is not allowed: .*${regex}" ${bad_dir}/none.h5
+      $<TARGET_FILE:jamsim> replica --N 16 --phi 0.8 --rate 1e-2 --strain 0.01 -o ${words})
+  set_tests_properties(cli.replica_keeps_${name} PROPERTIES LABELS unit WORKING_DIRECTORY ${bad_dir}
+    FIXTURES_REQUIRED bad_archives RESOURCE_LOCK bad_archives ENVIRONMENT "EXPECT_STATUS=2;PROTECT=${file}")
+endforeach()
+# ... nor a file it cannot create: found before the run, not at its end (root may write
+# anywhere that access() asks about, /proc included).
+add_test(NAME cli.replica_output_uncreatable
+  COMMAND ${expect} "^jamsim replica: --output = /proc/jamsim-q.h5 is not allowed: a file in a directory where files can be made" ${bad_dir}/none.h5
+    $<TARGET_FILE:jamsim> replica --N 16 --phi 0.8 --rate 1e-2 --strain 0.01 -o /proc/jamsim-q.h5)
+set_tests_properties(cli.replica_output_uncreatable PROPERTIES LABELS unit ENVIRONMENT "EXPECT_STATUS=2")
+# A campaign's [run] initial that is not a campaign archive gets the same words.
+add_test(NAME cli.campaign_initial_replica_file
+  COMMAND ${expect} "initial_replica_file.toml: \\[run\\] initial = .replica.h5. is not allowed: a jamsim campaign archive or a LAMMPS data file \\('replica.h5' is a single-replica file"
+    ${bad_dir}/initial-out.h5 $<TARGET_FILE:jamsim> run ${campaigns}/initial_replica_file.toml
+  WORKING_DIRECTORY ${bad_dir})
+set_tests_properties(cli.campaign_initial_replica_file PROPERTIES LABELS unit FIXTURES_REQUIRED bad_archives
+  RESOURCE_LOCK bad_archives ENVIRONMENT "EXPECT_STATUS=2;PROTECT=replica.h5")
+# jamsim replica checks what jamsim run checks: the cell grid of a dilute box, the memory of
+# a large N (4e9 disks of RD0 need about 1 TB; each used to run into std::bad_alloc).
+add_test(NAME cli.replica_phi_too_dilute
+  COMMAND ${expect} "^jamsim replica: --phi = 1e-08 is not allowed: phi >= 1.2e-08 at N = 64, or N <= 52 at phi = 1e-08" ${bad_dir}/none.h5
+    $<TARGET_FILE:jamsim> replica --N 64 --phi 1e-8 --rate 1e-2 --strain 0.01 -o ${bad_dir}/none.h5)
+add_test(NAME cli.replica_memory
+  COMMAND ${expect} "^jamsim replica: a replica of N = 4000000000 at phi = 0.84 needs about 1.0[0-9] TB of memory, but this node has" ${bad_dir}/none.h5
+    $<TARGET_FILE:jamsim> replica --N 4000000000 --phi 0.84 --rate 1e-2 --strain 0.01 -o ${bad_dir}/none.h5)
+set_tests_properties(cli.replica_phi_too_dilute cli.replica_memory PROPERTIES LABELS unit ENVIRONMENT "EXPECT_STATUS=2")
+# A final state that jamsim cannot have written (a hand-edited archive): export writes no
+# LAMMPS file of it (it wrote nan positions or a negative box, exit 0), --initial starts no
+# replica from it.
+foreach(entry "final_nan|x = nan at disk 3" "box_negative|box_side = -1")
+  jamsim_row_fields("${entry}" name words)
+  add_test(NAME archive_file.export_${name}
+    COMMAND ${expect} "^jamsim export: replica 0 of '${name}.h5' cannot be exported: its final state has ${words}; jamsim writes no such state"
+      ${bad_dir}/exported.data $<TARGET_FILE:jamsim> export ${name}.h5 --replica 0 -o exported.data
+    WORKING_DIRECTORY ${bad_dir})
+  add_test(NAME archive_file.initial_${name}
+    COMMAND ${expect} "^jamsim replica: --initial = ${name}.h5 is not allowed: replica 0's final state has ${words}"
+      ${bad_dir}/q.h5 $<TARGET_FILE:jamsim> replica --N 64 --phi 0.8 --rate 1e-2 --strain 0.01 --initial ${name}.h5 -o q.h5
+    WORKING_DIRECTORY ${bad_dir})
+  set_tests_properties(archive_file.export_${name} archive_file.initial_${name} PROPERTIES LABELS unit
+    FIXTURES_REQUIRED bad_archives RESOURCE_LOCK bad_archives ENVIRONMENT "EXPECT_STATUS=2;PROTECT=${name}.h5")
+endforeach()
+# ... and does replace an earlier replica file.
+add_test(NAME cli.replica_replaces_replica_file
+  COMMAND bash -c "set -e; $<TARGET_FILE:jamsim> replica --N 16 --phi 0.8 --rate 1e-2 --strain 0.01 -o again.h5 > /dev/null 2>&1; $<TARGET_FILE:jamsim> replica --N 16 --phi 0.8 --rate 1e-2 --strain 0.02 -o again.h5 > /dev/null 2>&1; /usr/bin/python3 -c \"import h5py, sys; sys.exit(0 if abs(h5py.File('again.h5').attrs['strain'] - 0.02) < 1e-12 else 1)\""
+  WORKING_DIRECTORY ${bad_dir})
+set_tests_properties(cli.replica_replaces_replica_file PROPERTIES LABELS unit)
+# --ranks and --shards of a dry run: a whole number >= 1, said in those words.
+foreach(option ranks shards)
+  add_test(NAME cli.dry_run_${option}_zero
+    COMMAND ${expect} "^--${option}: value 0 is not allowed: a whole number of ${option} >= 1" ${bad_dir}/none.h5
+      $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml --dry-run --${option} 0)
+  set_tests_properties(cli.dry_run_${option}_zero PROPERTIES LABELS unit ENVIRONMENT "EXPECT_STATUS=2")
+endforeach()
+# jamsim minimize refuses what its campaign keys refuse (validate() of one RAND replica), naming
+# the option (each used to run: a seed of -1 as 2^64 - 1, a negative or NaN tolerance, an
+# unknown minimiser with status 1, phi = 1e-300 into the neighbour list's overflow).
+set(minimize_refusals
+  "seed_negative|--seed -1|--seed: value -1 is not allowed: a whole number"
+  "n_hex|--N 0x40|--N: value 0x40 is not allowed: a whole number"
+  "energy_floor|--energy-floor nan|--energy-floor = nan is not allowed: energy_floor > 0"
+  "force_tol|--force-tol -1|--force-tol = -1 is not allowed: force_tol >= 0"
+  "no_stopping_rule|--force-tol 0 --force-tol-abs 0|--force-tol = 0 is not allowed: force_tol > 0 or force_tol_abs > 0"
+  "max_iterations|--max-iterations -5|--max-iterations = -5 is not allowed: a whole number >= 1"
+  "alpha|--alpha 1|--alpha = 1 is not allowed: alpha > 1"
+  "minimizer|--minimizer bogus|--minimizer = bogus is not allowed: cg, cg-pr, fire"
+  "phi_too_dilute|--phi 1e-300|--phi = 1e-300 is not allowed: phi >= 3e-09 at N = 16")
+foreach(entry IN LISTS minimize_refusals)
+  jamsim_row_fields("${entry}" name words regex)
+  separate_arguments(words UNIX_COMMAND "${words}")
+  add_test(NAME cli.minimize_refuses_${name}
+    COMMAND ${expect} "${regex}" ${bad_dir}/none.h5 $<TARGET_FILE:jamsim> minimize --N 16 ${words})
+  set_tests_properties(cli.minimize_refuses_${name} PROPERTIES LABELS unit ENVIRONMENT "EXPECT_STATUS=2")
+endforeach()
+# jamsim minimize checks its memory, and that its data file can be made, before the work (it
+# ended in std::bad_alloc, or failed after the minimisation).
+add_test(NAME cli.minimize_memory
+  COMMAND ${expect} "^jamsim minimize: a replica of N = 4294967312 at phi = 0.85 needs about 1.1[0-9] TB of memory" ${bad_dir}/none.h5
+    $<TARGET_FILE:jamsim> minimize --N 4294967312)
+add_test(NAME cli.minimize_data_folder_missing
+  COMMAND ${expect} "^jamsim minimize: --lammps-data = no_such_folder/x.data is not allowed: a file in an existing directory" ${bad_dir}/none.h5
+    $<TARGET_FILE:jamsim> minimize --N 16 --lammps-data no_such_folder/x.data)
+set_tests_properties(cli.minimize_memory cli.minimize_data_folder_missing PROPERTIES LABELS unit ENVIRONMENT "EXPECT_STATUS=2")
+jamsim_cli_error(size_ratio_overflows "--size-ratio = 1e\\+308 is not allowed: a size_ratio whose disks' areas are finite"
+  replica --N 16 --size-ratio 1e308 -o ${out})
+# jamsim minimize --lammps-data overwrites nothing (it replaced archives and campaign files).
+add_test(NAME cli.minimize_keeps_existing_file
+  COMMAND ${expect} "^jamsim minimize: --lammps-data = .*other_campaign.toml is not allowed: a new file \\(it exists" ${bad_dir}/none.h5
+    $<TARGET_FILE:jamsim> minimize --N 16 --lammps-data ${campaigns}/other_campaign.toml)
+set_tests_properties(cli.minimize_keeps_existing_file PROPERTIES LABELS unit
+  ENVIRONMENT "EXPECT_STATUS=2;PROTECT=${campaigns}/other_campaign.toml")
+# The planned run's options without --dry-run are refused (they were silently ignored:
+# `run --ranks 4` ran on one rank).
+foreach(option ranks time-limit summary serial-fraction probe-seconds)
+  set(words --${option})
+  if(option STREQUAL "serial-fraction")
+    list(APPEND words 0.5)
+  elseif(NOT option STREQUAL "summary")
+    list(APPEND words 4)
+  endif()
+  add_test(NAME cli.run_${option}_without_dry_run
+    COMMAND ${expect} "^jamsim run: --${option} is not allowed without --dry-run" ${bad_dir}/plain_run.h5
+      $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml ${words} -o ${bad_dir}/plain_run.h5)
+  set_tests_properties(cli.run_${option}_without_dry_run PROPERTIES LABELS unit ENVIRONMENT "EXPECT_STATUS=2")
+endforeach()
+# jamsim replica: an empty --initial, and --initial-match without --initial, say what they need
+# (both said "not used by model RD0").
+add_test(NAME cli.replica_initial_empty
+  COMMAND ${expect} "--initial = '' is not allowed: the path of an archive or a LAMMPS data file" ${bad_dir}/q.h5
+    $<TARGET_FILE:jamsim> replica --N 16 --phi 0.8 --rate 1e-2 --strain 0.01 --initial "" -o ${bad_dir}/q.h5)
+add_test(NAME cli.replica_initial_match_alone
+  COMMAND ${expect} "--initial-match = id is not allowed: only with --initial" ${bad_dir}/q.h5
+    $<TARGET_FILE:jamsim> replica --N 16 --phi 0.8 --rate 1e-2 --strain 0.01 --initial-match id -o ${bad_dir}/q.h5)
+set_tests_properties(cli.replica_initial_empty cli.replica_initial_match_alone PROPERTIES LABELS unit
+  ENVIRONMENT "EXPECT_STATUS=2")
