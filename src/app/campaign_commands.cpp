@@ -137,9 +137,12 @@ void broadcast(RunDecision& d, MPI_Comm comm) {
 }
 
 int run(const RunOptions& opt, int& argc, char**& argv) {
+    // First, so that a stop signal during MPI's start (about 0.1 s) is a request to stop, not
+    // the end of the process (exit 143 for SIGTERM, which a Slurm script does not requeue);
+    // PETSc is started with -no_signal_handler, and MPI_Init leaves these signals alone.
+    StopRequest::install();
     mpi::Session session(argc, argv);
     const linalg::PetscScope petsc;  // finalised before MPI (declared after the session)
-    StopRequest::install();          // PETSc is started with -no_signal_handler
     const MPI_Comm comm = MPI_COMM_WORLD;
     const int rank = mpi::rank(comm);
     if (!opt.dry_run)  // a note when --threads overrides OMP_NUM_THREADS; more threads than cores
