@@ -48,6 +48,8 @@ ReplicaSeconds seconds_from_listing(const std::string& path, const CampaignSpec&
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec))
         throw PlanError("jamsim plan: --costs " + path + ": is a directory, not the listing of a dry run");
+    if (const std::string odd = not_a_regular_file(path); !odd.empty())
+        throw PlanError("jamsim plan: --costs " + path + ": " + odd + " (the listing of a dry run)");
     std::ifstream in(path);
     if (!in) throw PlanError("jamsim plan: --costs " + path + ": cannot be read");
     static const std::regex row(
@@ -85,6 +87,14 @@ int plan(const PlanOptions& opt, int& argc, char**& argv) {
     mpi::Session session(argc, argv);
     const linalg::PetscScope petsc;  // a probe of CD0 solves with PETSc
     if (mpi::rank(MPI_COMM_WORLD) != 0) return 0;
+    // The simulation keeps a state per rank and steps through every start: 2^20 cores (16384
+    // nodes of 64) take about a second; 10^11 ran for minutes or ended in std::bad_alloc.
+    constexpr long long kMostCores = 1LL << 20;
+    for (const int k : opt.nodes)
+        if (static_cast<long long>(k) * opt.cores_per_node > kMostCores)
+            throw PlanError("jamsim plan: --nodes " + std::to_string(k) + " is not allowed with --cores-per-node " +
+                            std::to_string(opt.cores_per_node) + ": at most " + std::to_string(kMostCores) +
+                            " cores in all (nodes x cores per node) are simulated");
     for (const int t : opt.threads)
         if (opt.cores_per_node % t != 0)
             throw PlanError("jamsim plan: --threads " + std::to_string(t) + " is not allowed with --cores-per-node " +

@@ -342,6 +342,8 @@ std::string output_path_problem(const std::string& path) {
         if (stat_error == ENOENT || stat_error == ENOTDIR) return "";  // the folder checks say why
         return "'" + path + "' cannot be examined: " + std::strerror(stat_error);
     }
+    if (!S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode))  // a FIFO blocked the run's open() for good
+        return "a regular file: " + not_a_regular_file(path);
     if (S_ISREG(st.st_mode) && (st.st_mode & 0222) == 0) {
         char mode[8];
         std::snprintf(mode, sizeof mode, "%04o", static_cast<unsigned>(st.st_mode & 07777));
@@ -351,7 +353,20 @@ std::string output_path_problem(const std::string& path) {
     return "";
 }
 
+std::string not_a_regular_file(const std::string& path) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0 || S_ISREG(st.st_mode)) return "";  // missing: the readers say so
+    const char* kind = S_ISDIR(st.st_mode)    ? "a directory"
+                       : S_ISFIFO(st.st_mode) ? "a pipe (a FIFO or a process substitution)"
+                       : S_ISCHR(st.st_mode)  ? "a character device"
+                       : S_ISBLK(st.st_mode)  ? "a block device"
+                       : S_ISSOCK(st.st_mode) ? "a socket"
+                                              : "not a regular file";
+    return "'" + path + "' is " + kind + ", not a regular file";
+}
+
 std::string diagnose_initial_source(const std::string& path) {
+    if (std::string odd = not_a_regular_file(path); !odd.empty()) return odd;
     return is_hdf5_file(path) ? diagnose_archive_file(path) : "";
 }
 

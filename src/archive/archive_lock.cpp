@@ -168,7 +168,8 @@ void ArchiveLock::check_free(const std::string& archive_path) {
         ::close(fd);  // releases what this process holds on it
         if (!message.empty()) throw ArchiveBusy(message);
     }
-    if (const int fd = ::open(archive_path.c_str(), O_RDONLY | O_CLOEXEC); fd >= 0) {
+    // O_NONBLOCK: a FIFO in the archive's place would block open() for good (refused later).
+    if (const int fd = ::open(archive_path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK); fd >= 0) {
         const std::string message = local_filesystem(fd) ? archive_held(fd, archive_path) : "";
         ::close(fd);
         if (!message.empty()) throw ArchiveBusy(message);
@@ -178,8 +179,8 @@ void ArchiveLock::check_free(const std::string& archive_path) {
 void ArchiveLock::hold_archive(const std::string& archive_path) {
     std::string error;
     if (mpi::rank(comm_) == 0) {
-        if (archive_fd_ >= 0) ::close(std::exchange(archive_fd_, -1));  // an older file of that name
-        const int fd = ::open(archive_path.c_str(), O_RDONLY | O_CLOEXEC);
+        if (archive_fd_ >= 0) ::close(std::exchange(archive_fd_, -1));                   // an older file of that name
+        const int fd = ::open(archive_path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);  // a FIFO: no wait
         if (fd >= 0 && local_filesystem(fd)) {
             error = archive_held(fd, archive_path);
             if (error.empty() && ::flock(fd, LOCK_SH | LOCK_NB) != 0)

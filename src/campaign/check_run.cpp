@@ -65,6 +65,11 @@ std::string check_initial_states(const CampaignSpec& spec, const RunDecision& d)
 void check_campaign(const RunRequest& request, const CampaignSpec& spec, RunDecision& d) {
     d.spec_text = spec.text;
     d.output = archive_path(spec, request.output);
+    // Before anything opens it: a FIFO blocked the first open() for good, deaf to SIGTERM.
+    if (std::error_code ec; !std::filesystem::is_directory(d.output, ec))  // the folder checks say that
+        if (const std::string odd = not_a_regular_file(d.output); !odd.empty())
+            throw SpecError(spec.path + ": [campaign] output = \"" + d.output +
+                            "\" is not allowed: a regular file: " + odd);
     // Size and memory before anything is created.
     d.capacity = estimate_capacity(spec, d.output, request.ranks, request.node_ranks);
     d.sized = true;

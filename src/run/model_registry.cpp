@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <optional>
 #include <stdexcept>
+#include <string_view>
 
 #include "jamsim/core/system.hpp"
 #include "jamsim/dynamics/cd0.hpp"
@@ -285,6 +286,38 @@ std::optional<ParamError> thermal_kick_resolved(const ReplicaParams& p) {
                           " small diameters, and the steps must resolve contacts (at most 1)"};
 }
 
+/// Samples and frames come at whole steps: an interval below one step was raised to one step
+/// while the archive recorded the value asked for (1e-6 sampled every 0.002); and a transient
+/// after the last sample left nothing to average (NaN means, an all-NaN g_y). For a valid p.
+std::vector<ParamError> sampling_in_steps(const ReplicaParams& p, const ModelInfo& m) {
+    std::vector<ParamError> out;
+    const RunLength run = run_length(p);
+    if (!run.key || !uses_parameter(p, "sample_interval")) return out;
+    const Schedule s = m.schedule(p);
+    if (s.steps <= 0) return out;
+    const double per_step = run.value / static_cast<double>(s.steps);  // strain (time) of one step
+    const std::string step_is = std::string("one step (") + run.key + " " + three_digits(per_step) + " here)";
+    // At rate 0 the intervals are times, and the default sample_interval (0.01, a strain) is
+    // below a step of dt: a sample every step, as documented; only strains are checked.
+    const bool in_strain = std::string_view(run.key) == "strain";
+    const auto below_a_step = [&](double interval) { return in_strain && interval < per_step * (1.0 - 1e-9); };
+    if (below_a_step(p.sample_interval))
+        out.push_back({"sample_interval", show_value(p.sample_interval),
+                       "sample_interval >= " + step_is + ": samples come at whole steps"});
+    if (uses_parameter(p, "frame_interval") && p.frame_interval > 0.0 && below_a_step(p.frame_interval))
+        out.push_back({"frame_interval", show_value(p.frame_interval),
+                       "frame_interval >= " + step_is + ", or 0 for none: frames come at whole steps"});
+    if (uses_parameter(p, "transient") && out.empty()) {
+        const double last = static_cast<double>(s.steps / s.sample_every * s.sample_every) * per_step;
+        if (p.transient > last * (1.0 + 1e-9))
+            out.push_back({"transient", show_value(p.transient),
+                           "transient <= " + three_digits(last) + " here, the last sample's " + run.key +
+                               " (sample_interval = " + show_value(p.sample_interval) +
+                               "): no sample after the transient leaves the averages and g_y empty"});
+    }
+    return out;
+}
+
 }  // namespace
 
 std::vector<ParamError> validate(const ReplicaParams& p) {
@@ -335,6 +368,8 @@ std::vector<ParamError> validate(const ReplicaParams& p) {
                               std::string("frame_interval <= ") + run.key + " = " + show_value(run.value) +
                                   ", or 0 for none (a longer interval keeps only the initial state)"});
     }
+    if (errors.empty())
+        for (ParamError& e : sampling_in_steps(p, *m)) errors.push_back(std::move(e));
     return errors;
 }
 

@@ -85,6 +85,9 @@ std::size_t deeply_dotted_line(const std::string& text, std::size_t most) {
 
 CampaignSpec parse_campaign(const std::string& text, const std::string& path, std::int64_t max_replicas) {
     const Reader r(path);
+    if (text.rfind("\x89HDF\r\n\x1a\n", 0) == 0)  // toml++ said "invalid utf-8 sequence"
+        throw SpecError(path + ": an HDF5 file (a campaign archive? jamsim status " + path +
+                        " says what it is), not a campaign file (TOML text)");
     if (const std::size_t line = deeply_dotted_line(text, 256))
         throw SpecError(path + ":" + std::to_string(line) +
                         ": a key or table name of more than 256 dotted parts is not allowed (campaign keys have at "
@@ -118,6 +121,16 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
     spec.output = r.string(*campaign, "[campaign]", "output", "", true);
     if (spec.name.empty()) r.fail("[campaign] name", "\"\"", "a non-empty string");
     if (spec.output.empty()) r.fail("[campaign] output", "\"\"", "a non-empty path");
+    // A line break or other control character split every log line that names them, and made a
+    // file name that shells and schedulers mangle.
+    const auto has_control = [](const std::string& t) {
+        return std::any_of(t.begin(), t.end(),
+                           [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; });
+    };
+    if (has_control(spec.name))
+        r.fail("[campaign] name", show(*campaign->get("name")), "a name without line breaks or control characters");
+    if (has_control(spec.output))
+        r.fail("[campaign] output", show(*campaign->get("output")), "a path without line breaks or control characters");
     spec.run_table = r.table(root, "run") != nullptr;
 
     // Every key of every table must be a parameter of that table (so a typo is never

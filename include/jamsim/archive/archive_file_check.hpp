@@ -21,6 +21,9 @@ std::string diagnose_archive_file(const std::string& path);
 /// data file, which its reader checks) or opens as a campaign archive; else
 /// diagnose_archive_file's sentence (a single-replica file, an export, a damaged archive).
 std::string diagnose_initial_source(const std::string& path);
+/// "" for a regular file or a path that does not exist; else "'PATH' is a pipe (...), not a
+/// regular file" (a FIFO blocked open() for good, /dev/zero was read into memory).
+std::string not_a_regular_file(const std::string& path);
 
 /// For an archive jamsim is to write (run's output, merge's -o): "" when `path` names a file
 /// that may be made or written; else why not, without the key: a path ending in '/' (a
