@@ -110,6 +110,19 @@ RunLength run_length(const ReplicaParams& p) {
     return {};
 }
 
+/// The samples at or after the transient (both ends of the run are sampled), and the run
+/// length (strain or time) of the last sample; for a valid p whose model samples.
+struct SamplesAfterTransient {
+    std::int64_t count = 0;
+    double last = 0.0;
+};
+SamplesAfterTransient samples_after_transient(const ReplicaParams& p, const Schedule& s, const RunLength& run) {
+    const double per_sample = run.value / static_cast<double>(s.steps) * static_cast<double>(s.sample_every);
+    const std::int64_t last = s.steps / s.sample_every;
+    const auto first = static_cast<std::int64_t>(std::ceil(p.transient / per_sample - 1e-9));
+    return {std::max<std::int64_t>(0, last - first + 1), static_cast<double>(last) * per_sample};
+}
+
 /// Fewer samples than this after the transient: averages from so few are worth a warning.
 constexpr std::int64_t kFewSamples = 10;
 
@@ -307,14 +320,12 @@ std::vector<ParamError> sampling_in_steps(const ReplicaParams& p, const ModelInf
     if (uses_parameter(p, "frame_interval") && p.frame_interval > 0.0 && below_a_step(p.frame_interval))
         out.push_back({"frame_interval", show_value(p.frame_interval),
                        "frame_interval >= " + step_is + ", or 0 for none: frames come at whole steps"});
-    if (uses_parameter(p, "transient") && out.empty()) {
-        const double last = static_cast<double>(s.steps / s.sample_every * s.sample_every) * per_step;
-        if (p.transient > last * (1.0 + 1e-9))
+    if (uses_parameter(p, "transient") && out.empty())
+        if (const SamplesAfterTransient after = samples_after_transient(p, s, run); after.count == 0)
             out.push_back({"transient", show_value(p.transient),
-                           "transient <= " + three_digits(last) + " here, the last sample's " + run.key +
+                           "transient <= " + three_digits(after.last) + " here, the last sample's " + run.key +
                                " (sample_interval = " + show_value(p.sample_interval) +
                                "): no sample after the transient leaves the averages and g_y empty"});
-    }
     return out;
 }
 
@@ -388,12 +399,7 @@ std::vector<std::pair<std::string, std::string>> advisories(const ReplicaParams&
     // Samples at or after the transient, from the schedule (both ends are sampled).
     const RunLength run = run_length(p);
     if (run.key && uses_parameter(p, "transient") && uses_parameter(p, "sample_interval")) {
-        const Schedule s = m->schedule(p);
-        const double per_sample =
-            run.value / static_cast<double>(s.steps) * static_cast<double>(s.sample_every);  // strain (time)
-        const std::int64_t last = s.steps / s.sample_every;
-        const auto first = static_cast<std::int64_t>(std::ceil(p.transient / per_sample - 1e-9));
-        const std::int64_t after = std::max<std::int64_t>(0, last - first + 1);
+        const std::int64_t after = samples_after_transient(p, m->schedule(p), run).count;
         if (after < kFewSamples)
             out.emplace_back("samples", "transient = " + show_value(p.transient) + " leaves " + std::to_string(after) +
                                             " samples (" + run.key + " = " + show_value(run.value) +
