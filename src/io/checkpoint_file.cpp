@@ -133,7 +133,7 @@ void write_checkpoint(const std::string& path, const ReplicaParams& p, const Rep
     fs::create_directories(folder);
     const std::string tmp = path + ".tmp";
     try {
-        auto file = h5::create_file(tmp);
+        h5::FileInMemory file(tmp);
         const hid_t f = file.get();
         h5::write_attribute(f, "format", std::string(kFormat));
         h5::write_attribute(f, "code_version", std::string(kVersion));
@@ -169,8 +169,7 @@ void write_checkpoint(const std::string& path, const ReplicaParams& p, const Rep
         }
         write_vector(f, "protocol", state.protocol, H5T_NATIVE_DOUBLE);
         h5::write_attribute(f, "checksum", digest_of(state));
-        h5::check(H5Fflush(f, H5F_SCOPE_GLOBAL), "flush '" + tmp + "'");
-        file.close("checkpoint '" + tmp + "'");
+        file.write_and_close();
         if (!final) sync_file(tmp);
         fs::rename(tmp, path);
         if (!final) sync_folder(folder.string());

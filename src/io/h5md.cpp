@@ -74,7 +74,7 @@ void write_strings_attribute(hid_t obj, const std::string& name, const std::vect
 void write_h5md(const std::string& path, const StoredReplica& r, const std::string& archive,
                 const std::string& campaign) {
     h5::quiet_errors();
-    Handle file = h5::create_file(path);
+    h5::FileInMemory file(path);
     const hid_t f = file.get();
     const FinalConfiguration& c = r.final;
     const std::size_t n = c.x.size();
@@ -152,8 +152,7 @@ void write_h5md(const std::string& path, const StoredReplica& r, const std::stri
         j.close("group jamsim");
         params.close("group parameters");
     }
-    h5::check(H5Fflush(f, H5F_SCOPE_GLOBAL), "flush '" + path + "'");
-    file.close("file '" + path + "'");
+    file.write_and_close();
 }
 
 }  // namespace jamsim

@@ -1,18 +1,58 @@
 #include "jamsim/io/hdf5.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 #include <vector>
 
 namespace jamsim::h5 {
 
 void quiet_errors() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
 
-Handle create_file(const std::string& path) {
+FileInMemory::FileInMemory(std::string path) : path_(std::move(path)) {
     // Semi close degree: H5Fclose fails (instead of silently deferring) if any object in
     // the file is still open, so a successful close means the file is complete.
     Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "file access properties");
     check(H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_SEMI), "set close degree");
-    return Handle(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose,
-                  "create file '" + path + "'");
+    constexpr std::size_t kGrowBytes = std::size_t{1} << 20;  // the image grows in 1 MiB steps
+    check(H5Pset_fapl_core(fapl.get(), kGrowBytes, /*backing_store=*/0), "set the in-memory driver");
+    file_ = Handle(H5Fcreate(path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose,
+                   "create file '" + path_ + "' in memory");
+}
+
+void FileInMemory::write_and_close() {
+    // The image is the file as it would be on disk after a flush (in memory: nothing can fail
+    // for want of space).
+    check(H5Fflush(file_.get(), H5F_SCOPE_GLOBAL), "flush '" + path_ + "' in memory");
+    const ssize_t size = H5Fget_file_image(file_.get(), nullptr, 0);
+    check(size < 0 ? -1 : 0, "size the image of '" + path_ + "'");
+    std::vector<char> image(static_cast<std::size_t>(size));
+    check(H5Fget_file_image(file_.get(), image.data(), image.size()) == size ? 0 : -1,
+          "copy the image of '" + path_ + "'");
+    file_.close("file '" + path_ + "'");
+    const auto fail = [&] { throw Error("writing '" + path_ + "' failed: " + std::strerror(errno)); };
+    const int fd = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+    if (fd < 0) fail();
+    for (std::size_t done = 0; done < image.size();) {
+        const ssize_t n = ::write(fd, image.data() + done, image.size() - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) {
+            const int err = n < 0 ? errno : ENOSPC;
+            ::close(fd);
+            ::unlink(path_.c_str());
+            errno = err;
+            fail();
+        }
+        done += static_cast<std::size_t>(n);
+    }
+    if (::close(fd) != 0) {
+        const int err = errno;
+        ::unlink(path_.c_str());
+        errno = err;
+        fail();
+    }
 }
 
 Handle open_file_readonly(const std::string& path) {

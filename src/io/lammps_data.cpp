@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <cstdio>
@@ -81,8 +82,8 @@ bool starts_numeric(std::string_view s) {
 
 void write_lammps_data(const std::string& path, const FinalConfiguration& c, const std::string& title) {
     std::FILE* raw = std::fopen(path.c_str(), "w");
-    if (!raw) throw std::runtime_error("cannot create '" + path + "'");
-    const std::unique_ptr<std::FILE, int (*)(std::FILE*)> out(raw, std::fclose);
+    if (!raw) throw std::runtime_error("cannot create '" + path + "': " + std::strerror(errno));
+    std::unique_ptr<std::FILE, int (*)(std::FILE*)> out(raw, std::fclose);
     std::string head = title;
     std::replace(head.begin(), head.end(), '\n', ' ');
     const std::size_t n = c.x.size();
@@ -100,8 +101,12 @@ void write_lammps_data(const std::string& path, const FinalConfiguration& c, con
         ok = std::fprintf(out.get(), "%zu %d %s 1 %.17g %.17g 0\n", i + 1, c.diameter[i] > small ? 2 : 1,
                           show(c.diameter[i]).c_str(), lab_x, c.y[i]) > 0;
     }
-    if (!ok || std::fflush(out.get()) != 0 || std::ferror(out.get()))
-        throw std::runtime_error("writing '" + path + "' failed");
+    // errno of the first failure: fprintf, the final flush or the close (a full disk shows here).
+    ok = ok && std::fflush(out.get()) == 0 && !std::ferror(out.get());
+    const int write_error = errno;
+    if (!ok) throw std::runtime_error("writing '" + path + "' failed: " + std::strerror(write_error));
+    if (std::fclose(out.release()) != 0)
+        throw std::runtime_error("writing '" + path + "' failed: " + std::strerror(errno));
 }
 
 LammpsData read_lammps_data(const std::string& path) {

@@ -57,7 +57,7 @@ void write_replica_file(const std::string& path, const ReplicaParams& params, co
     h5::quiet_errors();
     const std::string tmp = path + ".tmp";
     try {
-        auto file = h5::create_file(tmp);
+        h5::FileInMemory file(tmp);
         const hid_t root = file.get();
         write_params(root, params);
         h5::write_attribute(root, "code_version", std::string(kVersion));
@@ -84,8 +84,7 @@ void write_replica_file(const std::string& path, const ReplicaParams& params, co
                               "g_y(x) = <u_y(r) u_y(r + x)>/<u_y^2> over strain >= transient");
             g.close("group correlation");
         }
-        h5::check(H5Fflush(root, H5F_SCOPE_GLOBAL), "flush '" + tmp + "'");
-        file.close("file '" + tmp + "'");
+        file.write_and_close();
         sync_to_disk(tmp);
         std::filesystem::rename(tmp, path);
     } catch (...) {

@@ -76,7 +76,7 @@ foreach(entry "final_nan|x = nan at disk 3" "box_negative|box_side = -1")
 endforeach()
 # ... and does replace an earlier replica file.
 add_test(NAME cli.replica_replaces_replica_file
-  COMMAND bash -c "set -e; $<TARGET_FILE:jamsim> replica --N 16 --phi 0.8 --rate 1e-2 --strain 0.01 -o again.h5 > /dev/null 2>&1; $<TARGET_FILE:jamsim> replica --N 16 --phi 0.8 --rate 1e-2 --strain 0.02 -o again.h5 > /dev/null 2>&1; /usr/bin/python3 -c \"import h5py, sys; sys.exit(0 if abs(h5py.File('again.h5').attrs['strain'] - 0.02) < 1e-12 else 1)\""
+  COMMAND bash -c "set -e; rm -f again.h5; $<TARGET_FILE:jamsim> replica --N 16 --phi 0.8 --rate 1e-2 --strain 0.01 -o again.h5 > /dev/null 2>&1; $<TARGET_FILE:jamsim> replica --N 16 --phi 0.8 --rate 1e-2 --strain 0.02 -o again.h5 > /dev/null 2>&1; /usr/bin/python3 -c \"import h5py, sys; sys.exit(0 if abs(h5py.File('again.h5').attrs['strain'] - 0.02) < 1e-12 else 1)\""
   WORKING_DIRECTORY ${bad_dir})
 set_tests_properties(cli.replica_replaces_replica_file PROPERTIES LABELS unit)
 # --ranks and --shards of a dry run: a whole number >= 1, said in those words.

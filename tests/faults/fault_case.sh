@@ -173,6 +173,31 @@ disk_full)  # another program fills the filesystem mid-run: every rank stops wit
   run ../after.log run "$here/filling.toml"; expect_rc 0 ../after.log
   $compare ../ref.h5 big.h5 || fail "the campaign finished after the full disk differs"
   ;;
+export_disk_full)  # jamsim export into a nearly full filesystem: one message, no crash, nothing left
+  [[ $(id -u) -eq 0 ]] || { echo "skipped: mounting a tmpfs needs root"; exit 77; }
+  run src.log run "$here/source.toml" -o src.h5; expect_rc 0 src.log
+  mkdir -p small && mount -t tmpfs -o size=1M tmpfs small || fail "cannot mount a tmpfs"
+  trap 'cd /; umount "$work/small" 2>/dev/null || umount -l "$work/small"' EXIT
+  # Free space left for the export, in kB: below the file's size (about 30 kB for H5MD and
+  # 6 kB for LAMMPS data at N = 64).
+  for free in 0 4 8 16 24; do
+    rm -f small/filler
+    avail=$(df -k --output=avail small | tail -1)
+    dd if=/dev/zero of=small/filler bs=1k count=$((avail - free)) 2> /dev/null
+    names=e.h5md; [[ $free -eq 0 ]] && names="e.h5md e.data"
+    for name in $names; do
+      timeout -k 10 "$limit" "$jamsim" export src.h5 -r 0 -o "small/$name" > "export_$free.log" 2>&1
+      rc=$?
+      no_crash "export_$free.log"
+      [[ $rc -eq 1 ]] || { cat "export_$free.log"; fail "export into $free kB free: exit status $rc, expected 1"; }
+      expect_in "No space left on device" "export_$free.log"
+      [[ $(ls small) == filler ]] || fail "export into $free kB free left $(ls small | tr '\n' ' ')"
+    done
+  done
+  rm small/filler
+  timeout -k 10 "$limit" "$jamsim" export src.h5 -r 0 -o small/e.h5md > export.log 2>&1
+  rc=$?; expect_rc 0 export.log
+  ;;
 refusals)  # runs no job can finish, duplicates, misleading inputs: one clear message each
   run huge.log run "$here/huge_run.toml" --dry-run; expect_in 'would take about [0-9.e+]+ core-years' huge.log
   run dup.log run "$here/duplicate_seeds.toml"; expect_rc 2 dup.log

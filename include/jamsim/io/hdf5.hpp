@@ -66,8 +66,22 @@ class Handle {
 /// Silence HDF5's automatic error stack printing: jamsim reports errors itself.
 void quiet_errors();
 
-/// New file (truncating), serial driver.
-Handle create_file(const std::string& path);
+/// A new serial HDF5 file built in memory (the core driver, no backing store) and written to
+/// `path` in one piece by `write_and_close`. HDF5 never touches the disk, so a full disk or a
+/// failing device surfaces as the write's errno ("No space left on device"), not as a failed
+/// flush inside HDF5, which leaves its file open and crashes the library's exit handler.
+class FileInMemory {
+  public:
+    explicit FileInMemory(std::string path);
+    hid_t get() const { return file_.get(); }
+    /// Close the file and write its bytes to `path` (created or truncated; not synced).
+    /// Throws Error naming the path and the system's reason; a partial file is removed.
+    void write_and_close();
+
+  private:
+    std::string path_;
+    Handle file_;
+};
 /// Existing file, read-only, serial driver.
 Handle open_file_readonly(const std::string& path);
 Handle create_group(hid_t parent, const std::string& name);
