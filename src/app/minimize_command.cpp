@@ -94,6 +94,7 @@ void check_options(const Options& opt) {
     }
     if (const std::string too_large = check_replica_memory(p); !too_large.empty())
         throw CLI::ValidationError("jamsim minimize: " + too_large);
+    for (const auto& [kind, text] : advisories(p)) std::fprintf(stderr, "jamsim minimize: warning: %s\n", text.c_str());
     // Not a campaign key: the campaign's minimisations take their own limit.
     if (opt.criteria.max_iterations < 1)
         throw CLI::ValidationError(
