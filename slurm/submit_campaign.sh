@@ -117,8 +117,8 @@ fi
 mkdir -p "$shard_dir"
 range=0-$((shards - 1))${throttle:+%$throttle}
 lead=${JAMSIM_SIGNAL_LEAD:-300}
-if [[ ! $lead =~ ^[1-9][0-9]*$ ]]; then
-  echo "submit_campaign.sh: JAMSIM_SIGNAL_LEAD = '$lead' is not allowed: seconds, a positive integer" >&2
+if [[ ! $lead =~ ^[1-9][0-9]{0,4}$ ]] || (( lead > 65535 )); then
+  echo "submit_campaign.sh: JAMSIM_SIGNAL_LEAD = '$lead' is not allowed: seconds, a whole number from 1 to 65535 (sbatch --signal)" >&2
   exit 2
 fi
 array=$(sbatch --parsable --array="$range" --signal=B:USR1@"$lead" --requeue --open-mode=append --cpus-per-task="$threads" \

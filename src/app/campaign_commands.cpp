@@ -268,6 +268,14 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
                if (!(opt->plan.time_limit > 0))
                    throw CLI::ValidationError("jamsim run: --time-limit = " + v +
                                               " is not allowed: a duration > 0 such as 3600, 90min or 24h");
+               opt->plan.signal_lead = signal_lead_from_environment();
+               // Slurm may send the warning up to a minute early (its event timer's period).
+               const double least = opt->plan.signal_lead + 60;
+               if (opt->plan.time_limit <= least)
+                   throw CLI::ValidationError(
+                       "jamsim run: --time-limit = " + v + " is not allowed: longer than " + show_value(least) +
+                       " s, the warning's lead (JAMSIM_SIGNAL_LEAD = " + show_value(opt->plan.signal_lead) +
+                       " s) plus the minute by which Slurm may send it early: no task could work");
            },
            "--dry-run: a task's time limit, to count the requeues it needs")
         ->type_name("DURATION");

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <ctime>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <set>
 #include <string>
@@ -13,6 +14,8 @@
 #include <map>
 #include <queue>
 #include <tuple>
+
+#include <CLI/CLI.hpp>
 
 #include "jamsim/archive/archive.hpp"
 #include "jamsim/archive/archive_file_check.hpp"
@@ -137,7 +140,23 @@ void print_dry_run(const CampaignSpec& spec, const std::string& output, const Dr
                                  .threads = kernel_threads(),
                                  .shards = plan.shards,
                                  .time_limit = plan.time_limit,
+                                 .signal_lead = plan.signal_lead,
                                  .speedup = SpeedupModel{.serial_fraction = plan.serial_fraction}});
+}
+
+double signal_lead_from_environment() {
+    const char* text = std::getenv("JAMSIM_SIGNAL_LEAD");
+    if (!text) return kDefaultSignalLead;
+    const std::string v(text);
+    // As slurm/submit_campaign.sh demands: digits, no leading zero, and at most sbatch
+    // --signal's largest sig_time, 65535.
+    const bool digits =
+        !v.empty() && v.size() <= 5 && v[0] != '0' && v.find_first_not_of("0123456789") == std::string::npos;
+    if (!digits || std::stod(v) > 65535)
+        throw CLI::ValidationError("jamsim run: JAMSIM_SIGNAL_LEAD = '" + v +
+                                   "' is not allowed: seconds of Slurm's warning before the time limit, a whole "
+                                   "number from 1 to 65535 (as slurm/submit_campaign.sh passes it to sbatch --signal)");
+    return std::stod(v);
 }
 
 }  // namespace jamsim::app

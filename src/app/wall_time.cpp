@@ -17,14 +17,8 @@ namespace {
 /// The shards' table and the busiest task's requeues under plan.time_limit.
 void print_shards(const CampaignSpec& spec, const Chains& chains, const std::vector<SimulatedReplica>& replicas,
                   const WallTimePlan& plan) {
-    const char* lead_env = std::getenv("JAMSIM_SIGNAL_LEAD");
-    const double lead = lead_env ? std::atof(lead_env) : 300.0;
-    const double usable = plan.time_limit - lead - 60.0;  // Slurm may warn a minute early
-    if (plan.time_limit > 0 && usable <= 0) {
-        std::printf("time limit %.0f s: not above the warning lead %.0f s + 60 s; no task can work\n", plan.time_limit,
-                    lead);
-        return;
-    }
+    const double lead = plan.signal_lead;
+    const double usable = plan.time_limit - lead - 60.0;  // Slurm may warn a minute early; refused if <= 0
     const auto requeues = [&](double seconds) {
         return plan.time_limit > 0 ? static_cast<int>(std::max(0.0, std::ceil(seconds / usable) - 1.0)) : 0;
     };

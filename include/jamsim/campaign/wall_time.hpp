@@ -13,11 +13,12 @@ namespace jamsim {
 
 /// Where and how a campaign runs, for its wall time.
 struct WallTimePlan {
-    int ranks = 1;          ///< ranks of each task
-    int threads = 1;        ///< threads of each rank's replica
-    int shards = 1;         ///< Slurm array tasks (chains kept whole: chain % shards)
-    double time_limit = 0;  ///< seconds per task (0: none)
-    SpeedupModel speedup;   ///< a replica's speed-up on `threads`
+    int ranks = 1;             ///< ranks of each task
+    int threads = 1;           ///< threads of each rank's replica
+    int shards = 1;            ///< Slurm array tasks (chains kept whole: chain % shards)
+    double time_limit = 0;     ///< seconds per task (0: none)
+    double signal_lead = 300;  ///< seconds of the batch system's warning before the limit
+    SpeedupModel speedup;      ///< a replica's speed-up on `threads`
 };
 
 /// The replicas as simulate_schedule takes them: the farm's estimated cost, `seconds` (one
