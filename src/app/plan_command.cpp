@@ -6,6 +6,7 @@
 #include "threads_option.hpp"
 #include "wall_time.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -166,7 +167,8 @@ std::vector<int> positive_list(const std::string& option, const std::string& tex
         if (item.empty() || *end != '\0' || v < 1 || v > 1'000'000)
             throw CLI::ValidationError("jamsim plan: " + option + " = " + text +
                                        " is not allowed: whole numbers >= 1, separated by commas (e.g. 1,4,16)");
-        out.push_back(static_cast<int>(v));
+        // A repeated value would print its row twice: keep the first.
+        if (std::find(out.begin(), out.end(), static_cast<int>(v)) == out.end()) out.push_back(static_cast<int>(v));
     }
     if (out.empty())
         throw CLI::ValidationError("jamsim plan: " + option + " = \"\" is not allowed: whole numbers >= 1");

@@ -215,6 +215,13 @@ LammpsData read_lammps_data(const std::string& path) {
             (sphere && (!to_double(f[2], diameter) || !to_double(f[3], density))) || !to_double(f[p], x) ||
             !to_double(f[p + 1], y) || !to_double(f[p + 2], z))
             throw LammpsDataError(where(line_no) + "'" + std::string(text) + "': integer id and type, finite numbers");
+        // As LAMMPS's own reader demands ("Invalid atom ID", "Invalid density in Atoms section").
+        if (id < 1)
+            throw LammpsDataError(where(line_no) + "atom id " + std::string(f[0]) +
+                                  ": atom ids are whole numbers >= 1");
+        if (sphere && !(density > 0))
+            throw LammpsDataError(where(line_no) + "atom " + std::string(f[0]) + " has density " + std::string(f[3]) +
+                                  ": atom_style sphere needs a density > 0");
         d.id.push_back(id);
         d.type.push_back(static_cast<int>(std::clamp<std::int64_t>(type, -1, 1000000)));
         if (sphere) d.diameter.push_back(diameter);

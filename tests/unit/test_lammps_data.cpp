@@ -168,6 +168,13 @@ TEST(LammpsData, RefusesWhatIsNotJamsimsMixture) {
               std::string::npos);
     EXPECT_NE(refusal(edited(c, "dup.data", std::regex("\n2 1 1 1 "), "\n1 1 1 1 ")).find("atom id 1 appears twice"),
               std::string::npos);
+    // ids and densities LAMMPS itself refuses
+    EXPECT_NE(refusal(edited(c, "neg.data", std::regex("\n2 1 1 1 "), "\n-2 1 1 1 "))
+                  .find("atom id -2: atom ids are whole numbers >= 1"),
+              std::string::npos);
+    EXPECT_NE(refusal(edited(c, "rho.data", std::regex("\n2 1 1 1 "), "\n2 1 1 0 "))
+                  .find("atom 2 has density 0: atom_style sphere needs a density > 0"),
+              std::string::npos);
     EXPECT_NE(
         refusal(edited(c, "z.data", std::regex(" 0\n"), " 0.25\n")).find("has z = 0.25: a 2D configuration has z = 0"),
         std::string::npos);
