@@ -319,12 +319,16 @@ class Dispatcher {
         const bool measured = cost_done_ > 0;
         const double remaining = remaining_seconds();
         const auto total = static_cast<long long>(total_);
-        const long long pending = total - done_ - failed_ - running_;
+        const long long pending = total - done_ - failed_ - running_ - interrupted_;
+        // Replicas stopped by a signal have saved their state: "interrupted", not "pending".
+        const std::string running = interrupted_ > 0 ? std::to_string(running_) + " running, " +
+                                                           std::to_string(interrupted_) + " interrupted (saved)"
+                                                     : std::to_string(running_) + " running";
         std::fprintf(stdout,
-                     "%s[%s] %lld/%lld done, %lld running, %lld failed, %lld pending | "
+                     "%s[%s] %lld/%lld done, %s, %lld failed, %lld pending | "
                      "elapsed %s | remaining ~%s%s%s",
                      progress_.terminal ? "\r" : "", spec_.name.c_str(), static_cast<long long>(done_), total,
-                     static_cast<long long>(running_), static_cast<long long>(failed_), pending, hms(elapsed).c_str(),
+                     running.c_str(), static_cast<long long>(failed_), pending, hms(elapsed).c_str(),
                      hms(remaining).c_str(), measured || final_line ? "" : " (nominal)",
                      progress_.terminal && !final_line ? "   " : "\n");
         std::fflush(stdout);

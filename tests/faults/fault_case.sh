@@ -36,9 +36,11 @@ interrupted_campaign() {
   # SIGUSR1 (what a batch system's time-limit warning sends) 2 s after the start, while the
   # long replicas run (about 5 s on 2 ranks).
   timeout -k 10 "$limit" timeout --preserve-status -s USR1 2 "$mpirun" -n "$ranks" "$jamsim" run \
-    "$here/checkpointed.toml" -o cp.h5 > cp.log 2>&1
+    "$here/checkpointed.toml" -o cp.h5 --progress lines > cp.log 2>&1
   rc=$?
   expect_rc 75 cp.log
+  # The last progress line counts the stopped replicas as interrupted, not as pending.
+  expect_in '[1-9][0-9]* interrupted \(saved\)' cp.log
   ls cp.h5.checkpoints/replica_*.h5 > /dev/null 2>&1 || fail "the interrupted run left no checkpoint"
 }
 
