@@ -32,6 +32,7 @@ struct RunOptions {
     double progress_interval = 10.0;
     std::string progress = "auto";    // auto | lines | redraw
     std::string shard;                // "K/N" or empty
+    std::string time_limit_text;      // --time-limit as written, for its refusal
     bool retry_failed = false;        // run failed replicas again
     double checkpoint_seconds = 300;  // save a running replica's state at most this often
     DryRunPlan plan;                  // what --dry-run estimates for
@@ -268,14 +269,7 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
                if (!(opt->plan.time_limit > 0))
                    throw CLI::ValidationError("jamsim run: --time-limit = " + v +
                                               " is not allowed: a duration > 0 such as 3600, 90min or 24h");
-               opt->plan.signal_lead = signal_lead_from_environment();
-               // Slurm may send the warning up to a minute early (its event timer's period).
-               const double least = opt->plan.signal_lead + 60;
-               if (opt->plan.time_limit <= least)
-                   throw CLI::ValidationError(
-                       "jamsim run: --time-limit = " + v + " is not allowed: longer than " + show_value(least) +
-                       " s, the warning's lead (JAMSIM_SIGNAL_LEAD = " + show_value(opt->plan.signal_lead) +
-                       " s) plus the minute by which Slurm may send it early: no task could work");
+               opt->time_limit_text = v;
            },
            "--dry-run: a task's time limit, to count the requeues it needs")
         ->type_name("DURATION");
@@ -304,6 +298,17 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
                     throw CLI::ValidationError(std::string("jamsim run: ") + name +
                                                " is not allowed without --dry-run: it describes the run a dry run "
                                                "plans (a run's ranks are mpirun's -n, its time limit Slurm's)");
+        if (opt->plan.time_limit > 0) {
+            opt->plan.signal_lead = signal_lead_from_environment();
+            // Slurm may send the warning up to a minute early (its event timer's period).
+            const double least = opt->plan.signal_lead + 60;
+            if (opt->plan.time_limit <= least)
+                throw CLI::ValidationError(
+                    "jamsim run: --time-limit = " + opt->time_limit_text + " is not allowed: longer than " +
+                    show_value(least) +
+                    " s, the warning's lead (JAMSIM_SIGNAL_LEAD = " + show_value(opt->plan.signal_lead) +
+                    " s) plus the minute by which Slurm may send it early: no task could work");
+        }
         parse_shard(opt->shard);  // bad value: message and exit before MPI starts
         const int rc = run(*opt, argc, argv);
         if (rc != 0) throw CLI::RuntimeError(rc);

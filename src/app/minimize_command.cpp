@@ -119,7 +119,7 @@ CLI::App* add_minimize_command(CLI::App& app) {
     cmd->add_option("--force-tol-abs", opt->criteria.force_tol_abs, "largest force component, absolute (k_e/d_s)")
         ->capture_default_str();
     cmd->add_option("--max-iterations", opt->criteria.max_iterations, "Give up after this many iterations")
-        ->check(whole_number())
+        ->check(count_at_least_one("iterations"))
         ->capture_default_str();
     cmd->add_flag_callback(
         "--no-split", [opt] { opt->criteria.split_positions = false; },

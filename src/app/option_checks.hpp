@@ -32,8 +32,9 @@ inline CLI::Validator count_at_least_one(const std::string& what) {
     return CLI::Validator(
         [what](std::string& v) -> std::string {
             char* end = nullptr;
+            errno = 0;
             const long long n = std::strtoll(v.c_str(), &end, 10);
-            return end != v.c_str() && *end == '\0' && n >= 1
+            return end != v.c_str() && *end == '\0' && n >= 1 && errno != ERANGE
                        ? ""
                        : "value " + v + " is not allowed: a whole number of " + what + " >= 1";
         },

@@ -5,6 +5,7 @@
 
 #include <charconv>
 #include <cstdint>
+#include <cstdio>
 #include <set>
 #include <sstream>
 #include <string>
@@ -13,14 +14,23 @@
 
 namespace jamsim::spec_detail {
 
-/// Text with its NUL characters written as TOML writes them (\u0000), so that a message
-/// shows them instead of ending there.
+/// Text with its control characters written as TOML escapes them (\n, \t, \u0000, ...),
+/// so that a one-line message shows them instead of breaking or ending there.
 inline std::string printable(const std::string& text) {
     std::string out;
-    for (char c : text) {
-        if (c == '\0')
-            out += "\\u0000";
-        else
+    for (const char c : text) {
+        const auto u = static_cast<unsigned char>(c);
+        if (c == '\n')
+            out += "\\n";
+        else if (c == '\t')
+            out += "\\t";
+        else if (c == '\r')
+            out += "\\r";
+        else if (u < 0x20 || u == 0x7f) {
+            char code[8];
+            std::snprintf(code, sizeof code, "\\u%04X", u);
+            out += code;
+        } else
             out.push_back(c);
     }
     return out;

@@ -95,7 +95,7 @@ set(minimize_refusals
   "energy_floor|--energy-floor nan|--energy-floor = nan is not allowed: energy_floor > 0"
   "force_tol|--force-tol -1|--force-tol = -1 is not allowed: force_tol >= 0"
   "no_stopping_rule|--force-tol 0 --force-tol-abs 0|--force-tol = 0 is not allowed: force_tol > 0 or force_tol_abs > 0"
-  "max_iterations|--max-iterations -5|--max-iterations = -5 is not allowed: a whole number >= 1"
+  "max_iterations|--max-iterations -5|--max-iterations: value -5 is not allowed: a whole number of iterations >= 1"
   "alpha|--alpha 1|--alpha = 1 is not allowed: alpha > 1"
   "minimizer|--minimizer bogus|--minimizer = bogus is not allowed: cg, cg-pr, fire"
   "phi_too_dilute|--phi 1e-300|--phi = 1e-300 is not allowed: phi >= 3e-09 at N = 16")
