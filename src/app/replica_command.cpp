@@ -108,12 +108,7 @@ void run(const ReplicaOptions& opt) {
         try {
             initial = InitialStates(params.initial).load(params, 0);
         } catch (const InitialStateError& e) {
-            // The loader speaks of the campaign key; here the value is already named once.
-            std::string why = e.what();
-            for (const std::string& prefix : {"[run] initial = \"" + params.initial + "\" is not allowed: ",
-                                              "[run] initial = \"" + params.initial + "\": "})
-                if (why.starts_with(prefix)) why.erase(0, prefix.size());
-            usage_error("initial", params.initial, why);
+            usage_error("initial", params.initial, e.reason());  // the option names the value once
         }
     }
     const ReplicaResult result = run_replica(params, {.initial = initial ? &*initial : nullptr});

@@ -65,15 +65,16 @@ Archive Archive::open(MPI_Comm comm, const std::string& path) {
     return Archive(std::move(file), comm, std::move(layout));
 }
 
-std::string Archive::check_existing(const std::string& path, const CampaignSpec& spec) {
+Archive::Fit Archive::check_existing(const std::string& path, const CampaignSpec& spec) {
     h5::quiet_errors();
-    if (H5Fis_hdf5(path.c_str()) <= 0) return "'" + path + "' exists but is not an HDF5 file";
+    const auto refused = [](std::string why) { return Fit{Fit::Kind::Refused, std::move(why)}; };
+    if (H5Fis_hdf5(path.c_str()) <= 0) return refused("'" + path + "' exists but is not an HDF5 file");
     try {
         const Handle file = h5::open_unlocked_readonly(path);
         const std::string stored = h5::read_string_attribute(file.get(), "spec_fingerprint");
-        if (stored.empty()) return "'" + path + "' is not a jamsim campaign archive";
+        if (stored.empty()) return refused("'" + path + "' is not a jamsim campaign archive");
         const std::string wanted = fingerprint(spec);
-        if (stored == wanted) return "";
+        if (stored == wanted) return {};
         // Name the first difference for the person reading the message.
         std::istringstream a(stored), b(wanted);
         std::string la, lb;
@@ -90,11 +91,12 @@ std::string Archive::check_existing(const std::string& path, const CampaignSpec&
         // numbers keyed by the replica's identity), whatever the campaign.
         const auto version_a = split_version(la).first, version_b = split_version(lb).first;
         if (version_a != version_b)
-            return "'" + path + "' was written by another version of jamsim (" + version_a + "; this one writes " +
-                   version_b + "): start a new archive";
+            return refused("'" + path + "' was written by another version of jamsim (" + version_a +
+                           "; this one writes " + version_b + "): start a new archive");
         while (la == lb && std::getline(a, la) && std::getline(b, lb)) {}
-        return "'" + path + "' belongs to a different campaign (archive: \"" + la + "\", this spec: \"" + lb + "\")";
-    } catch (const h5::Error& e) { return "'" + path + "' cannot be read as a campaign archive: " + e.what(); }
+        return {Fit::Kind::OtherCampaign,
+                "'" + path + "' belongs to a different campaign (archive: \"" + la + "\", this spec: \"" + lb + "\")"};
+    } catch (const h5::Error& e) { return refused("'" + path + "' cannot be read as a campaign archive: " + e.what()); }
 }
 
 void Archive::clear_rows(std::int64_t replica) {

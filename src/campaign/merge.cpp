@@ -42,8 +42,9 @@ std::vector<StoredCampaign> read_inputs(const std::string& output, const std::ve
         } catch (const std::exception& e) { throw CampaignRefused("shard '" + path + "': " + e.what()); }
         // The stored fingerprint must be this version's: a shard written by a version whose
         // results mean something else (an older fingerprint) is not merged with new ones.
-        if (const std::string why = Archive::check_existing(path, stored.back().spec); !why.empty())
-            throw CampaignRefused("shard '" + path + "': " + why);
+        if (const Archive::Fit fit = Archive::check_existing(path, stored.back().spec);
+            fit.kind != Archive::Fit::Kind::Same)
+            throw CampaignRefused("shard '" + path + "': " + fit.why);
         if (const std::string differs = settings_difference(stored.front().spec, stored.back().spec,
                                                             "'" + inputs.front() + "'", "'" + path + "'");
             !differs.empty())
@@ -132,9 +133,9 @@ void check_existing_output(const std::string& output, const std::vector<std::str
                            const CampaignSpec& spec) {
     if (const std::string bad = diagnose_archive_file(output); !bad.empty())
         throw CampaignRefused("refusing the output: " + bad);
-    const std::string why = Archive::check_existing(output, spec);
-    if (why.empty()) return;
-    if (why.find("belongs to a different campaign") == std::string::npos) throw CampaignRefused("refusing: " + why);
+    const Archive::Fit fit = Archive::check_existing(output, spec);
+    if (fit.kind == Archive::Fit::Kind::Same) return;
+    if (fit.kind == Archive::Fit::Kind::Refused) throw CampaignRefused("refusing: " + fit.why);
     std::string named = output;
     for (const auto& path : inputs) named += " " + path;
     const std::string merged =
@@ -144,7 +145,7 @@ void check_existing_output(const std::string& output, const std::vector<std::str
                           std::to_string(spec.replicas.size()) +
                           " replicas; an existing output must hold that campaign already (as an interrupted merge "
                           "leaves it). To add these replicas to those of '" +
-                          output + "', merge them all into a new file: jamsim merge NEW.h5 " + named + " (" + why +
+                          output + "', merge them all into a new file: jamsim merge NEW.h5 " + named + " (" + fit.why +
                           ")");
 }
 

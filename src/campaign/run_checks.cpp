@@ -31,10 +31,11 @@ std::string check_output(const std::string& path, const CampaignSpec& spec, Outp
         if (const std::string bad = diagnose_archive_file(path); !bad.empty())
             return spec.path + ": refusing to use the archive: " + bad +
                    " (choose another [campaign] output or -o, or remove the file)";
-        const std::string why = Archive::check_existing(path, spec);
-        if (why.empty()) return "";
-        if (why.find("belongs to a different campaign") == std::string::npos)  // another version, unreadable
-            return spec.path + ": refusing to use the archive: " + why + " (choose another [campaign] output or -o)";
+        const Archive::Fit fit = Archive::check_existing(path, spec);
+        if (fit.kind == Archive::Fit::Kind::Same) return "";
+        if (fit.kind == Archive::Fit::Kind::Refused)  // another version, unreadable
+            return spec.path + ": refusing to use the archive: " + fit.why +
+                   " (choose another [campaign] output or -o)";
         const std::string not_longer = Archive::check_extension(path, spec);
         if (not_longer.empty()) {  // the same campaign, run longer
             mode = OutputMode::Extend;

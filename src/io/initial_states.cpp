@@ -33,9 +33,7 @@ void scale_to_phi(Particles& q, double& side, double phi) {
 }  // namespace
 
 InitialStates::InitialStates(const std::string& source) : source_(source) {
-    const std::string allowed = "[run] initial = \"" + source +
-                                "\" is not allowed: a jamsim campaign archive or a "
-                                "LAMMPS data file (";
+    const std::string allowed = "a jamsim campaign archive or a LAMMPS data file (";
     try {
         if (!is_hdf5_file(source)) {
             lammps_ = read_lammps_data(source);
@@ -45,7 +43,7 @@ InitialStates::InitialStates(const std::string& source) : source_(source) {
             fingerprint_ = d.value();
             return;
         }
-    } catch (const LammpsDataError& e) { throw InitialStateError(allowed + e.what() + ")"); }
+    } catch (const LammpsDataError& e) { throw InitialStateError(source, allowed + e.what() + ")", true); }
     h5::quiet_errors();
     try {
         const h5::Handle f = h5::open_unlocked_readonly(source);
@@ -58,51 +56,51 @@ InitialStates::InitialStates(const std::string& source) : source_(source) {
         fingerprint_ = d.value();
         if (H5Lexists(f.get(), "/replicas/size_ratio", H5P_DEFAULT) > 0)
             size_ratio_ = h5::read_dataset(f.get(), "/replicas/size_ratio");
-    } catch (const h5::Error& e) { throw InitialStateError(allowed + e.what() + ")"); }
+    } catch (const h5::Error& e) { throw InitialStateError(source, allowed + e.what() + ")", true); }
 }
 
 std::int64_t InitialStates::match(const ReplicaParams& p, std::int64_t id) const {
     const std::int64_t k = find(p, id);
     const auto at = static_cast<std::size_t>(k);
     if (!lammps_ && at < size_ratio_.size() && std::isfinite(size_ratio_[at]) && size_ratio_[at] != p.size_ratio)
-        throw InitialStateError("[run] initial = \"" + source_ + "\": replica " + std::to_string(k) +
-                                " has size_ratio = " + show(size_ratio_[at]) + ", replica " + std::to_string(id) +
-                                " here size_ratio = " + show(p.size_ratio) +
-                                ": its disks would have other diameters (start from a source of the same mixture)");
+        throw InitialStateError(source_,
+                                "replica " + std::to_string(k) + " has size_ratio = " + show(size_ratio_[at]) +
+                                    ", replica " + std::to_string(id) + " here size_ratio = " + show(p.size_ratio) +
+                                    ": its disks would have other diameters (start from a source of the same mixture)");
     return k;
 }
 
 std::int64_t InitialStates::find(const ReplicaParams& p, std::int64_t id) const {
-    const std::string where = "[run] initial = \"" + source_ + "\": ";
     if (lammps_) {
         try {
             (void)system_from_lammps_data(*lammps_, source_, p.n, p.size_ratio);
-        } catch (const LammpsDataError& e) { throw InitialStateError(where + e.what()); }
+        } catch (const LammpsDataError& e) { throw InitialStateError(source_, e.what()); }
         return 0;
     }
     if (p.initial_match == "id") {
         if (id < 0 || id >= static_cast<std::int64_t>(status_.size()))
-            throw InitialStateError(where + "no replica " + std::to_string(id) + " (it has " +
-                                    std::to_string(status_.size()) + ")");
+            throw InitialStateError(source_, "no replica " + std::to_string(id) + " (it has " +
+                                                 std::to_string(status_.size()) + ")");
         const auto k = static_cast<std::size_t>(id);
-        if (status_[k] != 2) throw InitialStateError(where + "replica " + std::to_string(id) + " is not finished");
+        if (status_[k] != 2) throw InitialStateError(source_, "replica " + std::to_string(id) + " is not finished");
         if (n_[k] != static_cast<double>(p.n))
-            throw InitialStateError(where + "replica " + std::to_string(id) + " has N = " + show(n_[k]) + ", replica " +
-                                    std::to_string(id) + " here N = " + std::to_string(p.n));
+            throw InitialStateError(source_, "replica " + std::to_string(id) + " has N = " + show(n_[k]) +
+                                                 ", replica " + std::to_string(id) +
+                                                 " here N = " + std::to_string(p.n));
         return id;
     }
     std::int64_t found = -1;
     for (std::size_t k = 0; k < status_.size(); ++k) {
         if (n_[k] != static_cast<double>(p.n) || phi_[k] != p.phi || seed_[k] != static_cast<double>(p.seed)) continue;
         if (found >= 0)
-            throw InitialStateError(where + "replicas " + std::to_string(found) + " and " + std::to_string(k) +
-                                    " both have N = " + std::to_string(p.n) + ", phi = " + show(p.phi) +
-                                    ", seed = " + std::to_string(p.seed) + ": use initial_match = \"id\"");
+            throw InitialStateError(source_, "replicas " + std::to_string(found) + " and " + std::to_string(k) +
+                                                 " both have N = " + std::to_string(p.n) + ", phi = " + show(p.phi) +
+                                                 ", seed = " + std::to_string(p.seed) + ": use initial_match = \"id\"");
         found = static_cast<std::int64_t>(k);
     }
     if (found < 0 || status_[static_cast<std::size_t>(found)] != 2)
-        throw InitialStateError(where + "no finished replica with N = " + std::to_string(p.n) +
-                                ", phi = " + show(p.phi) + ", seed = " + std::to_string(p.seed));
+        throw InitialStateError(source_, "no finished replica with N = " + std::to_string(p.n) +
+                                             ", phi = " + show(p.phi) + ", seed = " + std::to_string(p.seed));
     return found;
 }
 
@@ -113,9 +111,7 @@ System InitialStates::load(const ReplicaParams& p, std::int64_t id) const {
             double side = sys.box.side();
             scale_to_phi(sys.particles, side, p.phi);
             return System{std::move(sys.particles), Box(side, sys.box.strain())};
-        } catch (const LammpsDataError& e) {
-            throw InitialStateError("[run] initial = \"" + source_ + "\": " + e.what());
-        }
+        } catch (const LammpsDataError& e) { throw InitialStateError(source_, e.what()); }
     }
     const auto k = static_cast<hsize_t>(match(p, id));
     const auto n = static_cast<hsize_t>(p.n);
@@ -125,8 +121,8 @@ System InitialStates::load(const ReplicaParams& p, std::int64_t id) const {
         FinalConfiguration c =
             read_final_configuration(f.get(), static_cast<std::int64_t>(k), static_cast<std::int64_t>(n));
         if (const std::string why = damaged_final(c); !why.empty())
-            throw InitialStateError("[run] initial = \"" + source_ + "\": replica " + std::to_string(k) +
-                                    "'s final state " + why + " (a hand-edited or damaged archive?)");
+            throw InitialStateError(source_, "replica " + std::to_string(k) + "'s final state " + why +
+                                                 " (a hand-edited or damaged archive?)");
         Particles q;
         q.resize(n);
         q.x = std::move(c.x);
@@ -138,16 +134,15 @@ System InitialStates::load(const ReplicaParams& p, std::int64_t id) const {
             q.tag[i] = static_cast<std::int32_t>(i);
             const double expected = (i < q.size() / 2 || p.size_ratio == 1.0) ? 1.0 : p.size_ratio;
             if (q.diameter[i] != expected)
-                throw InitialStateError("[run] initial = \"" + source_ + "\": replica " + std::to_string(k) +
-                                        " has disk " + std::to_string(i) + " of diameter " + show(q.diameter[i]) +
-                                        ", this campaign's size_ratio = " + show(p.size_ratio) + " gives " +
-                                        show(expected));
+                throw InitialStateError(source_, "replica " + std::to_string(k) + " has disk " + std::to_string(i) +
+                                                     " of diameter " + show(q.diameter[i]) +
+                                                     ", this campaign's size_ratio = " + show(p.size_ratio) +
+                                                     " gives " + show(expected));
         }
         scale_to_phi(q, side, p.phi);  // another phi: scale the cell affinely
         return System{std::move(q), Box(side, strain)};
     } catch (const h5::Error& e) {
-        throw InitialStateError("[run] initial = \"" + source_ + "\": replica " + std::to_string(k) +
-                                " cannot be read: " + e.what());
+        throw InitialStateError(source_, "replica " + std::to_string(k) + " cannot be read: " + e.what());
     }
 }
 

@@ -39,7 +39,7 @@ TEST(Archive, WriteReadBackFailAndImport) {
     archive.write_done(1, result, 0, 2.5);
     archive.write_failed(0, "deliberate failure for the test", 0.5, 0);
     archive.close();
-    EXPECT_EQ(Archive::check_existing(path, spec), "");
+    EXPECT_EQ(Archive::check_existing(path, spec).kind, Archive::Fit::Kind::Same);
 
     // Read back with the serial driver, independent of the writer's code path.
     h5::quiet_errors();
@@ -92,7 +92,9 @@ TEST(Archive, WriteReadBackFailAndImport) {
     // Another campaign's spec is refused by check_existing.
     std::string other = kSpec;
     other.replace(other.find("0.8"), 3, "0.7");
-    const std::string why = Archive::check_existing(path, parse_campaign(other, "other.toml"));
+    const Archive::Fit fit = Archive::check_existing(path, parse_campaign(other, "other.toml"));
+    EXPECT_EQ(fit.kind, Archive::Fit::Kind::OtherCampaign);
+    const std::string& why = fit.why;
     EXPECT_NE(why.find("different campaign"), std::string::npos) << why;
 }
 

@@ -62,9 +62,18 @@ class Archive {
     /// Collective: existing archive for read-write (its spec was checked with check_existing).
     static Archive open(MPI_Comm comm, const std::string& path);
 
-    /// Serial, read-only check of an existing file against a spec. Returns an empty string when
-    /// the archive belongs to this campaign, otherwise why it does not.
-    static std::string check_existing(const std::string& path, const CampaignSpec& spec);
+    /// How an existing file stands against a spec: what callers branch on, beside the words.
+    struct Fit {
+        enum class Kind {
+            Same,           ///< this campaign's archive
+            OtherCampaign,  ///< a jamsim archive of this version, of another campaign (or a longer or grown one)
+            Refused,        ///< not HDF5, not an archive, another version's, or unreadable
+        };
+        Kind kind = Kind::Same;
+        std::string why;  ///< "" when Same; otherwise one sentence naming the file
+    };
+    /// Serial, read-only check of an existing file against a spec.
+    static Fit check_existing(const std::string& path, const CampaignSpec& spec);
 
     /// Serial, read-only: "" when `spec` continues the archive's campaign to a longer run (the
     /// same replicas, each with a strain, or time at rate 0, at least as large and one larger),

@@ -14,9 +14,18 @@
 
 namespace jamsim {
 
-/// A missing or unusable source; the message names the archive, the replica and why.
+/// A missing or unusable source. what(): the campaign's words, `[run] initial = "SOURCE": ...`
+/// (or `... is not allowed: ...` when the source itself is refused); reason(): the part after
+/// the key, for a caller that names its own option (jamsim replica --initial).
 struct InitialStateError : std::runtime_error {
-    using std::runtime_error::runtime_error;
+    InitialStateError(const std::string& source, const std::string& reason, bool source_refused = false)
+        : std::runtime_error("[run] initial = \"" + source + (source_refused ? "\" is not allowed: " : "\": ") +
+                             reason),
+          reason_(reason) {}
+    const std::string& reason() const { return reason_; }
+
+  private:
+    std::string reason_;
 };
 
 class InitialStates {
