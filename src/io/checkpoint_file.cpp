@@ -38,13 +38,6 @@ template <class P> auto particle_columns(P& q) {
 /// random numbers, caches dropped at checkpoint steps).
 constexpr const char* kFormat = "jamsim checkpoint 2 (campaign v7)";
 
-void sync_file(const std::string& path) {
-    const int fd = ::open(path.c_str(), O_RDONLY);
-    const bool ok = fd >= 0 && ::fsync(fd) == 0;
-    if (fd >= 0) ::close(fd);
-    if (!ok) throw std::runtime_error("cannot sync '" + path + "' to disk");
-}
-
 void sync_folder(const std::string& folder) {
     const int fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY);
     if (fd >= 0) {
@@ -169,8 +162,7 @@ void write_checkpoint(const std::string& path, const ReplicaParams& p, const Rep
         }
         write_vector(f, "protocol", state.protocol, H5T_NATIVE_DOUBLE);
         h5::write_attribute(f, "checksum", digest_of(state));
-        file.write_and_close();
-        if (!final) sync_file(tmp);
+        file.write_and_close(/*sync=*/!final);  // a final one costs only recomputation if lost
         fs::rename(tmp, path);
         if (!final) sync_folder(folder.string());
     } catch (...) {

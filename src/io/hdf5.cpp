@@ -22,7 +22,7 @@ FileInMemory::FileInMemory(std::string path) : path_(std::move(path)) {
                    "create file '" + path_ + "' in memory");
 }
 
-void FileInMemory::write_and_close() {
+void FileInMemory::write_and_close(bool sync) {
     // The image is the file as it would be on disk after a flush (in memory: nothing can fail
     // for want of space).
     check(H5Fflush(file_.get(), H5F_SCOPE_GLOBAL), "flush '" + path_ + "' in memory");
@@ -46,6 +46,13 @@ void FileInMemory::write_and_close() {
             fail();
         }
         done += static_cast<std::size_t>(n);
+    }
+    if (sync && ::fsync(fd) != 0) {
+        const int err = errno;
+        ::close(fd);
+        ::unlink(path_.c_str());
+        errno = err;
+        fail();
     }
     if (::close(fd) != 0) {
         const int err = errno;

@@ -1,8 +1,5 @@
 #include "jamsim/io/replica_file.hpp"
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <cstdio>
 #include <stdexcept>
 #include <filesystem>
@@ -16,16 +13,6 @@
 namespace jamsim {
 
 namespace {
-
-/// fsync a finished file so that the rename below never publishes an unwritten one.
-void sync_to_disk(const std::string& path) {
-    const int fd = ::open(path.c_str(), O_RDONLY);
-    if (fd < 0 || ::fsync(fd) != 0) {
-        if (fd >= 0) ::close(fd);
-        throw std::runtime_error("cannot sync '" + path + "' to disk");
-    }
-    ::close(fd);
-}
 
 /// The parameters the replica's model uses, one attribute each (numbers as float64 or
 /// int64, text as strings), as the parameter table names them.
@@ -84,8 +71,7 @@ void write_replica_file(const std::string& path, const ReplicaParams& params, co
                               "g_y(x) = <u_y(r) u_y(r + x)>/<u_y^2> over strain >= transient");
             g.close("group correlation");
         }
-        file.write_and_close();
-        sync_to_disk(tmp);
+        file.write_and_close(/*sync=*/true);  // the rename never publishes an unwritten file
         std::filesystem::rename(tmp, path);
     } catch (...) {
         std::error_code ignored;

@@ -74,9 +74,10 @@ class FileInMemory {
   public:
     explicit FileInMemory(std::string path);
     hid_t get() const { return file_.get(); }
-    /// Close the file and write its bytes to `path` (created or truncated; not synced).
-    /// Throws Error naming the path and the system's reason; a partial file is removed.
-    void write_and_close();
+    /// Close the file and write its bytes to `path` (created or truncated), with fsync when
+    /// `sync` (before a rename makes it the file of record). Throws Error naming the path and
+    /// the system's reason; a partial file is removed.
+    void write_and_close(bool sync = false);
 
   private:
     std::string path_;
