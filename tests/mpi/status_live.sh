@@ -24,7 +24,7 @@ TOML
 "$jamsim" run live.toml > run.log 2>&1 &
 pid=$!
 seen=""
-for _ in $(seq 1 60); do
+for _ in $(seq 1 120); do  # up to 60 s: a loaded machine starts the replica late
   sleep 0.5
   line=$("$jamsim" status live.h5 2>/dev/null | grep '^running replica 0:')
   if [[ $line =~ ^running\ replica\ 0:\ ([0-9.]+)%\ of\ its\ steps\ \([0-9]+\ s\ ago\),\ 0.0%\ at\ its\ last\ checkpoint$ ]] &&
