@@ -159,6 +159,13 @@ MergeOutcome merge_archives(const std::string& output, const std::vector<std::st
     check_duplicates_agree(inputs, stored, target);
     if (const std::string why = output_path_problem(output); !why.empty())
         throw CampaignRefused("refusing the output: " + why);
+    if (const std::filesystem::path folder = std::filesystem::path(output).parent_path(); !folder.empty()) {
+        std::error_code ec;
+        if (!std::filesystem::is_directory(folder, ec))
+            throw CampaignRefused("refusing the output '" + output + "': a file in an existing folder ('" +
+                                  folder.string() + "' " +
+                                  (std::filesystem::exists(folder, ec) ? "is not a folder" : "does not exist") + ")");
+    }
     try {  // an output whose creation a kill interrupted is made anew
         if (std::filesystem::exists(Archive::creation_marker(output))) {
             ArchiveLock::check_free(output);

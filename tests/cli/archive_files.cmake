@@ -62,6 +62,20 @@ foreach(kind IN LISTS bad_kinds)
   set_tests_properties(${tests} PROPERTIES LABELS unit FIXTURES_REQUIRED bad_archives RESOURCE_LOCK bad_archives
     ENVIRONMENT "EXPECT_STATUS=2;PROTECT=${file} good.h5")
 endforeach()
+# A merge's output in a folder that does not exist, or under a file: refused in words (it
+# said "cannot open the lock file").
+foreach(case "nofolder|no_such_folder/m.h5|'no_such_folder' does not exist" "under_file|good.h5/m.h5|'good.h5' is not a folder")
+  string(REPLACE "|" ";" fields "${case}")
+  list(GET fields 0 name)
+  list(GET fields 1 file)
+  list(GET fields 2 why)
+  add_test(NAME archive_file.merge_output_${name}
+    COMMAND ${expect} "^jamsim merge: refusing the output '${file}': a file in an existing folder \\(${why}\\)"
+      ${bad_dir}/no_such_folder $<TARGET_FILE:jamsim> merge ${file} good.h5
+    WORKING_DIRECTORY ${bad_dir})
+  set_tests_properties(archive_file.merge_output_${name} PROPERTIES LABELS unit FIXTURES_REQUIRED bad_archives
+    RESOURCE_LOCK bad_archives ENVIRONMENT "EXPECT_STATUS=2;PROTECT=good.h5")
+endforeach()
 # An output named with white space at an end (-o ' ': HDF5's create failed without a reason,
 # and replica wrote a file named ' '), and one through a symbolic link into a folder that does
 # not exist (the same failure): refused before any work.
