@@ -32,33 +32,27 @@ void FileInMemory::write_and_close(bool sync) {
     check(H5Fget_file_image(file_.get(), image.data(), image.size()) == size ? 0 : -1,
           "copy the image of '" + path_ + "'");
     file_.close("file '" + path_ + "'");
-    const auto fail = [&] { throw Error("writing '" + path_ + "' failed: " + std::strerror(errno)); };
+    // A failure removes what was written and names the system's reason ("No space left on device").
+    const auto fail = [&](int fd, int err) {
+        if (fd >= 0) {
+            ::close(fd);
+            ::unlink(path_.c_str());
+        }
+        throw Error("writing '" + path_ + "' failed: " + std::strerror(err));
+    };
     const int fd = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
-    if (fd < 0) fail();
+    if (fd < 0) fail(-1, errno);
     for (std::size_t done = 0; done < image.size();) {
         const ssize_t n = ::write(fd, image.data() + done, image.size() - done);
         if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) {
-            const int err = n < 0 ? errno : ENOSPC;
-            ::close(fd);
-            ::unlink(path_.c_str());
-            errno = err;
-            fail();
-        }
+        if (n <= 0) fail(fd, n < 0 ? errno : ENOSPC);
         done += static_cast<std::size_t>(n);
     }
-    if (sync && ::fsync(fd) != 0) {
-        const int err = errno;
-        ::close(fd);
-        ::unlink(path_.c_str());
-        errno = err;
-        fail();
-    }
+    if (sync && ::fsync(fd) != 0) fail(fd, errno);
     if (::close(fd) != 0) {
         const int err = errno;
         ::unlink(path_.c_str());
-        errno = err;
-        fail();
+        fail(-1, err);
     }
 }
 
