@@ -68,20 +68,111 @@ def _open(path):
         raise AnalysisError(f"cannot open '{path}' as HDF5: {e}") from None
 
 
+# The newest campaign archive layout this package reads (kArchiveLayoutVersion in
+# include/jamsim/archive/archive_file_check.hpp).
+NEWEST_LAYOUT = 4
+# /replicas columns every campaign archive has (rate only where a model shears; seed read where
+# present).
+REQUIRED_COLUMNS = ("status", "n_samples", "N", "phi")
+# Root attributes every single-replica file has.
+REQUIRED_ATTRIBUTES = ("model", "N", "phi", "seed")
+
+
+def _damaged(path, what):
+    return AnalysisError(f"'{path}' is damaged: {what} (not as jamsim writes it; a hand-edited or "
+                         "truncated file?)")
+
+
+def _check_campaign(path, f):
+    """The shapes the readers rely on: /replicas columns 1-D of one length R, /timeseries
+    [R, S], n_samples of done replicas in [0, S]; returns R."""
+    version = f.attrs.get("layout_version")
+    if version is not None and int(np.asarray(version).ravel()[0]) > NEWEST_LAYOUT:
+        raise AnalysisError(f"'{path}' has archive layout {int(np.asarray(version).ravel()[0])}; this package reads "
+                            f"layouts up to {NEWEST_LAYOUT} (a newer jamsim wrote it: use its tools)")
+    for name in REQUIRED_COLUMNS:
+        if name not in f["replicas"]:
+            raise _damaged(path, f"/replicas/{name} is missing (every campaign archive has "
+                                 f"/replicas/{{{','.join(REQUIRED_COLUMNS)}}})")
+    status = f["replicas/status"]
+    if status.ndim != 1:
+        raise _damaged(path, f"/replicas/status has shape {status.shape}, not one value per replica")
+    rows = status.shape[0]
+    for name, ds in f["replicas"].items():
+        if isinstance(ds, h5py.Dataset) and ds.shape != (rows,):
+            raise _damaged(path, f"/replicas/{name} has shape {ds.shape}; /replicas/status has {rows} replicas")
+        if name in REQUIRED_COLUMNS and ds.dtype.kind not in "iuf":
+            raise _damaged(path, f"/replicas/{name} holds {ds.dtype}, not numbers")
+    width = None
+    for name, ds in f["timeseries"].items():
+        if not isinstance(ds, h5py.Dataset) or ds.ndim != 2 or ds.shape[0] != rows or ds.dtype.kind not in "iuf":
+            raise _damaged(path, f"/timeseries/{name} has shape {getattr(ds, 'shape', None)} and type "
+                                 f"{getattr(ds, 'dtype', None)}; {rows} rows of numbers (one per replica) expected")
+        if width is not None and ds.shape[1] != width:
+            raise _damaged(path, f"/timeseries/{name} has {ds.shape[1]} samples per replica, the other columns "
+                                 f"{width}")
+        width = ds.shape[1]
+    if width is None:
+        raise _damaged(path, "/timeseries holds no time series")
+    status_values = status[...]
+    unknown = sorted(set(int(v) for v in status_values) - set(STATUS_NAMES))
+    if unknown:
+        raise _damaged(path, f"/replicas/status holds {unknown[0]} ({', '.join(f'{k} {v}' for k, v in STATUS_NAMES.items())})")
+    samples = f["replicas/n_samples"][...].astype(float)
+    done = status_values == DONE
+    bad = done & ~((samples >= 0) & (samples <= width) & (samples == np.floor(samples)))
+    if bad.any():
+        r = int(np.flatnonzero(bad)[0])
+        raise _damaged(path, f"/replicas/n_samples[{r}] = {samples[r]:g} for a done replica; 0 to the "
+                             f"{width} samples of /timeseries")
+    return rows
+
+
+def _check_replica_file(path, f):
+    """The shapes the readers rely on: numeric N, phi, seed, a model name, and /timeseries
+    columns 1-D of one length with strain among them."""
+    for name in REQUIRED_ATTRIBUTES:
+        value = f.attrs.get(name)
+        if value is None:
+            raise _damaged(path, f"the root attribute {name} is missing")
+        if name != "model" and np.asarray(value).dtype.kind not in "iuf":
+            raise _damaged(path, f"the root attribute {name} = {_text(np.asarray(value).ravel()[0])!r} is not a number")
+    identity = f.attrs.get("identity")
+    if identity is not None and isinstance(identity, (bytes, str)):
+        try:
+            int(_text(identity), 16)
+        except ValueError:
+            raise _damaged(path, f"the root attribute identity = {_text(identity)!r} is not hexadecimal") from None
+    lengths = {}
+    for name, ds in f["timeseries"].items():
+        if not isinstance(ds, h5py.Dataset) or ds.ndim != 1 or ds.dtype.kind not in "iuf":
+            raise _damaged(path, f"/timeseries/{name} has shape {getattr(ds, 'shape', None)}; a 1-D column of numbers "
+                                 "expected")
+        lengths[name] = ds.shape[0]
+    if "strain" not in lengths:
+        raise _damaged(path, "/timeseries/strain is missing")
+    if len(set(lengths.values())) > 1:
+        raise _damaged(path, "the /timeseries columns differ in length (" +
+                       ", ".join(f"{k} {v}" for k, v in sorted(lengths.items())) + ")")
+
+
 class _Source:
     """One file: its kind ('campaign' or 'replica'), text attributes and cached datasets."""
 
     def __init__(self, path):
         self.path = path
         self.cache = {}
+        if os.path.isdir(path):
+            raise AnalysisError(f"'{path}' is a directory, not a jamsim archive")
         with _open(path) as f:
             self.attrs = {k: (_text(v) if isinstance(v, (bytes, str)) else v) for k, v in f.attrs.items()}
             if "replicas" in f and "timeseries" in f:
                 self.kind = "campaign"
-                self.n_rows = int(f["replicas/status"].shape[0])
+                self.n_rows = _check_campaign(path, f)
             elif "timeseries" in f and "model" in f.attrs:
                 self.kind = "replica"
                 self.n_rows = 1
+                _check_replica_file(path, f)
             else:
                 raise AnalysisError(f"'{path}' is neither a jamsim campaign archive (/replicas, "
                                     "/timeseries) nor a single-replica file")

@@ -11,7 +11,8 @@ import os
 import sys
 import types
 
-from .command_support import output_directory, output_file, prog_name, run_command
+from .command_support import (ANIMATION_SUFFIXES, FIGURE_SUFFIXES, describe_ids, output_directory, output_file,
+                              prog_name, run_command)
 from .errors import AnalysisError
 
 # numpy, pandas and the analysis modules (scipy, h5py, matplotlib: over a second) are imported
@@ -71,7 +72,10 @@ def cmd_summary(a):
 def cmd_averages(a):
     """Steady windows, per-replica means with errors and tau_int, averages over seeds."""
     from .archive import open_archives
-    table, groups = _averages(open_archives(a.archives), a.observable)
+    run = open_archives(a.archives)
+    if a.output:  # checked before the work, never an input or an archive
+        output_file(a.output, "--output", inputs=a.archives)
+    table, groups = _averages(run, a.observable)
     cols = ["replica", "model", "N", "phi", "rate", "seed", "window_start", "samples", "drift_z", "left_out"]
     for o in a.observable:
         cols += [o, f"{o}_error", f"{o}_tau"]
@@ -79,7 +83,7 @@ def cmd_averages(a):
     print()
     _print_table(groups)
     if a.output:
-        groups.to_csv(output_file(a.output, "--output"), sep="\t", index=False)
+        groups.to_csv(a.output, sep="\t", index=False)
 
 
 def cmd_csv(a):
@@ -101,6 +105,42 @@ def _check_window_options(parser, a):
     """--auto-window and an explicit window exclude each other (argparse's error: exit 2)."""
     if a.auto_window and (math.isfinite(a.phi_min) or math.isfinite(a.phi_max) or math.isfinite(a.rate_max)):
         parser.error("--auto-window chooses the window itself: give it without --phi-min, --phi-max and --rate-max")
+
+
+def _check_numbers(parser, a):
+    """Options whose value no analysis can use: argparse's error (exit 2) naming the option and
+    what is allowed, before any work. Each check applies where the command has the option."""
+    def has(name):
+        return getattr(a, name, None) is not None
+
+    def refuse(option, value, allowed):
+        parser.error(f"{option} = {value} is not allowed: {allowed}")
+
+    if has("degree") and a.degree < 1:
+        refuse("--degree", a.degree, "a whole number >= 1 (the degree of ln F(x); at 0 phi_J is not determined)")
+    if has("correction_degree") and a.correction_degree < 0:
+        refuse("--correction-degree", a.correction_degree, "a whole number >= 0 (the degree of Q(x))")
+    if has("bootstrap") and (a.bootstrap < 0 or 0 < a.bootstrap < 10):
+        refuse("--bootstrap", a.bootstrap, "0 (none) or at least 10 resamples (the error needs 10 converged fits)")
+    if has("N") and a.N < 1:
+        refuse("--N", a.N, "a system size >= 1")
+    for name in ("phi_min", "phi_max", "rate_max"):
+        if has(name) and math.isnan(getattr(a, name)):
+            refuse("--" + name.replace("_", "-"), "nan", "a number (the collapse window)")
+    if has("phi_min") and has("phi_max") and not a.phi_min < a.phi_max:
+        refuse("--phi-min", a.phi_min, f"below --phi-max = {a.phi_max} (the collapse window)")
+    if has("rate_max") and not a.rate_max > 0:
+        refuse("--rate-max", a.rate_max, "a rate > 0 (the collapse window)")
+    if has("phi_j") and not 0 < a.phi_j < 1:
+        refuse("--phi-j", a.phi_j, "a packing fraction, 0 < phi_J < 1")
+    if has("plateau_p") and not 0 < a.plateau_p < 1:
+        refuse("--plateau-p", a.plateau_p, "a p-value, 0 < p < 1")
+    if has("alpha") and not 0 < a.alpha < 1:
+        refuse("--alpha", a.alpha, "a test level, 0 < alpha < 1 (e.g. 0.05)")
+    if has("start"):
+        phi_j, q, znu = a.start
+        if not (0 < phi_j < 1 and q > 0 and znu > 0 and math.isfinite(q) and math.isfinite(znu)):
+            refuse("--start", " ".join(f"{v:g}" for v in a.start), "PHI_J in (0, 1), Q > 0 and ZNU > 0, finite")
 
 
 def cmd_collapse(a):
@@ -309,15 +349,17 @@ def cmd_picture(a):
     from . import pictures
     from .archive import open_archives
     run = open_archives(a.archives)
+    output_file(a.output, "--output", a.archives, FIGURE_SUFFIXES)
     done = run.done()
     if a.replica not in set(done["replica"]):
-        raise AnalysisError(f"replica {a.replica} is not a finished replica (done: {len(done)})")
+        raise AnalysisError(f"--replica {a.replica} is not a finished replica (finished: "
+                            f"{describe_ids(done['replica'].to_list())})")
     rep = run.replicas.iloc[a.replica]
     alpha = float(rep["alpha"]) if "alpha" in rep and np.isfinite(rep["alpha"]) else 2.0
     final, strain = run.final(a.replica), run.final_strain(a.replica)
     params = f"{rep['model']} N = {int(rep['N'])}, phi = {rep['phi']:g}" + (
         f", rate = {rep['rate']:g}" if "rate" in rep and np.isfinite(rep["rate"]) and rep["rate"] > 0 else "")
-    net, ratt = pictures.draw_configuration(final, output_file(a.output, "--output"), alpha, strain=strain,
+    net, ratt = pictures.draw_configuration(final, a.output, alpha, strain=strain,
                                             caption=f"replica {a.replica}: {params}")
     p, s = net.stress(final.box_side)
     print(f"{pictures.strain_text(strain, final.box_strain)}: {len(net.force)} contacts, {int(ratt.sum())} "
@@ -330,6 +372,8 @@ def cmd_frames(a):
     from . import order, pictures
     from .archive import open_archives
     run = open_archives(a.archives)
+    if a.animation:
+        output_file(a.animation, "--animation", a.archives, ANIMATION_SUFFIXES)
     if a.replica not in set(run.replicas["replica"]):
         raise AnalysisError(f"replica {a.replica} is not in these files ({len(run.replicas)} replicas)")
     table = order.psi6_over_strain(run, a.replica)
@@ -337,7 +381,7 @@ def cmd_frames(a):
     if a.animation:
         rep = run.replicas.iloc[a.replica]
         alpha = float(rep["alpha"]) if "alpha" in rep and np.isfinite(rep["alpha"]) else 2.0
-        drawn = pictures.animate_frames(run, a.replica, output_file(a.animation, "--animation"), alpha=alpha)
+        drawn = pictures.animate_frames(run, a.replica, a.animation, alpha=alpha)
         print(f"{drawn} frames drawn: {a.animation}")
 
 
@@ -480,6 +524,7 @@ def analyze_main(argv=None):
     a = parser.parse_args(argv)
     if a.command == "collapse":
         _check_window_options(parser, a)
+    _check_numbers(parser, a)
     return run_command(globals()[f"cmd_{a.command}"], a, parser.prog)
 
 
@@ -506,6 +551,7 @@ def report_main(argv=None):
     if len(a.paths) < 2:
         ap.error("give at least one archive and the output directory")
     _check_window_options(ap, a)
+    _check_numbers(ap, a)
 
     def run(a):
         from . import report

@@ -60,13 +60,39 @@ def output_directory(path, what="OUTDIR", create=True):
     return path
 
 
-def output_file(path, what="FIGURE"):
-    """Check that the file `path` can be written (its directory exists, it is not a directory)."""
+# Figure formats (matplotlib's savefig, chosen by the name's ending) and animations (PIL).
+FIGURE_SUFFIXES = (".png", ".pdf", ".svg", ".eps", ".ps", ".jpg", ".jpeg", ".tif", ".tiff", ".webp")
+ANIMATION_SUFFIXES = (".gif", ".webp", ".png", ".apng")
+
+
+def _is_hdf5(path):
+    try:
+        with open(path, "rb") as f:
+            return f.read(8) == b"\x89HDF\r\n\x1a\n"
+    except OSError:
+        return False
+
+
+def output_file(path, what="FIGURE", inputs=(), suffixes=None):
+    """Check, before any work, that the file `path` can be written: its directory exists, it
+    is not a directory, not one of the `inputs`, not an HDF5 file (an archive is never
+    overwritten), and, when `suffixes` is given, its name ends in one of them (the format
+    comes from the name)."""
     folder = os.path.dirname(path) or "."
     if os.path.isdir(path):
         raise AnalysisError(f"{what} '{path}' is a directory, not a file name")
     if not os.path.isdir(folder):
         raise AnalysisError(f"{what} '{path}': no directory '{folder}'")
+    if suffixes and os.path.splitext(path)[1].lower() not in suffixes:
+        raise AnalysisError(f"{what} '{path}': a file name ending in {', '.join(suffixes)} (the format comes from "
+                            "the name)")
+    if os.path.exists(path):
+        for given in inputs:
+            if os.path.exists(given) and os.path.samefile(path, given):
+                raise AnalysisError(f"{what} '{path}' is an input ('{given}'): name a new file")
+        if _is_hdf5(path):
+            raise AnalysisError(f"{what} '{path}' is an HDF5 file (an archive?), which is never overwritten: "
+                                "name another file")
     return path
 
 

@@ -111,7 +111,10 @@ class Report:
         self.skipped = []
         self.ran = []  # the analyses that produced a section
         self.windows = {}  # (model, observable) -> (phi_min, phi_max, rate_max) chosen from the data
-        os.makedirs(outdir, exist_ok=True)
+        try:
+            os.makedirs(outdir, exist_ok=True)
+        except OSError as e:
+            raise AnalysisError(f"cannot create OUTDIR '{outdir}': {e.strerror}") from None
 
     def path(self, name):
         return os.path.join(self.outdir, name)

@@ -20,7 +20,7 @@ import sys
 # numpy, matplotlib (Agg) and the archive reader are imported where they are used, so that
 # --help and argument errors do not wait for them.
 from .. import AnalysisError
-from ..command_support import describe_ids, output_file, prog_name, pyplot, run_script
+from ..command_support import FIGURE_SUFFIXES, describe_ids, output_file, prog_name, pyplot, run_script
 
 PANELS = [("pressure", "$p$"), ("shear_stress", r"$\sigma$"), ("energy_per_particle", "$E/N$"),
           ("contact_number", "$z$")]
@@ -47,7 +47,7 @@ def plot(a):
     import numpy as np
     from .. import open_archives
     run = open_archives(a.files)
-    output_file(a.figure)
+    output_file(a.figure, "FIGURE", a.files, FIGURE_SUFFIXES)
     r = choose(run, a)
     plt = pyplot()
     rep = run.replicas.iloc[r]

@@ -1,0 +1,140 @@
+"""Damaged archives, outputs that would destroy data, and options no analysis can use: one
+message naming the file or option and what is allowed, exit 2, no traceback, inputs unchanged.
+Each case ended in a traceback, exited 0 with wrong numbers, or overwrote its input before."""
+import hashlib
+import os
+
+import h5py
+import numpy as np
+import pytest
+
+from test_scripts import TOOLS, run
+
+ANALYZE = os.path.join(TOOLS, "jamsim_analyze.py")
+REPORT = os.path.join(TOOLS, "jamsim_report.py")
+PLOT_REPLICA = os.path.join(TOOLS, "plot_replica.py")
+
+
+def refused(out, *words):
+    assert out.returncode == 2, (out.stdout, out.stderr)
+    assert "Traceback" not in out.stderr, out.stderr
+    for w in words:
+        assert w in out.stderr, (w, out.stderr)
+
+
+def digest(path):
+    with open(path, "rb") as f:
+        return hashlib.sha256(f.read()).hexdigest()
+
+
+def _delete(name):
+    def edit(f):
+        del f[name]
+    return edit
+
+
+def _replace(name, value):
+    def edit(f):
+        del f[name]
+        f[name] = value
+    return edit
+
+
+def _set(name, row, value):
+    def edit(f):
+        f[name][row] = value
+    return edit
+
+
+def _attr(name, value):
+    def edit(f):
+        f.attrs[name] = value
+    return edit
+
+
+# (what the edit does, the edit, words of the refusal)
+CAMPAIGN_DAMAGE = {
+    "status_missing": (_delete("replicas/status"), "/replicas/status is missing"),
+    "n_samples_missing": (_delete("replicas/n_samples"), "/replicas/n_samples is missing"),
+    "N_missing": (_delete("replicas/N"), "/replicas/N is missing"),
+    "phi_short": (lambda f: _replace("replicas/phi", f["replicas/phi"][:1])(f),
+                  "/replicas/phi has shape (1,)"),
+    "status_2d": (lambda f: _replace("replicas/status", f["replicas/status"][...][:, None])(f),
+                  "/replicas/status has shape"),
+    "status_unknown": (_set("replicas/status", 0, 7), "/replicas/status holds 7"),
+    "timeseries_rows": (lambda f: _replace("timeseries/pressure", f["timeseries/pressure"][:1])(f),
+                        "/timeseries/pressure has shape (1,"),
+    "timeseries_text": (lambda f: _replace("timeseries/pressure", np.full(f["timeseries/pressure"].shape, b"x"))(f),
+                        "/timeseries/pressure has shape"),
+    "n_samples_negative": (_set("replicas/n_samples", 0, -5), "/replicas/n_samples[0] = -5 for a done replica"),
+    "n_samples_beyond": (_set("replicas/n_samples", 0, 1e9), "/replicas/n_samples[0] = 1e+09 for a done replica"),
+    "layout_newer": (_attr("layout_version", 99), "has archive layout 99; this package reads layouts up to"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(CAMPAIGN_DAMAGE))
+def test_damaged_campaign_archive_is_refused(case, small_archive, copy_of):
+    edit, words = CAMPAIGN_DAMAGE[case]
+    path = copy_of(small_archive, f"{case}.h5")
+    with h5py.File(path, "r+") as f:
+        edit(f)
+    before = digest(path)
+    refused(run(ANALYZE, "summary", path), f"'{path}'", words)
+    assert digest(path) == before
+
+
+@pytest.mark.parametrize("case", ["identity", "N_text", "phi_missing", "strain_missing"])
+def test_damaged_replica_file_is_refused(case, jamsim, tmp_path):
+    path = str(tmp_path / "r.h5")
+    made = run(jamsim, "replica", "--N", "16", "--phi", "0.8", "--rate", "1e-2", "--strain", "0.05", "-o", path)
+    assert made.returncode == 0, made.stderr
+    with h5py.File(path, "r+") as f:
+        if case == "identity":
+            f.attrs["identity"] = "zzz-not-hex"
+        elif case == "N_text":
+            f.attrs["N"] = "abc"
+        elif case == "phi_missing":
+            del f.attrs["phi"]
+        else:
+            del f["timeseries/strain"]
+    words = {"identity": "identity = 'zzz-not-hex' is not hexadecimal", "N_text": "N = 'abc' is not a number",
+             "phi_missing": "the root attribute phi is missing", "strain_missing": "/timeseries/strain is missing"}
+    refused(run(ANALYZE, "summary", path), words[case])
+
+
+def test_an_archive_is_never_an_output(small_archive, copy_of, tmp_path):
+    path = copy_of(small_archive, "same.h5")
+    before = digest(path)
+    refused(run(ANALYZE, "averages", path, "--output", path), f"--output '{path}' is an input")
+    other = copy_of(small_archive, "other.h5")
+    refused(run(ANALYZE, "averages", path, "--output", other), "is an HDF5 file (an archive?)")
+    refused(run(PLOT_REPLICA, path, str(tmp_path / "figure.txt"), "--replica", "0"), "a file name ending in .png")
+    refused(run(ANALYZE, "picture", path, "--output", other), "a file name ending in .png")
+    assert digest(path) == before and digest(other) == digest(small_archive)
+
+
+def test_report_outdir_under_a_file(small_archive, tmp_path):
+    (tmp_path / "a_file").write_text("x")
+    refused(run(REPORT, small_archive, str(tmp_path / "a_file" / "sub")), "cannot create OUTDIR", "Not a directory")
+
+
+@pytest.mark.parametrize("args,words", [
+    (["--degree", "0"], "--degree = 0 is not allowed"),
+    (["--bootstrap", "1"], "--bootstrap = 1 is not allowed: 0 (none) or at least 10"),
+    (["--start", "0.84", "0.28", "0"], "--start = 0.84 0.28 0 is not allowed"),
+    (["--phi-min", "0.9", "--phi-max", "0.8"], "--phi-min = 0.9 is not allowed: below --phi-max"),
+    (["--rate-max", "-1"], "--rate-max = -1.0 is not allowed"),
+    (["--phi-min", "nan"], "--phi-min = nan is not allowed"),
+])
+def test_collapse_options_no_fit_can_use(args, words, small_archive, tmp_path):
+    refused(run(ANALYZE, "collapse", small_archive, str(tmp_path / "c"), *args), words)
+    if args[0] != "--start":  # the report takes every collapse option but the start values
+        refused(run(REPORT, small_archive, str(tmp_path / "r"), *args), words)
+
+
+def test_test_level_and_plateau_level(small_archive, tmp_path):
+    refused(run(ANALYZE, "compare", small_archive, small_archive, "--by", "file", "--alpha", "5"),
+            "--alpha = 5.0 is not allowed")
+    refused(run(ANALYZE, "newtonian", small_archive, str(tmp_path / "n"), "--plateau-p", "-1"),
+            "--plateau-p = -1.0 is not allowed")
+    refused(run(REPORT, small_archive, str(tmp_path / "r"), "--N", "0"), "--N = 0 is not allowed")
