@@ -138,3 +138,11 @@ def test_test_level_and_plateau_level(small_archive, tmp_path):
     refused(run(ANALYZE, "newtonian", small_archive, str(tmp_path / "n"), "--plateau-p", "-1"),
             "--plateau-p = -1.0 is not allowed")
     refused(run(REPORT, small_archive, str(tmp_path / "r"), "--N", "0"), "--N = 0 is not allowed")
+
+
+def test_transient_length_settled_from_within_the_runs(small_archive):
+    tool = os.path.join(TOOLS, "transient_length.py")
+    refused(run(tool, small_archive, "--settled-from", "nan"), "--settled-from = nan is not allowed")
+    refused(run(tool, small_archive, "--settled-from", "-1"), "--settled-from = -1.0 is not allowed")
+    refused(run(tool, small_archive, "--settled-from", "1e6"), "--settled-from = 1e+06 is not allowed",
+            "at least 2 samples must follow it")

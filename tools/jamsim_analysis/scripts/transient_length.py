@@ -59,7 +59,15 @@ def transient(a):
         p = np.array([v[:m] for v in p_rows])
         if m < 2:
             raise AnalysisError(f"N = {n}, phi = {phi:g}, rate = {rate:g}: fewer than 2 samples")
-        settled = strain >= (a.settled_from if a.settled_from is not None else strain[-1] / 2)
+        where = f"N = {n}, phi = {phi:g}, rate = {rate:g}"
+        if not (np.all(np.isfinite(p)) and np.all(np.isfinite(strain)) and np.all(np.diff(strain) > 0)):
+            raise AnalysisError(f"{where}: the pressure or strain series is not finite and increasing (a damaged "
+                                "archive?)")
+        start = a.settled_from if a.settled_from is not None else strain[-1] / 2
+        settled = strain >= start
+        if settled.sum() < 2:
+            raise AnalysisError(f"--settled-from = {start:g} is not allowed: the runs of {where} end at strain "
+                                f"{strain[-1]:g}; at least 2 samples must follow it")
         per_seed = p[:, settled].mean(axis=1)
         steady = per_seed.mean()
         error = per_seed.std(ddof=1) / np.sqrt(len(ks)) if len(ks) > 1 else float("nan")
@@ -82,7 +90,10 @@ def main(argv=None):
     ap.add_argument("archives", nargs="+", metavar="ARCHIVE", help="campaign archives or shards (read together)")
     ap.add_argument("--rate", type=float, metavar="R", help="only this shear rate")
     ap.add_argument("--settled-from", type=float, metavar="S", help="strain from which the run is steady")
-    return run_script(prog_name("transient_length.py"), transient, ap.parse_args(argv))
+    a = ap.parse_args(argv)
+    if a.settled_from is not None and not (a.settled_from >= 0 and a.settled_from < float("inf")):
+        ap.error(f"--settled-from = {a.settled_from} is not allowed: a strain >= 0 within the runs")
+    return run_script(prog_name("transient_length.py"), transient, a)
 
 
 if __name__ == "__main__":
