@@ -114,12 +114,22 @@ def _check_campaign(path, f):
         width = ds.shape[1]
     if width is None:
         raise _damaged(path, "/timeseries holds no time series")
+    if "strain" not in f["timeseries"]:
+        raise _damaged(path, "/timeseries/strain is missing (every archive records the strain of each sample)")
+    if "model" not in f.attrs:
+        raise _damaged(path, "the root attribute model is missing")
     status_values = status[...]
     unknown = sorted(set(int(v) for v in status_values) - set(STATUS_NAMES))
     if unknown:
         raise _damaged(path, f"/replicas/status holds {unknown[0]} ({', '.join(f'{k} {v}' for k, v in STATUS_NAMES.items())})")
     samples = f["replicas/n_samples"][...].astype(float)
     done = status_values == DONE
+    n, phi = f["replicas/N"][...].astype(float), f["replicas/phi"][...].astype(float)
+    bad = done & ~((n >= 1) & (n == np.floor(n)) & (phi > 0) & (phi < 1))
+    if bad.any():
+        r = int(np.flatnonzero(bad)[0])
+        raise _damaged(path, f"replica {r} is done with N = {n[r]:g}, phi = {phi[r]:g} (N a whole number >= 1, "
+                             "0 < phi < 1)")
     bad = done & ~((samples >= 0) & (samples <= width) & (samples == np.floor(samples)))
     if bad.any():
         r = int(np.flatnonzero(bad)[0])
@@ -463,7 +473,16 @@ class Archive:
 
 
 def _read_final(src, row, n):
-    """Final configuration of row `row` (N = n) of a source, for every layout."""
+    """Final configuration of row `row` (N = n) of a source, for every layout; a cell side
+    that is not finite and > 0, or a strain that is not finite, is refused."""
+    final = _read_final_unchecked(src, row, n)
+    if not (np.isfinite(final.box_side) and final.box_side > 0 and np.isfinite(final.box_strain)):
+        raise _damaged(src.path, f"the final cell of replica row {row} has side {final.box_side:g} and strain "
+                                 f"{final.box_strain:g} (a side > 0 and a finite strain)")
+    return final
+
+
+def _read_final_unchecked(src, row, n):
     if src.kind == "replica":
         with _open(src.path) as f:
             g = f["final"]

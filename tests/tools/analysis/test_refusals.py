@@ -69,6 +69,10 @@ CAMPAIGN_DAMAGE = {
     "n_samples_negative": (_set("replicas/n_samples", 0, -5), "/replicas/n_samples[0] = -5 for a done replica"),
     "n_samples_beyond": (_set("replicas/n_samples", 0, 1e9), "/replicas/n_samples[0] = 1e+09 for a done replica"),
     "layout_newer": (_attr("layout_version", 99), "has archive layout 99; this package reads layouts up to"),
+    "strain_missing": (_delete("timeseries/strain"), "/timeseries/strain is missing"),
+    "model_missing": (lambda f: f.attrs.__delitem__("model"), "the root attribute model is missing"),
+    "N_nan": (_set("replicas/N", 0, np.nan), "replica 0 is done with N = nan"),
+    "phi_zero": (_set("replicas/phi", 0, 0.0), "replica 0 is done with N = 64, phi = 0"),
 }
 
 
@@ -146,3 +150,11 @@ def test_transient_length_settled_from_within_the_runs(small_archive):
     refused(run(tool, small_archive, "--settled-from", "-1"), "--settled-from = -1.0 is not allowed")
     refused(run(tool, small_archive, "--settled-from", "1e6"), "--settled-from = 1e+06 is not allowed",
             "at least 2 samples must follow it")
+
+
+def test_final_cell_without_a_side(small_archive, copy_of, tmp_path):
+    path = copy_of(small_archive, "side.h5")
+    with h5py.File(path, "r+") as f:
+        f["final/box_side"][0] = np.nan
+    refused(run(ANALYZE, "picture", path, "--output", str(tmp_path / "p.png")),
+            "the final cell of replica row 0 has side nan")
