@@ -378,7 +378,9 @@ class Archive:
             data = src.read(name, [row])
             data = None if data is None else data[0]
         if data is None:
-            raise AnalysisError(f"'{src.path}' has no time series '{column}'")
+            with _open(src.path) as f:
+                have = ", ".join(sorted(f["timeseries"].keys()))
+            raise AnalysisError(f"'{src.path}' has no time series '{column}' (it has: {have})")
         return np.asarray(data[:n], dtype=float)
 
     def timeseries(self, columns=None, replicas=None, only_done=True):

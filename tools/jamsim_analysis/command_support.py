@@ -49,8 +49,8 @@ def output_directory(path, what="OUTDIR", create=True):
     """Create the output directory `path` (if needed; with create=False only check that it
     is not a file); refused with a message naming it."""
     if os.path.exists(path) and not os.path.isdir(path):
-        raise AnalysisError(f"{what} '{path}' is an existing file, not a directory "
-                            "(the output directory comes after the archives)")
+        hint = " (the output directory comes after the archives)" if what == "OUTDIR" else ""
+        raise AnalysisError(f"{what} '{path}' is an existing file, not a directory{hint}")
     if not create:
         return path
     try:
