@@ -42,10 +42,13 @@ def _print_table(table):
     print(_shown(table).to_string(index=False))
 
 
-def _flow_archive(paths):
-    """The archive(s), refused unless every model is a sheared-flow model."""
+def _flow_archive(paths, model=None):
+    """The archive(s), refused unless every model is a sheared-flow model and `model` (the
+    --model option, when given) is one of them."""
     from .archive import open_archives
     run = open_archives(paths)
+    if model is not None and model not in run.models:
+        raise AnalysisError(f"--model {model} is not in {', '.join(paths)} (models: {', '.join(run.models)})")
     from . import report  # after the archives: a missing one is reported sooner
     other = sorted(set(run.models) - set(report.OVERDAMPED + report.MASSIVE))
     if other:
@@ -148,7 +151,7 @@ def cmd_collapse(a):
     import numpy as np
     import pandas as pd
     from . import figures, scaling
-    table, groups = _averages(_flow_archive(a.archives), [a.observable])
+    table, groups = _averages(_flow_archive(a.archives, a.model), [a.observable])
     if a.auto_window:
         every = scaling.collapse_points(groups, a.observable, a.N, model=a.model)
         choice = scaling.choose_window(every, a.degree, a.correction_degree if a.correction else -1,
@@ -192,7 +195,7 @@ def cmd_sizes(a):
     import numpy as np
     import pandas as pd
     from . import figures, scaling, trends
-    table, groups = _averages(_flow_archive(a.archives), [a.observable])
+    table, groups = _averages(_flow_archive(a.archives, a.model), [a.observable])
     window = (a.phi_min, a.phi_max, a.rate_max)
     if not any(np.isfinite(window)):
         every = scaling.collapse_points(groups, a.observable, model=a.model)
@@ -295,7 +298,7 @@ def _compare_collapses(a):
 
 def _divergence_command(a, power):
     from . import figures, rheology
-    _, groups = _averages(_flow_archive(a.archives), [a.observable])
+    _, groups = _averages(_flow_archive(a.archives, a.model), [a.observable])
     func = rheology.newtonian_divergence if power == 1 else rheology.bagnold_analysis
     plateau, fit = func(groups, a.observable, phi_j=a.phi_j, correction=a.correction, N=a.N, model=a.model,
                         p_min=a.plateau_p)

@@ -158,3 +158,8 @@ def test_final_cell_without_a_side(small_archive, copy_of, tmp_path):
         f["final/box_side"][0] = np.nan
     refused(run(ANALYZE, "picture", path, "--output", str(tmp_path / "p.png")),
             "the final cell of replica row 0 has side nan")
+
+
+def test_model_not_in_the_archives(small_archive, tmp_path):
+    refused(run(ANALYZE, "collapse", small_archive, str(tmp_path / "c"), "--model", "XX"),
+            "--model XX is not in", "(models: RD0)")
