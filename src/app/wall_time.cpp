@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 
 #include "jamsim/run/model_registry.hpp"
 
@@ -18,7 +17,7 @@ namespace {
 void print_shards(const CampaignSpec& spec, const Chains& chains, const std::vector<SimulatedReplica>& replicas,
                   const WallTimePlan& plan) {
     const double lead = plan.signal_lead;
-    const double usable = plan.time_limit - lead - 60.0;  // Slurm may warn a minute early; refused if <= 0
+    const double usable = plan.time_limit - lead - 60.0;  // Slurm may warn a minute early; run refuses <= 0
     const auto requeues = [&](double seconds) {
         return plan.time_limit > 0 ? static_cast<int>(std::max(0.0, std::ceil(seconds / usable) - 1.0)) : 0;
     };

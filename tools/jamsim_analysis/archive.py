@@ -235,8 +235,7 @@ def _replica_file_table(src):
             continue
         row[k] = float(np.asarray(v).ravel()[0])
     with _open(src.path) as f:
-        n = len(f["timeseries/strain"]) if "timeseries/strain" in f else \
-            len(next(iter(f["timeseries"].values())))
+        n = len(f["timeseries/strain"])  # present and as long as every column (_check_replica_file)
     ident = src.attrs.get("identity", "0")
     row.update(identity=np.uint64(int(ident, 16) if isinstance(ident, str) else int(ident)),
                status=DONE, n_samples=float(n), valid_rows=n, row=0,
