@@ -130,6 +130,15 @@ def _check_campaign(path, f):
         r = int(np.flatnonzero(bad)[0])
         raise _damaged(path, f"replica {r} is done with N = {n[r]:g}, phi = {phi[r]:g} (N a whole number >= 1, "
                              "0 < phi < 1)")
+    if ("rate" in f["replicas"] or "sample_interval" in f["replicas"]) and "transient" not in f["replicas"]:
+        raise _damaged(path, "/replicas/transient is missing (every model that reads rate or sample_interval "
+                             "records its transient, where its averages start)")
+    if "rate" in f["replicas"]:
+        rate = f["replicas/rate"][...].astype(float)
+        bad = done & (rate < 0)
+        if bad.any():
+            r = int(np.flatnonzero(bad)[0])
+            raise _damaged(path, f"replica {r} is done with rate = {rate[r]:g} (rate >= 0)")
     bad = done & ~((samples >= 0) & (samples <= width) & (samples == np.floor(samples)))
     if bad.any():
         r = int(np.flatnonzero(bad)[0])
@@ -147,6 +156,12 @@ def _check_replica_file(path, f):
             raise _damaged(path, f"the root attribute {name} is missing")
         if name != "model" and np.asarray(value).dtype.kind not in "iuf":
             raise _damaged(path, f"the root attribute {name} = {_text(np.asarray(value).ravel()[0])!r} is not a number")
+    if ("rate" in f.attrs or "sample_interval" in f.attrs) and "transient" not in f.attrs:
+        raise _damaged(path, "the root attribute transient is missing (every model that reads rate or "
+                             "sample_interval records its transient, where its averages start)")
+    rate = f.attrs.get("rate")
+    if rate is not None and np.asarray(rate).dtype.kind in "iuf" and float(np.asarray(rate).ravel()[0]) < 0:
+        raise _damaged(path, f"the root attribute rate = {float(np.asarray(rate).ravel()[0]):g} is below 0 (rate >= 0)")
     identity = f.attrs.get("identity")
     if identity is not None and isinstance(identity, (bytes, str)):
         try:

@@ -85,8 +85,8 @@ def cmd_averages(a):
     _print_table(table[[c for c in cols if c in table]])
     print()
     _print_table(groups)
-    if a.output:
-        groups.to_csv(a.output, sep="\t", index=False)
+    if a.output:  # counts as integers, as printed (N 64, not 64.0)
+        _shown(groups).to_csv(a.output, sep="\t", index=False)
 
 
 def cmd_csv(a):

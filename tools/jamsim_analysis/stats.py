@@ -185,6 +185,11 @@ def steady_window(times, values, transient=0.0, z_max=DRIFT_Z):
 
 
 KEYS = ("model", "N", "phi", "rate")
+# Columns >= 0 by construction (repulsive contacts, counts, squares, fractions): a negative
+# sample is no physics but a damaged archive.
+NONNEGATIVE = frozenset(("energy_per_particle", "pressure", "contact_number", "nonaffine_velocity_sq",
+                         "dissipated_power", "kinetic_energy_per_particle", "pressure_kinetic", "packing_fraction",
+                         "contact_number_nonrattler", "rattler_fraction", "solver_iterations"))
 
 
 def replica_averages(archive, observables, time_column="strain", drift_observable=None, detect=True):
@@ -218,8 +223,29 @@ def replica_averages(archive, observables, time_column="strain", drift_observabl
             times = np.arange(n, dtype=float)
             transient = 0.0
         else:
+            if np.any(np.diff(times[:n]) < 0):
+                k = int(np.flatnonzero(np.diff(times[:n]) < 0)[0])
+                raise AnalysisError(f"'{rep['file']}' is damaged: replica {r}'s {column} decreases at "
+                                    f"sample {k + 1} ({times[k]:.6g} -> {times[k + 1]:.6g}); it never "
+                                    "decreases in a run")
             transient = rep.get("transient", 0.0)
             transient = 0.0 if not np.isfinite(transient) else float(transient)
+        first = int(np.searchsorted(times[:n], transient, side="left"))
+        negative = [o for o in observables if o in NONNEGATIVE and np.any(series[o][:n] < 0)]
+        if negative:  # no run writes these below 0: a damaged or hand-edited archive
+            k = int(np.flatnonzero(series[negative[0]][:n] < 0)[0])
+            row.update(window_start=np.nan, samples=0, drift_z=np.nan, drifting=False,
+                       left_out=f"{negative[0]} < 0 at sample {k} ({series[negative[0]][k]:.6g}), which jamsim "
+                                "never writes (damaged or edited?)")
+            rows.append(row)
+            continue
+        bad = [o for o in observables if not np.all(np.isfinite(series[o][first:n]))]
+        if bad:  # a blown-up replica: no window, no mean (and no numpy warnings on inf)
+            k = int(np.flatnonzero(~np.isfinite(series[bad[0]][first:n]))[0]) + first
+            row.update(window_start=np.nan, samples=0, drift_z=np.nan, drifting=False,
+                       left_out=f"{bad[0]} not finite after the transient (sample {k}: {series[bad[0]][k]})")
+            rows.append(row)
+            continue
         if detect and n >= MIN_SAMPLES:
             window = steady_window(times, series[drift_observable], transient)
         else:

@@ -73,6 +73,8 @@ CAMPAIGN_DAMAGE = {
     "model_missing": (lambda f: f.attrs.__delitem__("model"), "the root attribute model is missing"),
     "N_nan": (_set("replicas/N", 0, np.nan), "replica 0 is done with N = nan"),
     "phi_zero": (_set("replicas/phi", 0, 0.0), "replica 0 is done with N = 64, phi = 0"),
+    "rate_negative": (_set("replicas/rate", 0, -1e-3), "replica 0 is done with rate = -0.001 (rate >= 0)"),
+    "transient_missing": (_delete("replicas/transient"), "/replicas/transient is missing"),
 }
 
 
@@ -87,7 +89,8 @@ def test_damaged_campaign_archive_is_refused(case, small_archive, copy_of):
     assert digest(path) == before
 
 
-@pytest.mark.parametrize("case", ["identity", "N_text", "phi_missing", "strain_missing"])
+@pytest.mark.parametrize("case", ["identity", "N_text", "phi_missing", "strain_missing", "rate_negative",
+                                  "transient_missing"])
 def test_damaged_replica_file_is_refused(case, jamsim, tmp_path):
     path = str(tmp_path / "r.h5")
     made = run(jamsim, "replica", "--N", "16", "--phi", "0.8", "--rate", "1e-2", "--strain", "0.05", "-o", path)
@@ -99,10 +102,16 @@ def test_damaged_replica_file_is_refused(case, jamsim, tmp_path):
             f.attrs["N"] = "abc"
         elif case == "phi_missing":
             del f.attrs["phi"]
+        elif case == "rate_negative":
+            f.attrs["rate"] = -0.01
+        elif case == "transient_missing":
+            del f.attrs["transient"]
         else:
             del f["timeseries/strain"]
     words = {"identity": "identity = 'zzz-not-hex' is not hexadecimal", "N_text": "N = 'abc' is not a number",
-             "phi_missing": "the root attribute phi is missing", "strain_missing": "/timeseries/strain is missing"}
+             "phi_missing": "the root attribute phi is missing", "strain_missing": "/timeseries/strain is missing",
+             "rate_negative": "the root attribute rate = -0.01 is below 0",
+             "transient_missing": "the root attribute transient is missing"}
     refused(run(ANALYZE, "summary", path), words[case])
 
 
@@ -163,3 +172,52 @@ def test_final_cell_without_a_side(small_archive, copy_of, tmp_path):
 def test_model_not_in_the_archives(small_archive, tmp_path):
     refused(run(ANALYZE, "collapse", small_archive, str(tmp_path / "c"), "--model", "XX"),
             "--model XX is not in", "(models: RD0)")
+
+
+def _all_replicas(f, name, edit):
+    """Apply edit(row array) -> row array to every done replica's /timeseries/name."""
+    data = f[f"timeseries/{name}"][...]
+    for r, n in enumerate(f["replicas/n_samples"][...]):
+        data[r, :int(n)] = edit(data[r, :int(n)].copy())
+    f[f"timeseries/{name}"][...] = data
+
+
+def test_strain_that_decreases_is_refused(small_archive, copy_of):
+    path = copy_of(small_archive, "back.h5")
+    with h5py.File(path, "r+") as f:
+        f["timeseries/strain"][0, 3] = -1.0
+    refused(run(ANALYZE, "averages", path, "--observable", "pressure"), f"'{path}' is damaged",
+            "replica 0's strain decreases at sample 3")
+
+
+def test_negative_pressure_is_left_out_and_all_negative_refused(small_archive, copy_of):
+    path = copy_of(small_archive, "negative.h5")
+    with h5py.File(path, "r+") as f:
+        f["timeseries/pressure"][0, 5] = -1e-3
+    out = run(ANALYZE, "averages", path, "--observable", "pressure")
+    assert out.returncode == 0, out.stderr
+    assert "pressure < 0 at sample 5 (-0.001), which jamsim never writes" in out.stdout, out.stdout
+    with h5py.File(path, "r+") as f:
+        _all_replicas(f, "pressure", lambda v: -np.abs(v) - 1e-9)
+    refused(run(ANALYZE, "averages", path, "--observable", "pressure"), "no finished replica left to average")
+    refused(run(REPORT, path, os.path.join(os.path.dirname(path), "report")), "every replica was left out",
+            "pressure < 0 at sample 0")
+
+
+def test_infinite_sample_is_left_out_without_numpy_warnings(small_archive, copy_of):
+    path = copy_of(small_archive, "inf.h5")
+    with h5py.File(path, "r+") as f:
+        f["timeseries/pressure"][0, int(f["replicas/n_samples"][0]) - 1] = np.inf
+    out = run(ANALYZE, "averages", path, "--observable", "pressure")
+    assert out.returncode == 0, out.stderr
+    assert "pressure not finite after the transient" in out.stdout, out.stdout
+    assert "RuntimeWarning" not in out.stderr, out.stderr
+
+
+def test_averages_output_writes_counts_as_integers(small_archive, tmp_path):
+    target = tmp_path / "means.tsv"
+    out = run(ANALYZE, "averages", small_archive, "--observable", "pressure", "--output", str(target))
+    assert out.returncode == 0, out.stderr
+    header, first = target.read_text().splitlines()[:2]
+    row = dict(zip(header.split("\t"), first.split("\t")))
+    assert row["N"] == "64" and row["seeds"].isdigit(), row
