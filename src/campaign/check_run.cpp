@@ -1,11 +1,13 @@
 // Rank 0's checks before a run (lifecycle.hpp, check_run): every refusal of `jamsim run`
 // that does not need the other ranks.
 #include <filesystem>
+#include <unordered_map>
 
 #include "jamsim/archive/archive.hpp"
 #include "jamsim/archive/archive_file_check.hpp"
 #include "jamsim/archive/archive_lock.hpp"
 #include "jamsim/campaign/lifecycle.hpp"
+#include "jamsim/run/model_registry.hpp"
 
 namespace jamsim {
 
@@ -44,6 +46,33 @@ void undo_interrupted_creation(const CampaignSpec& spec, RunDecision& d) {
     } catch (const h5::Error& e) { throw SpecError(spec.path + ": " + e.what()); }
 }
 
+/// "" unless two replicas that differ only in their seed would start from one LAMMPS data
+/// file's state: the seed draws the random start and the thermal models' noise alone, so
+/// without a temperature they would be the same bits (false seeds, false error bars).
+std::string seeds_without_effect(const CampaignSpec& spec) {
+    const ReplicaParams& first = spec.replicas.front();
+    if (first.initial_match == "id")
+        return "[run] initial_match = \"id\" is not allowed with [run] initial = \"" + first.initial +
+               "\": a LAMMPS data file holds one state, which starts every replica (initial_match picks a "
+               "replica of a source archive); leave initial_match out";
+    std::unordered_map<std::string, std::size_t> seen;  // the replica's parameters but its seed
+    for (std::size_t id = 0; id < spec.replicas.size(); ++id) {
+        ReplicaParams p = spec.replicas[id];
+        if (uses_parameter(p, "temperature")) continue;
+        const std::uint64_t seed = p.seed;
+        p.seed = 0;
+        const auto [it, fresh] = seen.emplace(describe(p), id);
+        if (fresh) continue;
+        return "[sweep] seeds: replicas " + std::to_string(it->second) + " and " + std::to_string(id) + " (seed " +
+               std::to_string(spec.replicas[it->second].seed) + " and " + std::to_string(seed) +
+               ") are not allowed with [run] initial = \"" + first.initial +
+               "\": a LAMMPS data file starts every replica from its one state, and " + p.model +
+               " draws no random numbers, so they would be the same bits; use one seed (seeds = 1), or an "
+               "archive of states of several seeds as initial";
+    }
+    return "";
+}
+
 /// Every replica must find its starting state ([run] initial) before any work, and the
 /// replicas already in the archive must start from the same states as when they ran.
 std::string check_initial_states(const CampaignSpec& spec, const RunDecision& d) {
@@ -56,6 +85,8 @@ std::string check_initial_states(const CampaignSpec& spec, const RunDecision& d)
         const InitialStates source(spec.replicas.front().initial);
         for (std::size_t id = 0; id < spec.replicas.size(); ++id)
             source.match(spec.replicas[id], static_cast<std::int64_t>(id));
+        if (source.is_data_file())
+            if (const std::string why = seeds_without_effect(spec); !why.empty()) return spec.path + ": " + why;
         if (std::filesystem::exists(d.output)) return initial_source_changed(source, spec, d.output, d.grow_source);
     } catch (const InitialStateError& e) { return spec.path + ": " + e.what(); }
     return "";

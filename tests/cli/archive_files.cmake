@@ -139,3 +139,9 @@ set_tests_properties(archive_file.refused_merge_leaves_no_lock PROPERTIES LABELS
 add_test(NAME archive_file.merged_is_complete
   COMMAND bash -c "rm -rf m0.h5* m1.h5* merged_whole.h5*; $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml --shard 0/2 -o m0.h5 > /dev/null 2>&1 && $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml --shard 1/2 -o m1.h5 > /dev/null 2>&1 && $<TARGET_FILE:jamsim> merge merged_whole.h5 m0.h5 m1.h5 > merge.txt && grep -q 'finished - (complete: every replica is finished. merged 20' merge.txt && ! grep -q 'running or interrupted' merge.txt"
   WORKING_DIRECTORY ${campaign_dir})
+# Seeds that a LAMMPS data file as [run] initial makes the same bits, and initial_match = "id"
+# with such a file, are refused (data_initial_seeds.sh).
+add_test(NAME cli.data_initial_seeds
+  COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/data_initial_seeds.sh $<TARGET_FILE:jamsim>
+  WORKING_DIRECTORY ${bad_dir})
+set_tests_properties(cli.data_initial_seeds PROPERTIES LABELS unit)

@@ -49,6 +49,8 @@ class InitialStates {
     /// the file's content (a LAMMPS data file); never 0. Recorded with every replica started
     /// from it (/replicas/initial_source).
     std::uint64_t fingerprint() const { return fingerprint_; }
+    /// True for a LAMMPS data file: one state starts every replica.
+    bool is_data_file() const { return lammps_.has_value(); }
     /// A digest of a starting state (box and positions, diameters), never 0; recorded as
     /// /replicas/initial_state.
     static std::uint64_t digest(const System& system);
