@@ -32,8 +32,17 @@ long count_in(const char* text, std::size_t n) {
     return *end == '\0' && v >= 1 && v <= 4096 ? v : 0;
 }
 long positive_count(const std::string& text) { return count_in(text.c_str(), text.size()); }
-/// OMP_NUM_THREADS's count: its first (outer) level when it is a nested list, else 0.
-long environment_count(const char* value) { return count_in(value, std::strcspn(value, ",")); }
+/// OMP_NUM_THREADS's count: its first (outer) level when it is a nested list ("4,2"), else 0;
+/// 0 too when any level is no count ("2,", "2,abc", "2,0": libgomp refuses the whole value).
+long environment_count(const char* value) {
+    for (const char* level = value;; ++level) {
+        const std::size_t n = std::strcspn(level, ",");
+        if (count_in(level, n) == 0) return 0;
+        level += n;
+        if (*level == '\0') break;
+    }
+    return count_in(value, std::strcspn(value, ","));
+}
 
 /// OMP_NUM_THREADS as it was when the process started, and whether it was set: libgomp reads
 /// the variable when it is loaded, before main, and prints its own "Invalid value" line for a

@@ -64,6 +64,10 @@ case $case in
     env OMP_NUM_THREADS=abc "$jamsim" models > /dev/null || fail "models refused a bad OMP_NUM_THREADS"
     ran "jamsim replica: --threads 2 wins over OMP_NUM_THREADS=abc" "libgomp" \
       env OMP_NUM_THREADS=abc "$jamsim" replica "${short[@]}" --threads 2 -o out.h5 ;;
+  env_list)  # a nested list counts by its first level, but every level must be a count
+    refused "^jamsim replica: OMP_NUM_THREADS = \"2,\" $allowed" env OMP_NUM_THREADS=2, "$jamsim" replica -o out.h5
+    refused "^jamsim run: OMP_NUM_THREADS = \"2,0\" $allowed" env OMP_NUM_THREADS=2,0 "$jamsim" run "$campaign" -o out.h5
+    ran "on 2 threads," "libgomp" env OMP_NUM_THREADS=2,1 "$jamsim" replica "${short[@]}" -o out.h5 ;;
   env_empty)  # set but empty: as if unset (1 thread), and no libgomp complaint
     ran "on 1 thread," "libgomp" env OMP_NUM_THREADS= "$jamsim" replica "${short[@]}" -o out.h5 ;;
   flag_wins)
