@@ -6,6 +6,7 @@
 #include "threads_option.hpp"
 #include "wall_time.hpp"
 
+#include <charconv>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -42,6 +43,13 @@ struct PlanError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
+/// The whole of `text` as a number (no sign-less trailing text such as "1-2", no overflow).
+template <typename T> bool whole(const std::string& text, T& value) {
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+    return ec == std::errc{} && end == text.data() + text.size();
+}
+bool number_in(const std::string& text, double& value) { return whole(text, value) && std::isfinite(value); }
+
 /// Each replica's seconds and sampling seconds from the listing of `jamsim run --dry-run` (the
 /// rows "id N phi rate seed samples cost est.s sampling"): every replica of `spec` once, with
 /// its N.
@@ -61,16 +69,22 @@ ReplicaSeconds seconds_from_listing(const std::string& path, const CampaignSpec&
     for (int number = 1; std::getline(in, line); ++number) {
         std::smatch m;
         if (!std::regex_match(line, m, row)) continue;
-        const std::size_t id = std::stoull(m[1]);
-        const long long n = std::stoll(m[2]);
         const std::string where =
             "jamsim plan: --costs " + path + ":" + std::to_string(number) + ": replica " + m[1].str();
+        std::size_t id = 0;
+        long long n = 0;
+        double listed_seconds = 0.0, listed_serial = 0.0;
+        if (!whole(m[1].str(), id) || !whole(m[2].str(), n) || !number_in(m[3].str(), listed_seconds) ||
+            !number_in(m[4].str(), listed_serial))
+            throw PlanError(where + ": '" + line +
+                            "' is not allowed: a row of the dry run's listing (id and N "
+                            "whole numbers, est.s and sampling finite numbers of seconds)");
         if (id >= spec.replicas.size() || spec.replicas[id].n != n)
             throw PlanError(where + " (N = " + m[2].str() + ") is not replica " + m[1].str() + " of " + spec.path +
                             ": give the listing of `jamsim run --dry-run " + spec.path + "`");
         if (seconds[id] >= 0) throw PlanError(where + " is listed twice");
-        seconds[id] = std::stod(m[3]);
-        serial[id] = std::stod(m[4]);
+        seconds[id] = listed_seconds;
+        serial[id] = listed_serial;
         if (!(std::isfinite(seconds[id]) && seconds[id] >= 0 && std::isfinite(serial[id]) && serial[id] >= 0 &&
               serial[id] <= seconds[id]))
             throw PlanError(where + ": est.s = " + m[3].str() + ", sampling = " + m[4].str() +
