@@ -298,6 +298,17 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
                     throw CLI::ValidationError(std::string("jamsim run: ") + name +
                                                " is not allowed without --dry-run: it describes the run a dry run "
                                                "plans (a run's ranks are mpirun's -n, its time limit Slurm's)");
+        // And a run's own options describe nothing a dry run does: it starts no replica.
+        if (opt->dry_run)
+            for (const char* name :
+                 {"--shard", "--retry-failed", "--checkpoint-every", "--progress", "--progress-interval"})
+                if (cmd->count(name) > 0)
+                    throw CLI::ValidationError(
+                        std::string("jamsim run: ") + name +
+                        " is not allowed with --dry-run: it changes how a run runs, and a dry run starts none" +
+                        (std::string_view(name) == "--shard"
+                             ? " (the dry run of the whole campaign plans its shards: --shards N --time-limit T)"
+                             : ""));
         if (opt->plan.time_limit > 0) {
             opt->plan.signal_lead = signal_lead_from_environment();
             // Slurm may send the warning up to a minute early (its event timer's period).

@@ -137,6 +137,15 @@ foreach(option ranks time-limit summary serial-fraction probe-seconds)
       $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml ${words} -o ${bad_dir}/plain_run.h5)
   set_tests_properties(cli.run_${option}_without_dry_run PROPERTIES LABELS unit ENVIRONMENT "EXPECT_STATUS=2")
 endforeach()
+# ... and a run's own options with --dry-run (the dry run ignored --shard 1/2 and listed the
+# whole campaign).
+foreach(entry "shard|1/2" "retry-failed|" "checkpoint-every|5" "progress|lines" "progress-interval|3")
+  jamsim_row_fields("${entry}" option value)
+  add_test(NAME cli.run_${option}_with_dry_run
+    COMMAND ${expect} "^jamsim run: --${option} is not allowed with --dry-run: it changes how a run runs" ${bad_dir}/plain_run.h5
+      $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml --dry-run --${option} ${value} -o ${bad_dir}/plain_run.h5)
+  set_tests_properties(cli.run_${option}_with_dry_run PROPERTIES LABELS unit ENVIRONMENT "EXPECT_STATUS=2")
+endforeach()
 # jamsim replica: an empty --initial, and --initial-match without --initial, say what they need
 # (both said "not used by model RD0").
 add_test(NAME cli.replica_initial_empty
