@@ -5,6 +5,7 @@
 #include "threads_option.hpp"
 #include "wall_time.hpp"
 
+#include <charconv>
 #include <unistd.h>
 
 #include <cmath>
@@ -40,14 +41,19 @@ struct RunOptions {
     CapacityLimits limits;
 };
 
-/// "90", "90s", "15min", "2h" in seconds; negative when it does not parse.
+/// The longest duration an option takes (about 32 years): longer ones are typos.
+constexpr double kLongestDuration = 1e9;
+
+/// "90", "90s", "15min", "2h" in seconds (decimal, at most kLongestDuration); negative when it
+/// does not parse.
 double parse_duration(const std::string& text) {
-    char* end = nullptr;
-    const double v = std::strtod(text.c_str(), &end);
-    const std::string unit(end);
+    double v = 0.0;  // decimal only (strtod read 0x1000 as 4096 s)
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+    const std::string unit(end, text.data() + text.size());
     const double scale = unit.empty() || unit == "s" ? 1.0 : unit == "min" ? 60.0 : unit == "h" ? 3600.0 : -1.0;
-    if (end == text.c_str() || scale < 0 || !std::isfinite(v) || v < 0) return -1.0;
-    return v * scale;
+    if (ec != std::errc{} || scale < 0 || !(v >= 0)) return -1.0;
+    const double seconds = v * scale;  // 1e306h overflowed to an infinite limit
+    return seconds <= kLongestDuration ? seconds : -1.0;
 }
 
 /// "K/N" with 0 <= K < N, or an exception naming the value.
@@ -231,8 +237,9 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
            [opt](const std::string& v) {
                opt->checkpoint_seconds = parse_duration(v);
                if (opt->checkpoint_seconds < 0)
-                   throw CLI::ValidationError("jamsim run: --checkpoint-every = " + v +
-                                              " is not allowed: a duration >= 0 such as 300, 90s, 15min or 2h");
+                   throw CLI::ValidationError(
+                       "jamsim run: --checkpoint-every = " + v +
+                       " is not allowed: a duration >= 0 such as 300, 90s, 15min or 2h (at most 1e9 s)");
            },
            "Save each running replica's state at its first checkpoint step after this long "
            "(0: at every checkpoint step; [run] checkpoint_steps sets the steps)")
@@ -267,8 +274,9 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
            [opt](const std::string& v) {
                opt->plan.time_limit = parse_duration(v);
                if (!(opt->plan.time_limit > 0))
-                   throw CLI::ValidationError("jamsim run: --time-limit = " + v +
-                                              " is not allowed: a duration > 0 such as 3600, 90min or 24h");
+                   throw CLI::ValidationError(
+                       "jamsim run: --time-limit = " + v +
+                       " is not allowed: a duration > 0 such as 3600, 90min or 24h (at most 1e9 s)");
                opt->time_limit_text = v;
            },
            "--dry-run: a task's time limit, to count the requeues it needs")
