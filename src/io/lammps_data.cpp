@@ -122,6 +122,7 @@ LammpsData read_lammps_data(const std::string& path) {
     std::string section;
     std::string style_hint;
     std::set<std::string> sections_seen;
+    std::set<std::string> header_seen;  // the header lines read (atoms, xlo xhi, ...)
     while (std::getline(in, raw)) {
         ++line_no;
         const std::string_view full(raw);
@@ -154,6 +155,14 @@ LammpsData read_lammps_data(const std::string& path) {
                 return s;
             };
             std::int64_t count = 0;
+            // One line of each (LAMMPS would take the last of two silently).
+            for (const std::string& said : {keyword(1), keyword(2), keyword(3)})
+                if (said == "atoms" || said == "atom types" || said == "xlo xhi" || said == "ylo yhi" ||
+                    said == "zlo zhi" || said == "xy xz yz") {
+                    if (!header_seen.insert(said).second)
+                        throw LammpsDataError(where(line_no) + "a second '" + said + "' line in the header");
+                    break;
+                }
             if (f.size() >= 2 && keyword(1) == "atoms") {
                 if (!to_int(f[0], count) || count < 0)
                     throw LammpsDataError(where(line_no) + "atoms = " + std::string(f[0]) + ": a count >= 0");
@@ -222,8 +231,17 @@ LammpsData read_lammps_data(const std::string& path) {
         if (sphere && !(density > 0))
             throw LammpsDataError(where(line_no) + "atom " + std::string(f[0]) + " has density " + std::string(f[3]) +
                                   ": atom_style sphere needs a density > 0");
+        // LAMMPS: "Invalid atom type"; jamsim's disks are of two types.
+        if (type < 1 || (have_types && type > d.atom_types) || type > 2)
+            throw LammpsDataError(where(line_no) + "atom " + std::string(f[0]) + " has type " + std::string(f[1]) +
+                                  ": types 1 (small disks) and 2 (large), at most the header's " +
+                                  std::to_string(d.atom_types) + " atom types");
+        for (std::size_t k = columns; k < f.size(); ++k)  // image flags: whole numbers
+            if (std::int64_t image = 0; !to_int(f[k], image))
+                throw LammpsDataError(where(line_no) + "atom " + std::string(f[0]) + " has image flag '" +
+                                      std::string(f[k]) + "': image flags are whole numbers");
         d.id.push_back(id);
-        d.type.push_back(static_cast<int>(std::clamp<std::int64_t>(type, -1, 1000000)));
+        d.type.push_back(static_cast<int>(type));
         if (sphere) d.diameter.push_back(diameter);
         d.x.push_back(x);
         d.y.push_back(y);

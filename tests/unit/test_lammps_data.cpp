@@ -146,7 +146,21 @@ TEST(LammpsData, RefusesWhatIsNotJamsimsMixture) {
               std::string::npos);
     // a third type
     EXPECT_NE(refusal(edited(c, "type3.data", std::regex("\n1 1 1 1 "), "\n1 3 1 1 "))
-                  .find("atom 1 has type 3: types 1 (small, d = 1) and 2 (large, d = size_ratio"),
+                  .find("atom 1 has type 3: types 1 (small disks) and 2 (large), at most the header's 2 atom types"),
+              std::string::npos);
+    // a type past the header's count, named as written (it was clamped to 1000000 or -1)
+    EXPECT_NE(refusal(edited(c, "type_big.data", std::regex("\n1 1 1 1 "), "\n1 5000000000 1 1 "))
+                  .find("atom 1 has type 5000000000: types 1"),
+              std::string::npos);
+    EXPECT_NE(refusal(edited(c, "one_type.data", std::regex("\n2 atom types"), "\n1 atom types"))
+                  .find("has type 2: types 1 (small disks) and 2 (large), at most the header's 1 atom types"),
+              std::string::npos);
+    // a header line twice (the last one won), image flags that are not whole numbers
+    EXPECT_NE(refusal(edited(c, "twice.data", std::regex("\n2 atom types"), "\n2 atom types\n3 atom types"))
+                  .find("a second 'atom types' line in the header"),
+              std::string::npos);
+    EXPECT_NE(refusal(edited(c, "image.data", std::regex("\n(1 1 1 1 \\S+ \\S+ \\S+)"), "\n$1 1.5 0 0"))
+                  .find("atom 1 has image flag '1.5': image flags are whole numbers"),
               std::string::npos);
     // more small than large disks
     EXPECT_NE(refusal(edited(c, "mix.data", std::regex("\n200 2 1.4 1 "), "\n200 1 1 1 "))
