@@ -77,6 +77,21 @@ for ((i = 0; i < ${#args[@]}; i++)); do
   fi
 done
 [[ -f $campaign ]] || { echo "submit_campaign.sh: campaign file '$campaign' does not exist" >&2; exit 2; }
+# The variables the tasks read, checked before anything is made or queued (a task would fail
+# at its start, or at its first requeue hours in).
+lead=${JAMSIM_SIGNAL_LEAD:-300}
+if [[ ! $lead =~ ^[1-9][0-9]{0,4}$ ]] || (( lead > 65535 )); then
+  echo "submit_campaign.sh: JAMSIM_SIGNAL_LEAD = '$lead' is not allowed: seconds, a whole number from 1 to 65535 (sbatch --signal)" >&2
+  exit 2
+fi
+case ${JAMSIM_LAUNCHER:-mpirun} in
+  mpirun | srun) ;;
+  *) echo "submit_campaign.sh: JAMSIM_LAUNCHER = '$JAMSIM_LAUNCHER' is not allowed: mpirun or srun" >&2; exit 2 ;;
+esac
+if [[ ! ${JAMSIM_MAX_REQUEUES:-20} =~ ^(0|[1-9][0-9]{0,3})$ ]]; then
+  echo "submit_campaign.sh: JAMSIM_MAX_REQUEUES = '$JAMSIM_MAX_REQUEUES' is not allowed: a whole number of requeues from 0 to 9999" >&2
+  exit 2
+fi
 installed_jamsim=""  # an installed copy of this script names its jamsim here (cmake --install)
 jamsim=${JAMSIM:-}
 if [[ -z $jamsim ]]; then
@@ -87,8 +102,8 @@ fi
 [[ -n $jamsim && -x $jamsim ]] || { echo "submit_campaign.sh: no jamsim executable (set JAMSIM or build first)" >&2; exit 2; }
 jamsim=$(cd "$(dirname "$jamsim")" && pwd)/$(basename "$jamsim")
 # Jobs may start in another directory: hand them absolute paths.
-abs() { local d; d=$(cd "$(dirname "$1")" && pwd) || exit 2; echo "$d/$(basename "$1")"; }
-mkdir -p "$(dirname "$merged")"
+# (MERGED's folder may not exist yet: it is made once every check has passed.)
+abs() { realpath -ms -- "$1"; }
 campaign=$(abs "$campaign") merged=$(abs "$merged")
 shard_dir=${merged%.h5}.shards
 # Check the campaign (every key, every value) and the archives already there before queueing
@@ -114,13 +129,8 @@ replicas=$(sed -n 's/^campaign .*: \([0-9]*\) replicas.*/\1/p' <<<"$plan" | head
 if [[ -n $replicas && $shards -gt $replicas ]]; then
   echo "submit_campaign.sh: note: $shards shards for $replicas replicas; shards $replicas..$((shards - 1)) will be empty" >&2
 fi
-mkdir -p "$shard_dir"
+mkdir -p "$(dirname "$merged")" "$shard_dir"
 range=0-$((shards - 1))${throttle:+%$throttle}
-lead=${JAMSIM_SIGNAL_LEAD:-300}
-if [[ ! $lead =~ ^[1-9][0-9]{0,4}$ ]] || (( lead > 65535 )); then
-  echo "submit_campaign.sh: JAMSIM_SIGNAL_LEAD = '$lead' is not allowed: seconds, a whole number from 1 to 65535 (sbatch --signal)" >&2
-  exit 2
-fi
 array=$(sbatch --parsable --array="$range" --signal=B:USR1@"$lead" --requeue --open-mode=append --cpus-per-task="$threads" \
           --export=ALL,JAMSIM="$jamsim",JAMSIM_RUN_ARGS="$run_args" "$@" \
           "$here/campaign_array.sbatch" "$campaign" "$shard_dir" "$shards")

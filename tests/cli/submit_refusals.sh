@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# usage: submit_refusals.sh JAMSIM CAMPAIGN (in a scratch folder; no Slurm needed)
+# slurm/submit_campaign.sh checks the variables its array tasks read before it makes a folder
+# or queues a job: JAMSIM_LAUNCHER (a typo failed every task at its start), JAMSIM_MAX_REQUEUES
+# (abc killed a task at its first requeue, 1.5 requeued for ever) and JAMSIM_SIGNAL_LEAD; a
+# refused campaign leaves no folder either (the MERGED folder was made first).
+set -uo pipefail
+jamsim=$1 campaign=$2
+submit=$(dirname "$0")/../../slurm/submit_campaign.sh
+rm -rf sub_work && mkdir sub_work && cd sub_work || exit 1
+printf '[campaign]\nname = "bad"\noutput = "bad.h5"\n[model]\nname = "RD0"\n[sweep]\nN = [16]\nphi = [2]\nrate = [1e-2]\n' > bad.toml
+check() {  # REGEX VAR=VALUE... -- submit arguments
+  local regex=$1
+  shift
+  msg=$(env JAMSIM="$jamsim" PATH=/usr/bin:/bin "$@" 2>&1)
+  rc=$?
+  echo "$msg"
+  [[ $rc -eq 2 ]] || { echo "FAIL: exit $rc, not 2"; exit 1; }
+  grep -Eq -- "$regex" <<<"$msg" || { echo "FAIL: no /$regex/"; exit 1; }
+  [[ -z $(ls -A) || $(ls -A) == bad.toml ]] || { echo "FAIL: left behind: $(ls -A)"; exit 1; }
+}
+check "JAMSIM_LAUNCHER = 'srn' is not allowed: mpirun or srun" JAMSIM_LAUNCHER=srn bash "$submit" "$campaign" new/m.h5 2
+for v in abc -1 1.5 "2 3"; do
+  check "JAMSIM_MAX_REQUEUES = '$v' is not allowed: a whole number of requeues" JAMSIM_MAX_REQUEUES="$v" \
+    bash "$submit" "$campaign" new/m.h5 2
+done
+check "JAMSIM_SIGNAL_LEAD = '0' is not allowed" JAMSIM_SIGNAL_LEAD=0 bash "$submit" "$campaign" new/m.h5 2
+check "phi = 2 is not allowed" bash "$submit" bad.toml new/sub/m.h5 2
+echo "ok: refused before any folder or job"
