@@ -77,8 +77,16 @@ ReplicaParams params_of(const ReplicaOptions& opt) {
             usage_error("initial", "''", "the path of an archive or a LAMMPS data file to start from");
         if (key == "initial_match" && params.initial.empty())
             usage_error("initial-match", text, "only with --initial (it says how to match that file's states)");
-        if (!uses_parameter(params, key))
+        if (!uses_parameter(params, key)) {
+            // The run length follows the rate, not the model: say so (as a campaign does).
+            const ModelInfo* model = find_model(params.model);
+            if (model && model->kind == ModelKind::Dynamics && (key == "time" || key == "strain"))
+                usage_error(key, text,
+                            key == "time" ? "--time only at --rate 0 (dynamics without shear); at rate = " +
+                                                show_value(params.rate) + " the run length is --strain"
+                                          : "--strain only at --rate > 0; at rate 0 the run length is --time");
             usage_error(std::string(find_parameter(key)->flag.substr(2)), text, "not used by model " + params.model);
+        }
     }
     // Memory, as jamsim run checks a campaign's: a large N or a dilute box (the cell grid)
     // would otherwise run into std::bad_alloc, or the node's out-of-memory killer.

@@ -146,6 +146,11 @@ foreach(entry "shard|1/2" "retry-failed|" "checkpoint-every|5" "progress|lines" 
       $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml --dry-run --${option} ${value} -o ${bad_dir}/plain_run.h5)
   set_tests_properties(cli.run_${option}_with_dry_run PROPERTIES LABELS unit ENVIRONMENT "EXPECT_STATUS=2")
 endforeach()
+# jamsim replica: the run length follows the rate (it said "--time ... not used by model RD0").
+jamsim_cli_error(replica_time_at_rate "--time = 1 is not allowed: --time only at --rate 0 \\(dynamics without shear\\); at rate = 0.01 the run length is --strain"
+  replica --N 16 --rate 1e-2 --time 1 -o ${bad_dir}/none.h5)
+jamsim_cli_error(replica_strain_at_rate_zero "--strain = 1 is not allowed: --strain only at --rate > 0; at rate 0 the run length is --time"
+  replica --N 16 --rate 0 --time 1 --strain 1 -o ${bad_dir}/none.h5)
 # jamsim replica: an empty --initial, and --initial-match without --initial, say what they need
 # (both said "not used by model RD0").
 add_test(NAME cli.replica_initial_empty
