@@ -8,7 +8,6 @@
 
 #include <unistd.h>
 
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -17,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "jamsim/core/parse_number.hpp"
 #include "jamsim/core/version.hpp"
 #include "jamsim/archive/archive_file_check.hpp"
 #include "jamsim/io/h5md.hpp"
@@ -42,10 +42,7 @@ struct Refused {
 
 [[noreturn]] void refuse(const std::string& message) { throw Refused{message}; }
 
-bool parse_id(std::string_view s, std::int64_t& out) {
-    const auto r = std::from_chars(s.data(), s.data() + s.size(), out);
-    return !s.empty() && r.ec == std::errc() && r.ptr == s.data() + s.size() && out >= 0;
-}
+bool parse_id(std::string_view s, std::int64_t& out) { return parse_whole_text(s, out) && out >= 0; }
 
 /// "3", "0,2,5", "4-7", "done" (every finished replica), possibly repeated.
 std::vector<std::int64_t> selected_ids(const ExportOptions& opt, const StoredReplicas& stored) {

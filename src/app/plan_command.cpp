@@ -5,8 +5,8 @@
 #include "dry_run.hpp"
 #include "threads_option.hpp"
 #include "wall_time.hpp"
+#include "jamsim/core/parse_number.hpp"
 
-#include <charconv>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -43,13 +43,6 @@ struct PlanError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-/// The whole of `text` as a number (no sign-less trailing text such as "1-2", no overflow).
-template <typename T> bool whole(const std::string& text, T& value) {
-    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-    return ec == std::errc{} && end == text.data() + text.size();
-}
-bool number_in(const std::string& text, double& value) { return whole(text, value) && std::isfinite(value); }
-
 /// Each replica's seconds and sampling seconds from the listing of `jamsim run --dry-run` (the
 /// rows "id N phi rate seed samples cost est.s sampling"): every replica of `spec` once, with
 /// its N.
@@ -74,8 +67,8 @@ ReplicaSeconds seconds_from_listing(const std::string& path, const CampaignSpec&
         std::size_t id = 0;
         long long n = 0;
         double listed_seconds = 0.0, listed_serial = 0.0;
-        if (!whole(m[1].str(), id) || !whole(m[2].str(), n) || !number_in(m[3].str(), listed_seconds) ||
-            !number_in(m[4].str(), listed_serial))
+        if (!parse_whole_text(m[1].str(), id) || !parse_whole_text(m[2].str(), n) ||
+            !parse_finite(m[3].str(), listed_seconds) || !parse_finite(m[4].str(), listed_serial))
             throw PlanError(where + ": '" + line +
                             "' is not allowed: a row of the dry run's listing (id and N "
                             "whole numbers, est.s and sampling finite numbers of seconds)");
@@ -85,8 +78,7 @@ ReplicaSeconds seconds_from_listing(const std::string& path, const CampaignSpec&
         if (seconds[id] >= 0) throw PlanError(where + " is listed twice");
         seconds[id] = listed_seconds;
         serial[id] = listed_serial;
-        if (!(std::isfinite(seconds[id]) && seconds[id] >= 0 && std::isfinite(serial[id]) && serial[id] >= 0 &&
-              serial[id] <= seconds[id]))
+        if (!(seconds[id] >= 0 && serial[id] >= 0 && serial[id] <= seconds[id]))  // finite: parse_finite
             throw PlanError(where + ": est.s = " + m[3].str() + ", sampling = " + m[4].str() +
                             " are not allowed: seconds >= 0, the sampling's part of them at most all of them");
         ++found;

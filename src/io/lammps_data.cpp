@@ -1,7 +1,6 @@
 #include "jamsim/io/lammps_data.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -15,6 +14,8 @@
 #include <set>
 #include <sstream>
 #include <string_view>
+
+#include "jamsim/core/parse_number.hpp"
 
 namespace jamsim {
 
@@ -64,15 +65,8 @@ std::vector<std::string_view> fields(std::string_view s) {
     return out;
 }
 
-bool to_double(std::string_view s, double& out) {
-    const auto r = std::from_chars(s.data(), s.data() + s.size(), out);
-    return r.ec == std::errc() && r.ptr == s.data() + s.size() && std::isfinite(out);
-}
-
-bool to_int(std::string_view s, std::int64_t& out) {
-    const auto r = std::from_chars(s.data(), s.data() + s.size(), out);
-    return r.ec == std::errc() && r.ptr == s.data() + s.size();
-}
+bool to_double(std::string_view s, double& out) { return parse_finite(s, out); }
+bool to_int(std::string_view s, std::int64_t& out) { return parse_whole_text(s, out); }
 
 bool starts_numeric(std::string_view s) {
     return !s.empty() && (std::isdigit(static_cast<unsigned char>(s[0])) || s[0] == '-' || s[0] == '+' || s[0] == '.');
@@ -284,10 +278,7 @@ System system_from_lammps_data(const LammpsData& d, const std::string& path, std
     }
     std::int64_t small_count = 0;
     for (std::size_t i = 0; i < d.id.size(); ++i) {
-        if (d.type[i] != 1 && d.type[i] != 2)
-            throw LammpsDataError(file + ": atom " + std::to_string(d.id[i]) + " has type " +
-                                  std::to_string(d.type[i]) +
-                                  ": types 1 (small, d = 1) and 2 (large, d = size_ratio = " + show(size_ratio) + ")");
+        // (types are 1 or 2: read_lammps_data refuses others)
         if (d.type[i] == 1) ++small_count;
         if (!d.diameter.empty()) {
             const double expected = d.type[i] == 1 ? 1.0 : size_ratio;

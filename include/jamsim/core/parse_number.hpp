@@ -1,0 +1,23 @@
+#pragma once
+// Strict text-to-number parsing for files and options that people write: the whole text,
+// decimal (std::from_chars: no leading space or '+', no hexadecimal), in the type's range.
+
+#include <charconv>
+#include <cmath>
+#include <string_view>
+#include <system_error>
+
+namespace jamsim {
+
+/// The whole of `text` as a T; false for trailing text ("1-2"), overflow ("1e999") or none.
+template <typename T> bool parse_whole_text(std::string_view text, T& value) {
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+    return ec == std::errc{} && end == text.data() + text.size();
+}
+
+/// As parse_whole_text, and finite ("inf" and "nan" parse but are refused).
+inline bool parse_finite(std::string_view text, double& value) {
+    return parse_whole_text(text, value) && std::isfinite(value);
+}
+
+}  // namespace jamsim
