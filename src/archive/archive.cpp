@@ -51,8 +51,7 @@ std::string utc_now() {
 
 Archive Archive::open(MPI_Comm comm, const std::string& path) {
     h5::quiet_errors();
-    const auto fapl = h5::mpio_file_access(comm);
-    Handle file(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl.get()), H5Fclose, "open archive '" + path + "'");
+    Handle file = h5::open_parallel(comm, path);
     ArchiveLayout layout;
     const Handle dxpl = h5::independent_transfer();
     layout.particle_offset =
@@ -330,8 +329,7 @@ void Archive::stamp(const std::string& attribute) {
               "name of the archive");
         path.resize(static_cast<std::size_t>(length));
         file_.close("archive '" + path + "'");
-        const auto fapl = h5::mpio_file_access(comm_);
-        file_ = Handle(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl.get()), H5Fclose, "reopen archive '" + path + "'");
+        file_ = h5::open_parallel(comm_, path);
     }
     const hid_t f = file_.get();
     h5::replace_attribute(f, attribute, now);

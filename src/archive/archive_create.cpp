@@ -241,9 +241,14 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
     }
     mpi::check(MPI_Bcast(&failed, 1, MPI_INT, 0, comm), "MPI_Bcast");
     if (failed) throw h5::Error("cannot write '" + marker + "'");
-    const auto fapl = h5::mpio_file_access(comm);
-    Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose,
-                "create archive '" + path + "'");
+    Handle file;
+    try {
+        file = h5::create_parallel(comm, path);
+    } catch (const h5::OpenRefused&) {
+        std::error_code ignored;
+        if (root) std::filesystem::remove(marker, ignored);  // nothing was made
+        throw;
+    }
     const hid_t f = file.get();
     const auto replicas = static_cast<hsize_t>(spec.replicas.size());
     const ArchiveLayout layout = archive_layout(spec);

@@ -95,19 +95,25 @@ RunOutcome run_campaign(MPI_Comm comm, const CampaignSpec& spec, const RunDecisi
         out.refusal = e.what();
         return out;
     }
-    reshape_archive(comm, spec, d, settings, *lock);
-    int exists = rank == 0 ? std::filesystem::exists(d.output) : 0;
-    mpi::broadcast(exists, 0, comm);
+    const auto refuse = [&](std::string why) {
+        lock->release();
+        out.end = RunOutcome::End::refused;
+        out.refusal = std::move(why);
+        return out;
+    };
+    int exists = 0;
     std::optional<Archive> created;
-    if (!exists) {
-        if (std::string why = create_archive(comm, spec, d.output, created); !why.empty()) {
-            lock->release();
-            out.end = RunOutcome::End::refused;
-            out.refusal = std::move(why);
-            return out;
-        }
+    try {
+        reshape_archive(comm, spec, d, settings, *lock);
+        exists = rank == 0 ? std::filesystem::exists(d.output) : 0;
+        mpi::broadcast(exists, 0, comm);
+        if (exists) created.emplace(Archive::open(comm, d.output));
+    } catch (const h5::OpenRefused& e) {  // alike on every rank, and nothing is open
+        return refuse(spec.path + ": " + e.what() + "; nothing was changed");
     }
-    Archive archive = exists ? Archive::open(comm, d.output) : std::move(*created);
+    if (!exists)
+        if (std::string why = create_archive(comm, spec, d.output, created); !why.empty()) return refuse(why);
+    Archive archive = std::move(*created);
     if (!exists) lock->hold_archive(d.output);
     archive.stamp("run_started");
     std::optional<InitialStates> initial;

@@ -1,5 +1,7 @@
 #include "jamsim/io/hdf5.hpp"
 
+#include "jamsim/parallel/mpi.hpp"
+
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -163,6 +165,57 @@ Handle mpio_file_access(MPI_Comm comm) {
     check(H5Pset_fapl_mpio(fapl.get(), comm, MPI_INFO_NULL), "MPI-IO driver");
     check(H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_SEMI), "close degree");
     return fapl;
+}
+
+namespace {
+/// errno of a POSIX open of `path` with `flags` (the descriptor closed again), 0 on success.
+int open_errno(const std::string& path, int flags) {
+    const int fd = ::open(path.c_str(), flags | O_CLOEXEC, 0666);
+    if (fd < 0) return errno;
+    ::close(fd);
+    return 0;
+}
+
+/// Collective: throws the same OpenRefused on every rank when any rank's `code` (an errno) is not 0.
+void agree_on_open(MPI_Comm comm, int code, const std::string& path, const char* doing) {
+    struct {
+        int code, rank;
+    } mine{code, mpi::rank(comm)}, worst{};
+    mpi::check(MPI_Allreduce(&mine, &worst, 1, MPI_2INT, MPI_MAXLOC, comm), "MPI_Allreduce");
+    if (worst.code == 0) return;
+    const int ranks = mpi::size(comm);
+    throw OpenRefused(std::string(doing) + " '" + path + "' failed" +
+                      (ranks > 1 ? " on rank " + std::to_string(worst.rank) : std::string()) + ": " +
+                      std::strerror(worst.code));
+}
+}  // namespace
+
+Handle open_parallel(MPI_Comm comm, const std::string& path) {
+    agree_on_open(comm, open_errno(path, O_RDWR), path, "opening");
+    const auto fapl = mpio_file_access(comm);
+    return Handle(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl.get()), H5Fclose, "open archive '" + path + "'");
+}
+
+Handle create_parallel(MPI_Comm comm, const std::string& path) {
+    const int rank = mpi::rank(comm);
+    // Rank 0 makes the file, then every other rank opens it.
+    bool made = false;
+    int code = 0;
+    if (rank == 0) {
+        code = open_errno(path, O_RDWR | O_CREAT | O_EXCL);
+        made = code == 0;
+        if (code == EEXIST) code = open_errno(path, O_RDWR);
+    }
+    try {
+        agree_on_open(comm, code, path, "creating");
+        agree_on_open(comm, rank == 0 ? 0 : open_errno(path, O_RDWR), path, "creating");
+    } catch (const OpenRefused&) {
+        if (made) ::unlink(path.c_str());
+        throw;
+    }
+    const auto fapl = mpio_file_access(comm);
+    return Handle(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose,
+                  "create archive '" + path + "'");
 }
 
 Handle open_unlocked_readonly(const std::string& path) {

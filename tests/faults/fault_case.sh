@@ -200,6 +200,32 @@ export_disk_full)  # jamsim export into a nearly full filesystem: one message, n
   timeout -k 10 "$limit" "$jamsim" export src.h5 -r 0 -o small/e.h5md > export.log 2>&1
   rc=$?; expect_rc 0 export.log
   ;;
+open_one_rank)  # one rank cannot open the archive: every rank refuses together, nothing changes
+  # (Open MPI's MPI_File_open waited forever when it failed on one rank only.)
+  [[ -n ${FAIL_OPEN_LIB:-} ]] || fail "FAIL_OPEN_LIB is not set"
+  last=$((ranks - 1))
+  # failing_open LOG SUFFIX ERRNO ARGS...: jamsim run with open() of *SUFFIX failing on the last rank.
+  failing_open() {
+    local log=$1 suffix=$2 code=$3; shift 3
+    timeout -k 10 "$limit" "$mpirun" -n "$ranks" -x LD_PRELOAD="$FAIL_OPEN_LIB" -x FAIL_OPEN_SUFFIX="$suffix" \
+      -x FAIL_OPEN_RANK=$last -x FAIL_OPEN_ERRNO="$code" "$jamsim" run "$@" > "$log" 2>&1
+    rc=$?
+    if [[ $rc -eq 124 || $rc -eq 137 ]]; then cat "$log"; fail "jamsim run $* did not end within ${limit} s (a hang)"; fi
+    expect_rc 2 "$log"; no_crash "$log"
+  }
+  failing_open create.log src.h5 13 "$here/source.toml"  # EACCES
+  expect_in "creating 'src.h5' failed on rank $last: Permission denied" create.log
+  [[ -z $(ls) || $(ls) == create.log ]] || fail "the refused creation left $(ls | tr '\n' ' ')"
+  run src.log run "$here/source.toml"; expect_rc 0 src.log
+  sum=$(sha256sum src.h5)
+  failing_open resume.log src.h5 24 "$here/source.toml"  # EMFILE
+  expect_in "opening 'src.h5' failed on rank $last: Too many open files; nothing was changed" resume.log
+  failing_open extend.log src.h5.extending 13 "$here/source_longer.toml" -o src.h5
+  expect_in "creating 'src.h5.extending' failed on rank $last: Permission denied; nothing was changed" extend.log
+  [[ "$(sha256sum src.h5)" == "$sum" ]] || fail "src.h5 was modified"
+  ! ls src.h5.extending* > /dev/null 2>&1 || fail "the refused extension left $(ls src.h5.extending*)"
+  run longer.log run "$here/source_longer.toml" -o src.h5; expect_rc 0 longer.log
+  ;;
 refusals)  # runs no job can finish, duplicates, misleading inputs: one clear message each
   run huge.log run "$here/huge_run.toml" --dry-run; expect_in 'would take about [0-9.e+]+ core-years' huge.log
   run dup.log run "$here/duplicate_seeds.toml"; expect_rc 2 dup.log

@@ -16,6 +16,12 @@ struct Error : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
+/// Thrown alike on every rank by open_parallel and create_parallel when some rank cannot
+/// open the file: nothing was opened, so the ranks can refuse together.
+struct OpenRefused : Error {
+    using Error::Error;
+};
+
 /// Check an HDF5 return value (negative = failure).
 inline hid_t check(hid_t id, const std::string& what) {
     if (id < 0) throw Error("HDF5: " + what + " failed");
@@ -109,6 +115,14 @@ void replace_attribute(hid_t obj, const std::string& name, std::int64_t value);
 /// File access through the MPI-IO driver on `comm`, semi close degree (a close that
 /// succeeds means nothing was left open).
 Handle mpio_file_access(MPI_Comm comm);
+/// Collective: `path` opened read-write (`open_parallel`) or created, truncated
+/// (`create_parallel`), through the MPI-IO driver on every rank of `comm`. Every rank first
+/// opens the file itself and the ranks agree on the outcome, so that a file one rank cannot
+/// open (permissions, no descriptors left, a mount another node lacks) throws the same
+/// OpenRefused on every rank: Open MPI's MPI_File_open waits forever when it fails on some ranks only
+/// (the others wait in its shared-file-pointer barrier). A refused create leaves no file.
+Handle open_parallel(MPI_Comm comm, const std::string& path);
+Handle create_parallel(MPI_Comm comm, const std::string& path);
 /// Serial read-only open that works while another job writes the file (no file locking).
 Handle open_unlocked_readonly(const std::string& path);
 /// Transfer properties for independent MPI-IO writes and reads.
