@@ -37,9 +37,13 @@ int status(const std::string& path) {
     try {
         ArchiveLock::check_free(path);
     } catch (const ArchiveBusy&) { live = true; }
+    // A merge's output that no run has continued since is not an interrupted run.
+    const bool merged_since = !s.merged.empty() && !(s.merged < s.started);
     const std::string unfinished =
-        live ? "running now: a live run holds the archive's lock"
-             : "interrupted: no run holds the archive; run the same command again to continue";
+        live           ? "running now: a live run holds the archive's lock"
+        : merged_since ? "merged " + s.merged + ", not run since: jamsim run CAMPAIGN.toml -o " + path +
+                             " runs the rest, with the campaign of its shards (or a file of the same replicas)"
+                       : "interrupted: no run holds the archive; run the same command again to continue";
     std::string state = complete ? "complete: every replica is finished" : run_finished ? "" : unfinished;
     if (complete && !s.merged.empty()) state += "; merged " + s.merged;
     std::printf("last run started %s, finished %s%s\n", s.started.empty() ? "-" : s.started.c_str(),
@@ -81,7 +85,8 @@ int merge(const std::string& output, const std::vector<std::string>& inputs, int
         std::fprintf(stderr, "jamsim merge: %s\n", e.what());
         return kExitRefused;
     }
-    std::printf("merged %lld replicas from %zu archives into %s", static_cast<long long>(merged.copied), inputs.size(),
+    std::printf("merged %lld %s from %zu %s into %s", static_cast<long long>(merged.copied),
+                merged.copied == 1 ? "replica" : "replicas", inputs.size(), inputs.size() == 1 ? "archive" : "archives",
                 output.c_str());
     if (merged.union_campaign) std::printf(" (a campaign of %zu replicas: the union of their sweeps)", merged.replicas);
     std::printf("\n");

@@ -313,6 +313,21 @@ std::vector<ReplicaStatus> Archive::read_status() const {
     return out;
 }
 
+FinalConfiguration Archive::read_final(std::int64_t replica, std::size_t n) const {
+    const Handle dxpl = h5::independent_transfer();
+    const hid_t f = file_.get();
+    const auto r = static_cast<hsize_t>(replica);
+    const auto first = static_cast<hsize_t>(layout_.particle_offset.at(r));
+    FinalConfiguration fin{
+        .x = std::vector<double>(n), .y = std::vector<double>(n), .diameter = std::vector<double>(n)};
+    h5::read_block(f, "/final/x", H5T_NATIVE_DOUBLE, {first}, {n}, fin.x.data(), dxpl.get());
+    h5::read_block(f, "/final/y", H5T_NATIVE_DOUBLE, {first}, {n}, fin.y.data(), dxpl.get());
+    h5::read_block(f, "/final/diameter", H5T_NATIVE_DOUBLE, {first}, {n}, fin.diameter.data(), dxpl.get());
+    h5::read_block(f, "/final/box_side", H5T_NATIVE_DOUBLE, {r}, {1}, &fin.box_side, dxpl.get());
+    h5::read_block(f, "/final/box_strain", H5T_NATIVE_DOUBLE, {r}, {1}, &fin.box_strain, dxpl.get());
+    return fin;
+}
+
 void Archive::stamp(const std::string& attribute) {
     std::string now = utc_now();
     mpi::broadcast(now, 0, comm_);

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -60,6 +61,58 @@ class ThreadUse {
     double thread_seconds_ = 0, seconds_ = 0;
 };
 
+bool same_bits(const FinalConfiguration& a, const FinalConfiguration& b) {
+    const auto same = [](const std::vector<double>& u, const std::vector<double>& v) {
+        return u.size() == v.size() && std::memcmp(u.data(), v.data(), u.size() * sizeof(double)) == 0;
+    };
+    return same(a.x, b.x) && same(a.y, b.y) && same(a.diameter, b.diameter) &&
+           std::memcmp(&a.box_side, &b.box_side, sizeof(double)) == 0 &&
+           std::memcmp(&a.box_strain, &b.box_strain, sizeof(double)) == 0;
+}
+
+/// The start of ladder replica `successor`: the end state of its predecessor `id` (done), read
+/// with the successor's parameters `params`. Its file is removed once the successor is done,
+/// and a merge or a copied archive leaves it behind; when it is missing, the chain up to `id`
+/// runs again from its start, as it ran (with the intermediate end states read back from their
+/// files, as the successors read them), must end on the final configuration that the archive
+/// holds for `id`, bitwise, and its end state is saved where the successor looks for it.
+/// Throws ReplicaInterrupted when `stop` asks (nothing is kept).
+System ladder_start(const CampaignSpec& spec, std::int64_t id, const ReplicaParams& params, std::int64_t successor,
+                    const Archive& archive, const FarmOptions& options, const std::function<void()>& between,
+                    const std::function<bool()>& stop) {
+    namespace fs = std::filesystem;
+    const std::string path = end_state_path(options.archive_path, id);
+    if (fs::exists(path)) return read_state_system(path, params);
+    const ReplicaParams& own = spec.replicas[static_cast<std::size_t>(id)];
+    const std::int64_t before = spec.predecessor[static_cast<std::size_t>(id)];
+    std::fprintf(stderr,
+                 "jamsim run: replica %lld starts from the end state of replica %lld, which '%s' no longer holds (a "
+                 "merge or a copy of the archive leaves it behind): replica %lld runs again to make it; its data in "
+                 "the archive stay as they are\n",
+                 static_cast<long long>(successor), static_cast<long long>(id),
+                 checkpoint_folder(options.archive_path).c_str(), static_cast<long long>(id));
+    std::optional<System> initial;
+    if (before >= 0) {
+        initial = ladder_start(spec, before, own, id, archive, options, between, stop);
+        std::error_code ignored;  // made for this run only: its successor `id` is done
+        fs::remove(end_state_path(options.archive_path, before), ignored);
+    } else if (options.initial_states)
+        initial = options.initial_states->load(own, id);
+    const CheckpointPolicy stop_only{.due = {}, .save = {}, .stop = stop};
+    const ReplicaResult result = run_replica(own, RunContext{.after_sample = [&](double) { between(); },
+                                                             .checkpoints = &stop_only,
+                                                             .initial = initial ? &*initial : nullptr});
+    if (!same_bits(final_configuration(result.final_state), archive.read_final(id, static_cast<std::size_t>(own.n))))
+        throw std::runtime_error("replica " + std::to_string(id) + ", run again to make the end state that replica " +
+                                 std::to_string(successor) +
+                                 " starts from, did not end on its final configuration in the archive (was the "
+                                 "archive written by another build of jamsim?): run the rate ladder in a new archive");
+    fs::create_directories(checkpoint_folder(options.archive_path));
+    const std::int64_t steps = schedule_of(own).steps;
+    write_checkpoint(path, own, ReplicaState{.step = steps, .steps = steps, .system = result.final_state});
+    return read_state_system(path, params);
+}
+
 }  // namespace
 
 Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, Archive& archive, int rank,
@@ -90,9 +143,14 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, A
     try {  // preparing: a failure here fails this replica, never the campaign
         if (fs::exists(checkpoint)) timed([&] { resume = usable_checkpoint(checkpoint, params, id); });
         if (options.initial_states && !resume) timed([&] { initial = options.initial_states->load(params, id); });
-        if (before >= 0 && !resume)  // a rate ladder: start where the predecessor ended
+        if (before >= 0 && !resume && fs::exists(end_state_path(options.archive_path, before)))
+            // A rate ladder: start where the predecessor ended.
             timed([&] { initial = read_state_system(end_state_path(options.archive_path, before), params); });
-    } catch (const h5::Error&) { throw; } catch (const std::exception& e) {
+        else if (before >= 0 && !resume)  // made again
+            initial = ladder_start(spec, before, params, id, archive, options, between, stop);
+    } catch (const h5::Error&) { throw; } catch (const ReplicaInterrupted&) {
+        return counted(Outcome::Interrupted);  // still pending
+    } catch (const std::exception& e) {
         timed([&] { archive.write_failed(id, e.what(), seconds_since(t0), rank); });
         return counted(Outcome::Failed);
     }

@@ -144,6 +144,8 @@ class Archive {
 
     /// Independent read of every replica's status.
     std::vector<ReplicaStatus> read_status() const;
+    /// Independent read of a done replica's final configuration (`n` disks).
+    FinalConfiguration read_final(std::int64_t replica, std::size_t n) const;
 
     /// Collective: record a time stamp attribute (e.g. run_started) and the number of ranks,
     /// then flush.
