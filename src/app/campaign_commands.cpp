@@ -17,7 +17,6 @@
 #include "jamsim/archive/capacity.hpp"
 #include "jamsim/io/hdf5.hpp"
 #include "jamsim/campaign/lifecycle.hpp"
-#include "jamsim/campaign/stop_request.hpp"
 #include "jamsim/linalg/contact_solver.hpp"
 #include "jamsim/parallel/mpi.hpp"
 #include "jamsim/parallel/threads.hpp"
@@ -144,10 +143,8 @@ void broadcast(RunDecision& d, MPI_Comm comm) {
 }
 
 int run(const RunOptions& opt, int& argc, char**& argv) {
-    // First, so that a stop signal during MPI's start (about 0.1 s) is a request to stop, not
-    // the end of the process (exit 143 for SIGTERM, which a Slurm script does not requeue);
-    // PETSc is started with -no_signal_handler, and MPI_Init leaves these signals alone.
-    StopRequest::install();
+    // The stop signals' handler is installed first thing in main (main.cpp); PETSc is started
+    // with -no_signal_handler, and MPI_Init leaves these signals alone.
     mpi::Session session(argc, argv);
     const linalg::PetscScope petsc;  // finalised before MPI (declared after the session)
     const MPI_Comm comm = MPI_COMM_WORLD;

@@ -63,6 +63,18 @@ std::string Archive::check_extension(const std::string& path, const CampaignSpec
     return longer ? "" : "no replica runs longer";
 }
 
+std::string Archive::remove_interrupted_extension(const std::string& path) {
+    const std::string next = path + ".extending";
+    std::error_code ec;
+    if (!std::filesystem::exists(next, ec) && !std::filesystem::exists(creation_marker(next), ec)) return "";
+    for (const std::string& left : {next, creation_marker(next)}) {
+        std::filesystem::remove(left, ec);
+        if (ec) throw h5::Error("cannot remove '" + left + "': " + ec.message());
+    }
+    return "removed '" + next + "', left by an extension that a kill interrupted before it replaced '" + path +
+           "' (which is whole)";
+}
+
 void Archive::extend(MPI_Comm comm, const std::string& path, const CampaignSpec& spec) {
     const std::string next = path + ".extending";
     std::vector<ReplicaStatus> before;

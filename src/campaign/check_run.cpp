@@ -36,11 +36,14 @@ void finish_interrupted_growth(const CampaignSpec& spec, RunDecision& d) {
 }
 
 /// An archive whose creation a kill interrupted (its marker beside it) is removed, to be
-/// created anew, unless another live run holds it (refused later for that reason).
+/// created anew, and what an interrupted extension left beside it, unless another live run
+/// holds it (refused later for that reason).
 void undo_interrupted_creation(const CampaignSpec& spec, RunDecision& d) {
     try {
         ArchiveLock::check_free(d.output);
         if (const std::string done = Archive::undo_interrupted_creation(d.output); !done.empty())
+            d.notes.push_back(done);
+        if (const std::string done = Archive::remove_interrupted_extension(d.output); !done.empty())
             d.notes.push_back(done);
     } catch (const ArchiveBusy&) {
     } catch (const h5::Error& e) { throw SpecError(spec.path + ": " + e.what()); }

@@ -86,6 +86,10 @@ class Archive {
     /// ladder's later replicas are pending again: they start from their predecessor's new end
     /// state, as in the longer campaign run in one go.
     static void extend(MPI_Comm comm, const std::string& path, const CampaignSpec& spec);
+    /// Serial, while no run holds the archive at `path`: remove the new archive (and its
+    /// creation marker) that an extension killed before its rename left beside it. Returns
+    /// what it did ("" when nothing).
+    static std::string remove_interrupted_extension(const std::string& path);
 
     /// Serial, read-only: "" when `spec` is the archive's campaign with a sweep that differs
     /// (grown: more seeds, rates, phi or N values, points; every replica of the archive still
