@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "jamsim/archive/archive.hpp"
+#include "jamsim/core/memory.hpp"
 #include "jamsim/observe/time_series.hpp"
 #include "jamsim/run/model_registry.hpp"
 
@@ -30,8 +31,6 @@ constexpr double kDiskMargin = 0.10;
 /// replicas had beyond archive_layout()'s bytes (tests/data/campaigns other_campaign, small,
 /// frames, static_small). It was 1 MB, which made a 56 kB archive's estimate 1 MB.
 constexpr double kArchiveMetadataBytes = 128e3;
-/// A rank's share of its node's available memory that one rank may plan to use.
-constexpr double kMemoryMargin = 0.8;
 
 }  // namespace
 
@@ -55,16 +54,6 @@ double occupied(const std::string& path) {
     struct stat s {};
     if (::stat(path.c_str(), &s) != 0) return 0.0;
     return static_cast<double>(s.st_blocks) * 512.0;  // allocated, not apparent (sparse) size
-}
-
-double available_memory() {
-    std::ifstream in("/proc/meminfo");
-    std::string key;
-    double kb = 0;
-    std::string unit;
-    while (in >> key >> kb >> unit)
-        if (key == "MemAvailable:") return kb * 1024.0;
-    return kNaN;
 }
 
 /// One checkpoint file of replica p: its particle arrays (7 doubles and a tag per disk), its
@@ -147,19 +136,6 @@ std::string check_replica_disk(const ReplicaParams& p, const std::string& output
            ", " + std::to_string(sample_count(p)) + " samples), but its filesystem has " + show_bytes(free) +
            " free (jamsim leaves 10% of it free): write it to a larger filesystem (-o) or take fewer samples (a "
            "larger sample_interval)";
-}
-
-std::string show_bytes(double bytes) {
-    if (!std::isfinite(bytes)) return "unknown";
-    const char* units[] = {"B", "kB", "MB", "GB", "TB", "PB", "EB"};
-    int k = 0;
-    while (std::abs(bytes) >= 1000.0 && k < 6) {
-        bytes /= 1000.0;
-        ++k;
-    }
-    char buf[32];
-    std::snprintf(buf, sizeof buf, k == 0 ? "%.0f %s" : "%.3g %s", bytes, units[k]);
-    return buf;
 }
 
 double parse_bytes(const std::string& text) {

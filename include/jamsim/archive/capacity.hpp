@@ -5,6 +5,7 @@
 // run prints the same figures.
 #include <string>
 
+#include "jamsim/core/memory.hpp"
 #include "jamsim/spec/campaign_spec.hpp"
 
 namespace jamsim {
@@ -49,8 +50,6 @@ double free_bytes(const std::string& path);
 /// a full disk.
 bool disk_full(const std::string& path);
 
-/// "1.5 GB", "830 kB" (decimal units).
-std::string show_bytes(double bytes);
 /// "10G", "1.5T", "500M", "2e12" in bytes; negative when it does not parse.
 double parse_bytes(const std::string& text);
 
