@@ -1,9 +1,11 @@
 #include "jamsim/io/initial_states.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
-#include <iterator>
+#include <string_view>
 #include <utility>
+#include <vector>
 
 #include "jamsim/core/digest.hpp"
 
@@ -30,6 +32,27 @@ void scale_to_phi(Particles& q, double& side, double phi) {
         side = target;
     }
 }
+/// Digest::add of the file's whole content, read in pieces (a data file of 10^6 disks is
+/// about 60 MB).
+std::uint64_t file_digest(const std::string& path) {
+    std::error_code ec;
+    const auto size = std::filesystem::file_size(path, ec);
+    std::ifstream in(path, std::ios::binary);
+    if (ec || !in) throw LammpsDataError("'" + path + "' cannot be read");
+    Digest d;
+    d.add(static_cast<std::uint64_t>(size));
+    std::vector<char> piece(std::size_t{1} << 20);
+    std::uintmax_t read = 0;
+    while (in) {
+        in.read(piece.data(), static_cast<std::streamsize>(piece.size()));
+        const auto got = static_cast<std::size_t>(in.gcount());
+        d.add_bytes(std::string_view(piece.data(), got));
+        read += got;
+    }
+    if (read != size) throw LammpsDataError("'" + path + "' changed while it was read");
+    return d.value();
+}
+
 }  // namespace
 
 InitialStates::InitialStates(const std::string& source) : source_(source) {
@@ -37,10 +60,7 @@ InitialStates::InitialStates(const std::string& source) : source_(source) {
     try {
         if (!is_hdf5_file(source)) {
             lammps_ = read_lammps_data(source);
-            std::ifstream in(source, std::ios::binary);  // its content is what starts every replica
-            Digest d;
-            d.add(std::string_view(std::string(std::istreambuf_iterator<char>(in), {})));
-            fingerprint_ = d.value();
+            fingerprint_ = file_digest(source);  // its content is what starts every replica
             return;
         }
     } catch (const LammpsDataError& e) { throw InitialStateError(source, allowed + e.what() + ")", true); }

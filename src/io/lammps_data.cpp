@@ -103,6 +103,29 @@ void write_lammps_data(const std::string& path, const FinalConfiguration& c, con
         throw std::runtime_error("writing '" + path + "' failed: " + std::strerror(errno));
 }
 
+namespace {
+/// The longest line read from a data file: its lines hold a few numbers (a file without line
+/// breaks, not text, is refused at this length rather than read whole).
+constexpr std::size_t kLongestLine = 4096;
+
+/// The next line of `in` (line `line` of the file `path`) into `raw`, without its line break;
+/// false at the end of the file.
+bool next_line(std::istream& in, std::string& raw, const std::string& path, std::size_t line) {
+    raw.clear();
+    std::streambuf& buf = *in.rdbuf();
+    for (int c = buf.sbumpc(); c != std::char_traits<char>::eof(); c = buf.sbumpc()) {
+        if (c == '\n') return true;
+        if (raw.size() == kLongestLine)
+            throw LammpsDataError("'" + path + "' line " + std::to_string(line) + ": a line of more than " +
+                                  std::to_string(kLongestLine) +
+                                  " characters is not allowed: a data file's lines hold a few numbers (is it a "
+                                  "text file?)");
+        raw.push_back(static_cast<char>(c));
+    }
+    return !raw.empty();
+}
+}  // namespace
+
 LammpsData read_lammps_data(const std::string& path) {
     std::ifstream in(path);
     if (!in) throw LammpsDataError("'" + path + "' cannot be read");
@@ -110,14 +133,14 @@ LammpsData read_lammps_data(const std::string& path) {
     const auto where = [&](std::size_t line) { return "'" + path + "' line " + std::to_string(line) + ": "; };
     std::string raw;
     std::size_t line_no = 0;
-    std::getline(in, raw);  // the title
     ++line_no;
+    next_line(in, raw, path, line_no);  // the title
     bool have_x = false, have_y = false, have_atoms = false, have_types = false;
     std::string section;
     std::string style_hint;
     std::set<std::string> sections_seen;
     std::set<std::string> header_seen;  // the header lines read (atoms, xlo xhi, ...)
-    while (std::getline(in, raw)) {
+    while (next_line(in, raw, path, line_no + 1)) {
         ++line_no;
         const std::string_view full(raw);
         const auto hash = full.find('#');

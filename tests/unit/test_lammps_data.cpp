@@ -10,8 +10,11 @@
 #include <fstream>
 #include <regex>
 #include <string>
+#include <string_view>
 
+#include "jamsim/core/digest.hpp"
 #include "jamsim/core/system.hpp"
+#include "jamsim/io/initial_states.hpp"
 #include "jamsim/io/lammps_data.hpp"
 #include "jamsim/run/replica.hpp"
 
@@ -205,4 +208,26 @@ TEST(LammpsData, RefusesWhatIsNotJamsimsMixture) {
     EXPECT_NE(text.find("is not a LAMMPS data file"), std::string::npos) << text;
     // every message names the file
     EXPECT_NE(text.find("jamsim_test_"), std::string::npos);
+}
+
+// A file without line breaks (not text) is refused at its first 4096 characters, not read
+// whole (a 300 MB file took 860 MB of memory).
+TEST(LammpsData, RefusesALineLongerThanAnyDataFileHas) {
+    const std::string path = write_text("one_line.data", "title\n" + std::string(5000, '7') + "\n");
+    EXPECT_NE(refusal(path).find("line 2: a line of more than 4096 characters is not allowed"), std::string::npos);
+}
+
+// The source's fingerprint (recorded with every replica that starts from it, and compared on
+// resume) is the digest of the whole content, read in pieces of 1 MiB: a file of several
+// pieces has the digest of its content taken at once.
+TEST(LammpsData, FingerprintIsTheDigestOfTheWholeContent) {
+    const std::string path = temp_path("fingerprint.data");
+    write_lammps_data(path, configuration(0.1, 30000), "test");
+    std::ifstream in(path, std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_GT(text.size(), std::size_t{1} << 20);
+    Digest whole;
+    whole.add(std::string_view(text));
+    EXPECT_EQ(InitialStates(path).fingerprint(), whole.value());
+    std::filesystem::remove(path);
 }

@@ -21,7 +21,12 @@ class Digest {
     }
     void add(std::string_view text) {
         add(static_cast<std::uint64_t>(text.size()));
-        for (const unsigned char c : text) h_ = (h_ ^ c) * 0x100000001b3ULL;
+        add_bytes(text);
+    }
+    /// The bytes alone, without their count: add(text) of a text that arrives in pieces is
+    /// add(its whole size) and then add_bytes of each piece.
+    void add_bytes(std::string_view piece) {
+        for (const unsigned char c : piece) h_ = (h_ ^ c) * 0x100000001b3ULL;
     }
     void add(const std::vector<double>& v) {
         add(static_cast<std::uint64_t>(v.size()));
