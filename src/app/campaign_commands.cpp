@@ -314,6 +314,9 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
                         (std::string_view(name) == "--shard"
                              ? " (the dry run of the whole campaign plans its shards: --shards N --time-limit T)"
                              : ""));
+        if (cmd->count("--no-calibrate") > 0 && cmd->count("--probe-seconds") > 0)
+            throw CLI::ValidationError("jamsim run: --probe-seconds is not allowed with --no-calibrate: nominal "
+                                       "throughput probes nothing");
         if (opt->plan.time_limit > 0) {
             opt->plan.signal_lead = signal_lead_from_environment();
             // Slurm may send the warning up to a minute early (its event timer's period).

@@ -214,7 +214,18 @@ CLI::App* add_plan_command(CLI::App& app, int& argc, char**& argv) {
         "Nominal throughput instead of a short probe per model and N");
     add_serial_fraction_option(*cmd, opt->estimate.serial_fraction);
     add_probe_seconds_option(*cmd, opt->estimate.probe_seconds);
-    cmd->callback([opt, &argc, &argv] {
+    cmd->callback([opt, cmd, &argc, &argv] {
+        // An option that another makes unused would be silently dropped.
+        const auto refuse_with = [cmd](const char* given, const char* name, const char* why) {
+            if (cmd->count(given) > 0 && cmd->count(name) > 0)
+                throw CLI::ValidationError(std::string("jamsim plan: ") + name + " is not allowed with " + given +
+                                           ": " + why);
+        };
+        for (const char* name : {"--output", "--no-calibrate", "--probe-seconds"})
+            refuse_with("--costs", name,
+                        "the listing's seconds are the costs (no archive is read and nothing is probed)");
+        for (const char* name : {"--output", "--probe-seconds"})
+            refuse_with("--no-calibrate", name, "nominal throughput reads no archive's rates and probes nothing");
         check_threads_environment("jamsim plan", false);  // its probes run the kernel
         int rc = 2;
         try {

@@ -151,6 +151,9 @@ CLI::App* add_parameters_command(CLI::App& app) {
     cmd->add_flag("--markdown", *markdown, "As the Markdown table of campaigns/README.md");
     cmd->add_flag("--template", *campaign_template, "As a commented campaign file (campaigns/TEMPLATE.toml)");
     cmd->callback([markdown, campaign_template] {
+        if (*markdown && *campaign_template)  // one of them would be silently dropped
+            throw CLI::ValidationError("jamsim parameters: --markdown is not allowed with --template: one form at a "
+                                       "time (the table of campaigns/README.md, or a campaign file)");
         if (*campaign_template)
             print_template();
         else
