@@ -127,10 +127,19 @@ CLI::App* add_minimize_command(CLI::App& app) {
     cmd->add_option("--lammps-data", opt->lammps_data, "Also write the start configuration here (LAMMPS data file)")
         ->check(nonempty_path())
         ->type_name("FILE");
-    cmd->callback([opt] {
+    cmd->callback([opt, cmd] {
         check_threads_environment("jamsim minimize", false);
-        if (opt->n < 8 || opt->n % 2) throw CLI::ValidationError("--N", "an even number >= 8");
-        if (!(opt->phi > 0 && opt->phi < 1)) throw CLI::ValidationError("--phi", "0 < phi < 1");
+        // The values as written (the messages said only what is allowed).
+        const auto as_written = [cmd](const char* name) {
+            const auto written = cmd->get_option(name)->results();
+            return written.empty() ? std::string("its default") : written.back();
+        };
+        if (opt->n < 8 || opt->n % 2)
+            throw CLI::ValidationError("jamsim minimize: --N = " + as_written("--N") +
+                                       " is not allowed: an even number >= 8");
+        if (!(opt->phi > 0 && opt->phi < 1))
+            throw CLI::ValidationError("jamsim minimize: --phi = " + as_written("--phi") +
+                                       " is not allowed: 0 < phi < 1");
         check_options(*opt);
         if (!opt->lammps_data.empty())
             if (const std::string why = writable_new_file(opt->lammps_data); !why.empty())

@@ -31,7 +31,12 @@ long count_in(const char* text, std::size_t n) {
     const long v = std::strtol(digits, &end, 10);
     return *end == '\0' && v >= 1 && v <= 4096 ? v : 0;
 }
-long positive_count(const std::string& text) { return count_in(text.c_str(), text.size()); }
+/// --threads: digits only ("+2" and " 2" were taken as 2; OMP_NUM_THREADS keeps libgomp's reading).
+long positive_count(const std::string& text) {
+    const bool digits =
+        !text.empty() && std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
+    return digits ? count_in(text.c_str(), text.size()) : 0;
+}
 /// OMP_NUM_THREADS's count: its first (outer) level when it is a nested list ("4,2"), else 0;
 /// 0 too when any level is no count ("2,", "2,abc", "2,0": libgomp refuses the whole value).
 long environment_count(const char* value) {

@@ -163,10 +163,17 @@ const ParamInfo kParameters[] = {
     {"alpha", "potential", "alpha", "--alpha", "1",
      "potential exponent: V = k_e/alpha (1 - r/d)^alpha ([potential] name = harmonic: 2, "
      "hertzian: 2.5)",
-     &R::alpha, kPhys, JAMSIM_CHECK(std::isfinite(p.alpha) && p.alpha > 1.0, "alpha > 1"), "alpha > 1"},
+     // At most 20: overlaps of 1e-8 (near jamming) give energies of 1e-160, far from double's
+     // underflow; alpha = 1e300 ran with every force 0 and no word.
+     &R::alpha, kPhys, JAMSIM_CHECK(std::isfinite(p.alpha) && p.alpha > 1.0 && p.alpha <= 20.0, "1 < alpha <= 20"),
+     "1 < alpha <= 20"},
     {"size_ratio", "system", "size_ratio", "--size-ratio", "1",
      "large/small diameter of the 50:50 mixture (1: monodisperse)", &R::size_ratio, kPhys,
-     JAMSIM_CHECK(std::isfinite(p.size_ratio) && p.size_ratio >= 1.0, "size_ratio >= 1"), "size_ratio >= 1"},
+     // At most 100: g_y's bins and the cell list's cells grow with the large disks' size, and
+     // a size_ratio of 1e10 (a typo) was refused only for the disk space its bins would take.
+     JAMSIM_CHECK(std::isfinite(p.size_ratio) && p.size_ratio >= 1.0 && p.size_ratio <= 100.0,
+                  "1 <= size_ratio <= 100"),
+     "1 <= size_ratio <= 100"},
     {"skin", "system", "skin", "--skin", "d_s",
      "neighbour-list skin (CD0's contact matrix: candidate pairs within skin/3)", &R::skin, kNum,
      JAMSIM_CHECK(positive(p.skin), "skin > 0"), "skin > 0"},

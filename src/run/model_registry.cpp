@@ -182,20 +182,28 @@ std::string three_digits(double v) {
     return buffer;
 }
 
-/// "" when the periodic box of p.n disks holds twice the neighbour list's range (the large
-/// diameter + skin), else what N is allowed: below it the list cannot tell a pair from its
-/// image, and the replica failed at its first step.
-std::string box_holds_the_list(const ReplicaParams& p) {
+/// None when the periodic box of p.n disks holds twice the neighbour list's range (the large
+/// diameter + skin), else the refusal: of N with the least N allowed (below it the list cannot
+/// tell a pair from its image, and the replica failed at its first step), or of the larger of
+/// skin and size_ratio when no N of fewer than 10^15 disks would do.
+std::optional<ParamError> box_holds_the_list(const ReplicaParams& p) {
     if (!(p.phi > 0.0 && p.phi < 1.0 && std::isfinite(p.skin) && p.skin > 0.0 && std::isfinite(p.size_ratio) &&
           p.size_ratio >= 1.0))
-        return "";  // those parameters' own checks speak first
+        return std::nullopt;  // those parameters' own checks speak first
     const double range = p.size_ratio + p.skin;
-    if (box_side_for(p.n, p.phi, p.size_ratio) >= 2.0 * range) return "";
+    if (box_side_for(p.n, p.phi, p.size_ratio) >= 2.0 * range) return std::nullopt;
     // The side grows as sqrt(N): the smallest N that fits, from N = 2's side, checked upwards.
     const std::int64_t step = p.size_ratio == 1.0 ? 1 : 2;
     const double two = box_side_for(2, p.phi, p.size_ratio);
     const double estimate = std::ceil(2.0 * std::pow(2.0 * range / two, 2.0));
-    if (!(estimate < 1e15)) return "an N whose box holds twice the neighbour range (size_ratio + skin): none does here";
+    if (!(estimate < 1e15)) {
+        const bool skin = p.skin >= p.size_ratio;
+        return ParamError{skin ? "skin" : "size_ratio", show_value(skin ? p.skin : p.size_ratio),
+                          std::string(skin ? "a skin" : "a size_ratio") +
+                              " that the box of some N holds twice over with " + (skin ? "size_ratio" : "skin") +
+                              " (the neighbour range size_ratio + skin = " + show_value(range) +
+                              " needs more than 10^15 disks here; a skin of 0.3 to 1 diameters is usual)"};
+    }
     auto least = std::max<std::int64_t>(2, static_cast<std::int64_t>(estimate) - 2 * step);
     least += least % step;
     while (box_side_for(least, p.phi, p.size_ratio) < 2.0 * range) least += step;
@@ -205,7 +213,7 @@ std::string box_holds_the_list(const ReplicaParams& p) {
                   "span twice the neighbour range size_ratio + skin = %g)",
                   static_cast<long long>(least), p.phi, p.size_ratio, p.skin, box_side_for(p.n, p.phi, p.size_ratio),
                   range);
-    return text;
+    return ParamError{"N", show_value(ParamValue{p.n}), text};
 }
 
 /// "" when the neighbour list's cell grid can cover the box (at most kMaxCellsPerSide list
@@ -219,9 +227,6 @@ std::optional<ParamError> cell_grid_fits(const ReplicaParams& p) {
     const double widest = NeighborList::kMaxCellsPerSide * range;
     const double side = box_side_for(p.n, p.phi, p.size_ratio);
     if (side < widest) return std::nullopt;
-    if (!std::isfinite(box_side_for(p.n, 1.0, p.size_ratio)))  // size_ratio = 1e308: no bound to give
-        return ParamError{"size_ratio", show_value(p.size_ratio),
-                          "a size_ratio whose disks' areas are finite (the box side is " + show_value(side) + ")"};
     // side² = N × mean disk area / phi. The least phi whose box is `widest` wide (from the
     // side at phi = 1, finite where this one is not), and the most disks at this phi.
     const double side_at_one = box_side_for(p.n, 1.0, p.size_ratio);
@@ -342,8 +347,7 @@ std::vector<ParamError> validate(const ReplicaParams& p) {
             if (std::string allowed = info->check(p); !allowed.empty())
                 errors.push_back({std::string(info->key), show_value(get_value(p, *info)), allowed});
     if (!errors.empty()) return errors;
-    if (std::string allowed = box_holds_the_list(p); !allowed.empty())
-        errors.push_back({"N", show_value(ParamValue{p.n}), allowed});
+    if (auto too_small = box_holds_the_list(p)) errors.push_back(*too_small);
     if (auto too_wide = cell_grid_fits(p)) errors.push_back(*too_wide);
     for (ParamError& e : run_in_whole_steps(p, *m)) errors.push_back(std::move(e));
     if (uses_parameter(p, "dt") && p.dt > m->stable_dt(p))
@@ -364,7 +368,15 @@ std::vector<ParamError> validate(const ReplicaParams& p) {
         // Steps are counted in 64 bits, and far fewer than that fit any allocation.
         if (uses_parameter(p, "dt") && m->kind == ModelKind::Dynamics) {
             const double duration = p.rate > 0.0 ? p.strain / p.rate : p.time;
-            if (!(duration / p.dt <= kMostSteps))
+            const double largest_dt = m->stable_dt(p);
+            // A rate so small that no stable dt fits the run (1e-320 said "dt >= inf").
+            if (p.rate > 0.0 && !(duration / largest_dt <= kMostSteps))
+                errors.push_back({"rate", show_value(p.rate),
+                                  "rate >= " + three_digits(p.strain / (kMostSteps * largest_dt)) + " here: strain = " +
+                                      show_value(p.strain) + " would take " + three_digits(duration / largest_dt) +
+                                      " steps even at the largest stable dt = " + three_digits(largest_dt) +
+                                      ", and a replica runs at most " + three_digits(kMostSteps)});
+            else if (!(duration / p.dt <= kMostSteps))
                 errors.push_back({"dt", show_value(p.dt),
                                   "dt >= " + three_digits(duration / kMostSteps) + " here: " + run.key + " = " +
                                       show_value(run.value) + (p.rate > 0.0 ? " at rate = " + show_value(p.rate) : "") +

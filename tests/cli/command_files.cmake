@@ -96,7 +96,7 @@ set(minimize_refusals
   "force_tol|--force-tol -1|--force-tol = -1 is not allowed: force_tol >= 0"
   "no_stopping_rule|--force-tol 0 --force-tol-abs 0|--force-tol = 0 is not allowed: force_tol > 0 or force_tol_abs > 0"
   "max_iterations|--max-iterations -5|--max-iterations: value -5 is not allowed: a whole number of iterations >= 1"
-  "alpha|--alpha 1|--alpha = 1 is not allowed: alpha > 1"
+  "alpha|--alpha 1|--alpha = 1 is not allowed: 1 < alpha <= 20"
   "minimizer|--minimizer bogus|--minimizer = bogus is not allowed: cg, cg-pr, fire"
   "phi_too_dilute|--phi 1e-300|--phi = 1e-300 is not allowed: phi >= 3e-09 at N = 16")
 foreach(entry IN LISTS minimize_refusals)
@@ -115,8 +115,13 @@ add_test(NAME cli.minimize_data_folder_missing
   COMMAND ${expect} "^jamsim minimize: --lammps-data = no_such_folder/x.data is not allowed: a file in an existing directory" ${bad_dir}/none.h5
     $<TARGET_FILE:jamsim> minimize --N 16 --lammps-data no_such_folder/x.data)
 set_tests_properties(cli.minimize_memory cli.minimize_data_folder_missing PROPERTIES LABELS unit ENVIRONMENT "EXPECT_STATUS=2")
-jamsim_cli_error(size_ratio_overflows "--size-ratio = 1e\\+308 is not allowed: a size_ratio whose disks' areas are finite"
+jamsim_cli_error(size_ratio_overflows "--size-ratio = 1e\\+308 is not allowed: 1 <= size_ratio <= 100"
   replica --N 16 --size-ratio 1e308 -o ${out})
+# 1e10 was refused for the disk space of g_y's bins; a skin of 1e300 blamed N.
+jamsim_cli_error(size_ratio_too_large "--size-ratio = 10000000000 is not allowed: 1 <= size_ratio <= 100"
+  replica --size-ratio 1e10 -o ${out})
+jamsim_cli_error(skin_too_large "--skin = 1e\\+300 is not allowed: a skin that the box of some N holds twice over"
+  replica --skin 1e300 -o ${out})
 # jamsim minimize --lammps-data overwrites nothing (it replaced archives and campaign files).
 add_test(NAME cli.minimize_keeps_existing_file
   COMMAND ${expect} "^jamsim minimize: --lammps-data = .*other_campaign.toml is not allowed: a new file \\(it exists" ${bad_dir}/none.h5
