@@ -10,6 +10,7 @@
 #include <cctype>
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -321,6 +322,14 @@ std::string spaced_file_name(const std::string& name) {
 }
 
 std::string output_path_problem(const std::string& path) {
+    // A shell expands ~ before jamsim sees it; in a campaign file (or quoted) it made a
+    // folder named ~ in the working directory.
+    if (path.starts_with("~")) {
+        const char* home = std::getenv("HOME");
+        const std::string hint =
+            path.starts_with("~/") && home && *home ? " (" + std::string(home) + path.substr(1) + " here)" : "";
+        return "a path without a leading '~', which only a shell expands: write the home folder out" + hint;
+    }
     const std::filesystem::path p(path);
     const std::string name = p.filename().string();
     if (name.empty() || name == "." || name == "..")

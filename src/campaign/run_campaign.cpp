@@ -1,11 +1,13 @@
 // The run of a checked campaign over MPI ranks (lifecycle.hpp, run_campaign): the archive's
 // lock, extending or growing the archive, creating or opening it, the farm, the totals.
+#include <algorithm>
 #include <filesystem>
 #include <optional>
 
 #include "jamsim/archive/archive.hpp"
 #include "jamsim/archive/archive_lock.hpp"
 #include "jamsim/campaign/lifecycle.hpp"
+#include "jamsim/campaign/scheduler.hpp"
 #include "jamsim/campaign/stop_request.hpp"
 #include "jamsim/io/checkpoint_file.hpp"
 #include "jamsim/parallel/mpi.hpp"
@@ -132,6 +134,17 @@ RunOutcome run_campaign(MPI_Comm comm, const CampaignSpec& spec, const RunDecisi
             (!exists                 ? ""
              : settings.retry_failed ? " (resuming: done replicas are skipped, failed ones run again)"
                                      : " (resuming: finished replicas are skipped)"));
+    if (const Shard& shard = settings.shard; shard.count > 1) {
+        const auto chains = static_cast<std::int64_t>(chains_of(spec.predecessor, spec.replicas.size()).members.size());
+        if (shard.index >= chains)  // chain c is in shard c % count
+            say(settings, rank,
+                "shard " + std::to_string(shard.index) + "/" + std::to_string(shard.count) +
+                    " holds no replica: the campaign has " + std::to_string(chains) +
+                    (spec.predecessor.empty() ? (chains == 1 ? " replica" : " replicas")
+                                              : " chains (rate ladders, each whole in one shard)") +
+                    ", in shards 0 to " + std::to_string(std::min<std::int64_t>(chains, shard.count) - 1) +
+                    "; this shard's archive holds them all pending, for jamsim merge");
+    }
     const FarmSummary summary = run_farm(comm, spec, archive, farm);
     add_up(comm, summary, out);
     // Interrupted (a signal, or a replica stopped at a checkpoint step) on any rank?

@@ -1,6 +1,7 @@
 #include "jamsim/params/parameters.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -258,6 +259,13 @@ std::string show_value(const ParamValue& value) {
     std::snprintf(buf, sizeof buf, "%.15g", d);
     if (std::strtod(buf, nullptr) != d) std::snprintf(buf, sizeof buf, "%.17g", d);
     return buf;
+}
+
+std::string show_in_message(const ParamValue& value) {
+    const auto* s = std::get_if<std::string>(&value);
+    const auto space = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
+    if (!s || (!s->empty() && !space(s->front()) && !space(s->back()))) return show_value(value);
+    return "\"" + *s + "\"";
 }
 
 std::string default_text(const ParamInfo& info) { return show_value(get_value(ReplicaParams{}, info)); }

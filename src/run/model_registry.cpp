@@ -340,12 +340,12 @@ std::vector<ParamError> sampling_in_steps(const ReplicaParams& p, const ModelInf
 
 std::vector<ParamError> validate(const ReplicaParams& p) {
     const ModelInfo* m = find_model(p.model);
-    if (!m) return {{"model", p.model, "one of: " + model_list()}};
+    if (!m) return {{"model", show_in_message(p.model), "one of: " + model_list()}};
     std::vector<ParamError> errors;
     for (const ParamInfo* info : used_parameters(p))
         if (info->check)
             if (std::string allowed = info->check(p); !allowed.empty())
-                errors.push_back({std::string(info->key), show_value(get_value(p, *info)), allowed});
+                errors.push_back({std::string(info->key), show_in_message(get_value(p, *info)), allowed});
     if (!errors.empty()) return errors;
     if (auto too_small = box_holds_the_list(p)) errors.push_back(*too_small);
     if (auto too_wide = cell_grid_fits(p)) errors.push_back(*too_wide);

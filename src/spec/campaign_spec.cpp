@@ -157,7 +157,7 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
             }
         }
     }
-    if (!find_model(base.model)) r.fail("[model] name", base.model, "one of: " + model_list());
+    if (!find_model(base.model)) r.fail("[model] name", show_in_message(base.model), "one of: " + model_list());
     if (const toml::table* pot = r.table(root, "potential")) {
         const std::string name = r.string(*pot, "[potential]", "name", "");
         if (name.empty() && pot->get("name"))  // name = "" was taken as the default, harmonic

@@ -151,3 +151,9 @@ add_test(NAME cli.stale_extension
   COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/stale_extension.sh $<TARGET_FILE:jamsim>
   WORKING_DIRECTORY ${bad_dir})
 set_tests_properties(cli.stale_extension PROPERTIES LABELS unit)
+# A shard past the campaign's replicas says that it holds none (it made an empty archive
+# without a word); a shard with one says nothing of the kind.
+add_test(NAME cli.shard_without_replicas
+  COMMAND bash -c "rm -rf es*.h5*; $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml --shard 1/2 -o es1.h5 > es1.txt 2>&1 && grep -q '^shard 1/2 holds no replica: the campaign has 1 replica, in shards 0 to 0; this shard.s archive holds them all pending, for jamsim merge' es1.txt && $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml --shard 0/2 -o es0.h5 > es0.txt 2>&1 && ! grep -q 'holds no replica' es0.txt"
+  WORKING_DIRECTORY ${campaign_dir})
+set_tests_properties(cli.shard_without_replicas PROPERTIES LABELS unit)

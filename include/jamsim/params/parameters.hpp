@@ -94,6 +94,9 @@ ParamValue get_value(const ReplicaParams& p, const ParamInfo& info);
 bool set_value(ReplicaParams& p, const ParamInfo& info, const ParamValue& value);
 /// The value as a person writes it ("0.84", "RD0"), round-tripping doubles (17 digits).
 std::string show_value(const ParamValue& value);
+/// show_value for a message: a text that is empty or starts or ends with white space in
+/// double quotes ("RD0 " read as RD0), everything else as show_value.
+std::string show_in_message(const ParamValue& value);
 /// The default of a parameter (ReplicaParams{}), as text.
 std::string default_text(const ParamInfo& info);
 /// Parse text (a command-line argument) into the field's kind; false when it does not parse.
