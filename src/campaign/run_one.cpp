@@ -143,11 +143,19 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, A
     try {  // preparing: a failure here fails this replica, never the campaign
         if (fs::exists(checkpoint)) timed([&] { resume = usable_checkpoint(checkpoint, params, id); });
         if (options.initial_states && !resume) timed([&] { initial = options.initial_states->load(params, id); });
-        if (before >= 0 && !resume && fs::exists(end_state_path(options.archive_path, before)))
-            // A rate ladder: start where the predecessor ended.
-            timed([&] { initial = read_state_system(end_state_path(options.archive_path, before), params); });
-        else if (before >= 0 && !resume)  // made again
-            initial = ladder_start(spec, before, params, id, archive, options, between, stop);
+        if (before >= 0 && !resume) {  // a rate ladder: start where the predecessor ended
+            const std::string end = end_state_path(options.archive_path, before);
+            bool read = false;
+            try {
+                if (fs::exists(end)) timed([&] { initial = read_state_system(end, params); });
+                read = fs::exists(end);
+            } catch (const CheckpointError& e) {  // damaged: made again, as a missing one
+                std::fprintf(stderr, "jamsim run: warning: %s; it is made again\n", e.what());
+                std::error_code ignored;
+                fs::remove(end, ignored);
+            }
+            if (!read) initial = ladder_start(spec, before, params, id, archive, options, between, stop);
+        }
     } catch (const h5::Error&) { throw; } catch (const ReplicaInterrupted&) {
         return counted(Outcome::Interrupted);  // still pending
     } catch (const std::exception& e) {

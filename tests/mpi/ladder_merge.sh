@@ -5,8 +5,9 @@
 # folder): its run runs the chain up to the predecessor again, checks that it ends on the
 # predecessor's final configuration in the archive, and the campaign finishes bitwise equal to
 # one run in one go. An end state that an input holds (its run was stopped before the
-# successor finished) is copied by the merge instead. A predecessor whose stored final
-# configuration the run does not reproduce fails its successor, naming it.
+# successor finished) is copied by the merge instead, and one that is damaged is made again.
+# A predecessor whose stored final configuration the run does not reproduce fails its
+# successor, naming it.
 set -euo pipefail
 jamsim=$1 campaigns=$2 work=$3 py=$4
 mpirun=${MPIEXEC:-mpiexec}
@@ -58,4 +59,13 @@ rc=0; wait "$leader" || rc=$?
 run slow_rest.log "$slow" -o ms.h5
 ! grep -q "runs again to make it" slow_rest.log || { cat slow_rest.log; fail "the chain ran again though its end state was copied"; }
 $compare slow_ref.h5 ms.h5 || fail "the merged stopped ladder finished otherwise than the ladder run in one go"
+# A damaged end state (cut to a third) is made again, as a missing one (it failed the
+# successor for good).
+"$jamsim" merge -o md.h5 slow.h5 > merge_damaged.log
+end=md.h5.checkpoints/end_1.h5
+truncate -s $(($(stat -c %s "$end") / 3)) "$end"
+run damaged.log "$slow" -o md.h5
+grep -q "warning: checkpoint '$end' .*; it is made again" damaged.log || { cat damaged.log; fail "no warning of the damaged end state"; }
+grep -q "replica 1 runs again to make it" damaged.log || { cat damaged.log; fail "the damaged end state was not made again"; }
+$compare slow_ref.h5 md.h5 || fail "the ladder with a damaged end state finished otherwise than the ladder run in one go"
 echo "ok"
