@@ -106,7 +106,7 @@ int plan(const PlanOptions& opt, int& argc, char**& argv) {
         if (opt.cores_per_node % t != 0)
             throw PlanError("jamsim plan: --threads " + std::to_string(t) + " is not allowed with --cores-per-node " +
                             std::to_string(opt.cores_per_node) + ": a divisor of the cores per node");
-    const CampaignSpec spec = load_campaign(opt.spec_path);
+    const CampaignSpec spec = load_campaign(opt.spec_path, kDefaultMaxReplicas, 1);
     ReplicaSeconds estimate;
     if (!opt.costs.empty()) {
         estimate = seconds_from_listing(opt.costs, spec);

@@ -138,7 +138,7 @@ void check_campaign(const RunRequest& request, const CampaignSpec& spec, RunDeci
 RunDecision check_run(const RunRequest& request) {
     RunDecision d;
     try {
-        check_campaign(request, load_campaign(request.spec_path, request.max_replicas), d);
+        check_campaign(request, load_campaign(request.spec_path, request.max_replicas, request.node_ranks), d);
     } catch (const SpecError& e) {
         d.error = e.what();
     } catch (const std::exception& e) {  // any other failure (an unreadable file): said in words

@@ -83,7 +83,8 @@ std::size_t deeply_dotted_line(const std::string& text, std::size_t most) {
 
 }  // namespace
 
-CampaignSpec parse_campaign(const std::string& text, const std::string& path, std::int64_t max_replicas) {
+CampaignSpec parse_campaign(const std::string& text, const std::string& path, std::int64_t max_replicas,
+                            int memory_ranks) {
     const Reader r(path);
     if (text.rfind("\x89HDF\r\n\x1a\n", 0) == 0)  // toml++ said "invalid utf-8 sequence"
         throw SpecError(path + ": an HDF5 file (a campaign archive? jamsim status " + path +
@@ -204,7 +205,7 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
                        " (used by: " + (users.empty() ? "none" : users) + ")");
         }
 
-    expand_sweep(r, *sweep, base, max_replicas, spec);
+    expand_sweep(r, *sweep, base, max_replicas, memory_ranks, spec);
     for (const auto& [info, shown] : given) {
         if (!follows_rate(*info)) continue;
         // (the key named, not the binding: Clang before 16 cannot capture a structured binding)
@@ -234,7 +235,7 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
     return spec;
 }
 
-CampaignSpec load_campaign(const std::string& path, std::int64_t max_replicas) {
+CampaignSpec load_campaign(const std::string& path, std::int64_t max_replicas, int memory_ranks) {
     namespace fs = std::filesystem;
     std::error_code ec;
     const fs::file_status st = fs::status(path, ec);
@@ -254,7 +255,7 @@ CampaignSpec load_campaign(const std::string& path, std::int64_t max_replicas) {
     if (!in) throw SpecError(path + ": cannot read the campaign file");
     std::ostringstream text;
     text << in.rdbuf();
-    return parse_campaign(text.str(), path, max_replicas);
+    return parse_campaign(text.str(), path, max_replicas, memory_ranks);
 }
 
 std::vector<std::string> campaign_warnings(const CampaignSpec& spec) {

@@ -141,7 +141,7 @@ constexpr double kSpecBytesPerReplica = 1.5e3;
 
 /// One replica per point and seed, each validated.
 void make_replicas(const Reader& r, const std::vector<Point>& points, Seeds seeds_read, const ReplicaParams& base,
-                   std::int64_t max_replicas, CampaignSpec& spec) {
+                   std::int64_t max_replicas, int memory_ranks, CampaignSpec& spec) {
     std::vector<std::uint64_t>& seeds = seeds_read.listed;
     const std::int64_t seed_count = seeds_read.count;
     if (points.empty()) r.fail("[sweep]", "{}", "N, phi and rate lists, or points = [...], or both");
@@ -159,14 +159,16 @@ void make_replicas(const Reader& r, const std::vector<Point>& points, Seeds seed
                    " replicas per campaign (jamsim run --max-replicas raises the cap; each replica "
                    "costs every rank about 1 kB of memory before it runs)");
     // Under the cap, the node's memory: every rank holds the whole campaign.
-    if (const double needed = replica_count * kSpecBytesPerReplica, available = available_memory();
-        std::isfinite(available) && needed > kMemoryMargin * available)
+    if (const double needed = replica_count * kSpecBytesPerReplica * memory_ranks, available = available_memory();
+        memory_ranks > 0 && std::isfinite(available) && needed > kMemoryMargin * available)
         r.fail("[sweep]",
                show_value(replica_count) + " replicas (" + std::to_string(points.size()) + " points x " +
                    show_value(seeds_per_point) + " seeds)",
-               "a campaign this node's memory holds: its description alone takes every rank about " +
-                   show_bytes(needed) + " (about " + show_bytes(kSpecBytesPerReplica) +
-                   " per replica), and this node has " + show_bytes(available) +
+               "a campaign this node's memory holds: its description alone takes about " +
+                   show_bytes(replica_count * kSpecBytesPerReplica) + " on every rank (about " +
+                   show_bytes(kSpecBytesPerReplica) + " per replica; " + std::to_string(memory_ranks) +
+                   (memory_ranks == 1 ? " rank" : " ranks") + " on this node: " + show_bytes(needed) +
+                   "), and this node has " + show_bytes(available) +
                    " available (jamsim plans for 80% of it); split the campaign into smaller ones");
     for (std::int64_t k = 1; k <= seed_count; ++k) seeds.push_back(static_cast<std::uint64_t>(k));
 
@@ -247,7 +249,7 @@ void link_rate_ladders(const Reader& r, CampaignSpec& spec) {
 }  // namespace
 
 void expand_sweep(const Reader& r, const toml::table& sweep, ReplicaParams base, std::int64_t max_replicas,
-                  CampaignSpec& spec) {
+                  int memory_ranks, CampaignSpec& spec) {
     const Seeds seeds = read_seeds(r, sweep);
     // Models without a shear rate (the minimisation protocols) take rate 0; a sweep may say
     // so explicitly (rate = [0]) but not ask for another rate.
@@ -258,7 +260,7 @@ void expand_sweep(const Reader& r, const toml::table& sweep, ReplicaParams base,
     std::vector<Point> points;
     read_grid(r, sweep, sweep_number, uses_rate, max_replicas, points);
     read_points(r, sweep, sweep_number, uses_rate, max_replicas, points);
-    make_replicas(r, points, seeds, base, max_replicas, spec);
+    make_replicas(r, points, seeds, base, max_replicas, memory_ranks, spec);
     check_each_once(r, spec);
     if (!base.rate_ladder.empty()) link_rate_ladders(r, spec);
 }

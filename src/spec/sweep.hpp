@@ -7,8 +7,9 @@
 namespace jamsim::spec_detail {
 
 /// Appends the replicas of `sweep` over the parameters `base` to spec.replicas (and links
-/// their rate ladders); at most `max_replicas`, each once.
+/// their rate ladders); at most `max_replicas`, each once, and with `memory_ranks` > 0 no more
+/// than that many ranks of this node can describe (parse_campaign).
 void expand_sweep(const Reader& r, const toml::table& sweep, ReplicaParams base, std::int64_t max_replicas,
-                  CampaignSpec& spec);
+                  int memory_ranks, CampaignSpec& spec);
 
 }  // namespace jamsim::spec_detail

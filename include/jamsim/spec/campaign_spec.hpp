@@ -45,12 +45,16 @@ struct CampaignSpec {
 constexpr std::int64_t kDefaultMaxReplicas = 250'000;
 
 /// Parse and validate a campaign; throws SpecError, also for a sweep of more than
-/// `max_replicas` replicas (checked before any replica is made).
+/// `max_replicas` replicas and, with `memory_ranks` > 0, for one whose description that many
+/// ranks of a node cannot hold in its available memory (both checked before any replica is
+/// made). The memory check is made once, by the process that decides (rank 0): a rank that
+/// refused alone would leave the others waiting.
 CampaignSpec parse_campaign(const std::string& text, const std::string& path,
-                            std::int64_t max_replicas = kDefaultMaxReplicas);
+                            std::int64_t max_replicas = kDefaultMaxReplicas, int memory_ranks = 0);
 
 /// Read a file and parse it; throws SpecError (also for an unreadable file).
-CampaignSpec load_campaign(const std::string& path, std::int64_t max_replicas = kDefaultMaxReplicas);
+CampaignSpec load_campaign(const std::string& path, std::int64_t max_replicas = kDefaultMaxReplicas,
+                           int memory_ranks = 0);
 
 /// The advisory warnings of a campaign (limits that are not refused; model_registry.hpp
 /// `advisories`): each kind once, with the number of replicas it concerns.
