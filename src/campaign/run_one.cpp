@@ -82,7 +82,13 @@ System ladder_start(const CampaignSpec& spec, std::int64_t id, const ReplicaPara
                     const std::function<bool()>& stop) {
     namespace fs = std::filesystem;
     const std::string path = end_state_path(options.archive_path, id);
-    if (fs::exists(path)) return read_state_system(path, params);
+    try {
+        if (fs::exists(path)) return read_state_system(path, params);
+    } catch (const CheckpointError& e) {  // damaged: made again, as a missing one
+        std::fprintf(stderr, "jamsim run: warning: %s; it is made again\n", e.what());
+        std::error_code ignored;
+        fs::remove(path, ignored);
+    }
     const ReplicaParams& own = spec.replicas[static_cast<std::size_t>(id)];
     const std::int64_t before = spec.predecessor[static_cast<std::size_t>(id)];
     std::fprintf(stderr,
@@ -92,11 +98,9 @@ System ladder_start(const CampaignSpec& spec, std::int64_t id, const ReplicaPara
                  static_cast<long long>(successor), static_cast<long long>(id),
                  checkpoint_folder(options.archive_path).c_str(), static_cast<long long>(id));
     std::optional<System> initial;
-    if (before >= 0) {
+    if (before >= 0)
         initial = ladder_start(spec, before, own, id, archive, options, between, stop);
-        std::error_code ignored;  // made for this run only: its successor `id` is done
-        fs::remove(end_state_path(options.archive_path, before), ignored);
-    } else if (options.initial_states)
+    else if (options.initial_states)
         initial = options.initial_states->load(own, id);
     const CheckpointPolicy stop_only{.due = {}, .save = {}, .stop = stop};
     const ReplicaResult result = run_replica(own, RunContext{.after_sample = [&](double) { between(); },
@@ -110,6 +114,10 @@ System ladder_start(const CampaignSpec& spec, std::int64_t id, const ReplicaPara
     fs::create_directories(checkpoint_folder(options.archive_path));
     const std::int64_t steps = schedule_of(own).steps;
     write_checkpoint(path, own, ReplicaState{.step = steps, .steps = steps, .system = result.final_state});
+    // The end state it started from was made for this run only (its successor `id` is done);
+    // kept until now, so that an interrupted rebuild goes on from it.
+    std::error_code ignored;
+    if (before >= 0) fs::remove(end_state_path(options.archive_path, before), ignored);
     return read_state_system(path, params);
 }
 
@@ -143,19 +151,8 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, A
     try {  // preparing: a failure here fails this replica, never the campaign
         if (fs::exists(checkpoint)) timed([&] { resume = usable_checkpoint(checkpoint, params, id); });
         if (options.initial_states && !resume) timed([&] { initial = options.initial_states->load(params, id); });
-        if (before >= 0 && !resume) {  // a rate ladder: start where the predecessor ended
-            const std::string end = end_state_path(options.archive_path, before);
-            bool read = false;
-            try {
-                if (fs::exists(end)) timed([&] { initial = read_state_system(end, params); });
-                read = fs::exists(end);
-            } catch (const CheckpointError& e) {  // damaged: made again, as a missing one
-                std::fprintf(stderr, "jamsim run: warning: %s; it is made again\n", e.what());
-                std::error_code ignored;
-                fs::remove(end, ignored);
-            }
-            if (!read) initial = ladder_start(spec, before, params, id, archive, options, between, stop);
-        }
+        if (before >= 0 && !resume)  // a rate ladder: start where the predecessor ended
+            initial = ladder_start(spec, before, params, id, archive, options, between, stop);
     } catch (const h5::Error&) { throw; } catch (const ReplicaInterrupted&) {
         return counted(Outcome::Interrupted);  // still pending
     } catch (const std::exception& e) {
