@@ -38,7 +38,8 @@ int status(const std::string& path) {
         ArchiveLock::check_free(path);
     } catch (const ArchiveBusy&) { live = true; }
     // A merge's output that no run has continued since is not an interrupted run.
-    const bool merged_since = !s.merged.empty() && !(s.merged < s.started);
+    // (Stamps have whole seconds: a run that started in the merge's second came after it.)
+    const bool merged_since = !s.merged.empty() && (s.started.empty() || s.started < s.merged);
     const std::string unfinished =
         live           ? "running now: a live run holds the archive's lock"
         : merged_since ? "merged " + s.merged + ", not run since: jamsim run CAMPAIGN.toml -o " + path +

@@ -64,9 +64,15 @@ std::string Archive::check_extension(const std::string& path, const CampaignSpec
 }
 
 std::string Archive::remove_interrupted_extension(const std::string& path) {
+    namespace fs = std::filesystem;
     const std::string next = path + ".extending";
     std::error_code ec;
-    if (!std::filesystem::exists(next, ec) && !std::filesystem::exists(creation_marker(next), ec)) return "";
+    // Only beside the archive it would have replaced: without it, the file may be the only copy
+    // (the archive moved away). A dangling link counts as a file left behind.
+    const auto is_left = [&](const std::string& p) {
+        return fs::symlink_status(p, ec).type() != fs::file_type::not_found;
+    };
+    if (!fs::is_regular_file(path, ec) || (!is_left(next) && !is_left(creation_marker(next)))) return "";
     for (const std::string& left : {next, creation_marker(next)}) {
         std::filesystem::remove(left, ec);
         if (ec) throw h5::Error("cannot remove '" + left + "': " + ec.message());

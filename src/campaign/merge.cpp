@@ -1,5 +1,6 @@
 // Merging archives (lifecycle.hpp, merge_archives): shards of one campaign, or campaigns that
 // differ only in their sweeps, into one archive whose campaign holds them all.
+#include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <map>
@@ -151,29 +152,34 @@ void check_existing_output(const std::string& output, const std::vector<std::str
 }
 
 /// A rate ladder's replica that is done while its successor is not: its end state (which the
-/// successor starts from) copied beside the output from the input it came from, where that
-/// input still holds it. Without it, the successor's run makes it again by running the chain.
+/// successor starts from) copied beside the output from an input that holds it. Without it,
+/// the successor's run makes it again by running the chain, so a copy that fails is a warning.
 void copy_ladder_end_states(const std::string& output, const std::vector<std::string>& inputs, const CampaignSpec& spec,
                             const std::vector<ReplicaStatus>& have,
-                            const std::map<std::size_t, std::pair<std::size_t, std::size_t>>& done_in) {
+                            const std::multimap<std::size_t, std::pair<std::size_t, std::size_t>>& done_in) {
     namespace fs = std::filesystem;
     for (std::size_t next = 0; next < spec.predecessor.size(); ++next) {
         const std::int64_t before = spec.predecessor[next];
-        if (before < 0 || have[next] == ReplicaStatus::Done) continue;
-        const auto t = static_cast<std::size_t>(before);
-        const auto from = done_in.find(t);
-        if (have[t] != ReplicaStatus::Done || from == done_in.end()) continue;
-        const std::string source =
-            end_state_path(inputs[from->second.first], static_cast<std::int64_t>(from->second.second));
+        if (before < 0 || have[next] == ReplicaStatus::Done ||
+            have[static_cast<std::size_t>(before)] != ReplicaStatus::Done)
+            continue;
         const std::string copy = end_state_path(output, before);
         std::error_code ec;
-        if (!fs::exists(source, ec) || fs::exists(copy, ec)) continue;
-        fs::create_directories(checkpoint_folder(output), ec);
-        // Written beside its place, then renamed into it: a kill leaves no partial end state.
-        if (!ec) fs::copy_file(source, copy + ".tmp", fs::copy_options::overwrite_existing, ec);
-        if (!ec) fs::rename(copy + ".tmp", copy, ec);
-        if (ec)
-            throw std::runtime_error("cannot copy the end state '" + source + "' to '" + copy + "': " + ec.message());
+        const auto [first, last] = done_in.equal_range(static_cast<std::size_t>(before));
+        for (auto from = first; from != last && !fs::exists(copy, ec); ++from) {
+            const std::string source =
+                end_state_path(inputs[from->second.first], static_cast<std::int64_t>(from->second.second));
+            if (!fs::exists(source, ec)) continue;
+            fs::create_directories(checkpoint_folder(output), ec);
+            // Written beside its place, then renamed into it: a kill leaves no partial end state.
+            if (!ec) fs::copy_file(source, copy + ".tmp", fs::copy_options::overwrite_existing, ec);
+            if (!ec) fs::rename(copy + ".tmp", copy, ec);
+            if (ec)
+                std::fprintf(stderr,
+                             "jamsim merge: warning: cannot copy the end state '%s' to '%s' (%s): the run of "
+                             "replica %zu makes it again\n",
+                             source.c_str(), copy.c_str(), ec.message().c_str(), next);
+        }
     }
 }
 
@@ -218,7 +224,7 @@ MergeOutcome merge_archives(const std::string& output, const std::vector<std::st
     std::vector<ReplicaStatus> have = out.read_status();
     MergeOutcome result{.replicas = spec.replicas.size(),
                         .union_campaign = fingerprint(spec) != fingerprint(stored.front().spec)};
-    std::map<std::size_t, std::pair<std::size_t, std::size_t>> done_in;  // output id -> (input, id) it came from
+    std::multimap<std::size_t, std::pair<std::size_t, std::size_t>> done_in;  // output id -> (input, id) it came from
     for (std::size_t k = 0; k < inputs.size(); ++k)
         for (std::size_t r = 0; r < stored[k].status.size(); ++r) {
             const ReplicaStatus s = stored[k].status[r];

@@ -105,19 +105,33 @@ RunOutcome run_campaign(MPI_Comm comm, const CampaignSpec& spec, const RunDecisi
     };
     int exists = 0;
     std::optional<Archive> created;
+    bool reshaped = false;  // extended or grown in place
     try {
         reshape_archive(comm, spec, d, settings, *lock);
+        reshaped = d.mode == OutputMode::Extend || d.mode == OutputMode::Grow;
         exists = rank == 0 ? std::filesystem::exists(d.output) : 0;
         mpi::broadcast(exists, 0, comm);
         if (exists) created.emplace(Archive::open(comm, d.output));
     } catch (const h5::OpenRefused& e) {  // alike on every rank, and nothing is open
-        return refuse(spec.path + ": " + e.what() + "; nothing was changed");
+        if (rank == 0) {                  // what a refused extension or growth made beside the archive
+            try {
+                (void)Archive::finish_growth(d.output);
+                (void)Archive::remove_interrupted_extension(d.output);
+            } catch (const h5::Error&) {}  // the next run removes it, with a note
+        }
+        return refuse(spec.path + ": " + e.what() +
+                      (reshaped
+                           ? std::string("; the archive was ") + (d.mode == OutputMode::Extend ? "extended" : "grown") +
+                                 " first, and nothing has run in it since"
+                           : "; nothing was changed"));
     }
     if (!exists)
         if (std::string why = create_archive(comm, spec, d.output, created); !why.empty()) return refuse(why);
     Archive archive = std::move(*created);
     if (!exists) lock->hold_archive(d.output);
-    archive.stamp("run_started");
+    try {
+        archive.stamp("run_started");  // closes and reopens the archive
+    } catch (const h5::OpenRefused& e) { return refuse(spec.path + ": " + e.what() + "; nothing has run"); }
     std::optional<InitialStates> initial;
     if (!spec.replicas.front().initial.empty()) initial.emplace(spec.replicas.front().initial);
     const FarmOptions farm{.progress = settings.progress,
@@ -141,7 +155,8 @@ RunOutcome run_campaign(MPI_Comm comm, const CampaignSpec& spec, const RunDecisi
                 "shard " + std::to_string(shard.index) + "/" + std::to_string(shard.count) +
                     " holds no replica: the campaign has " + std::to_string(chains) +
                     (spec.predecessor.empty() ? (chains == 1 ? " replica" : " replicas")
-                                              : " chains (rate ladders, each whole in one shard)") +
+                                              : (chains == 1 ? " chain" : " chains") +
+                                                    std::string(" (rate ladders, each whole in one shard)")) +
                     ", in shards 0 to " + std::to_string(std::min<std::int64_t>(chains, shard.count) - 1) +
                     "; this shard's archive holds them all pending, for jamsim merge");
     }
@@ -156,7 +171,12 @@ RunOutcome run_campaign(MPI_Comm comm, const CampaignSpec& spec, const RunDecisi
         out.end = RunOutcome::End::interrupted;
         return out;
     }
-    archive.stamp("run_finished");
+    try {
+        archive.stamp("run_finished");
+    } catch (const h5::OpenRefused& e) {
+        return refuse(spec.path + ": " + e.what() + " at the run's end: every replica's data are in the archive, " +
+                      "only the time it finished is not");
+    }
     archive.close();
     lock->release();
     if (rank == 0) {  // the checkpoint folder, once every replica has removed its own

@@ -375,7 +375,8 @@ std::vector<ParamError> validate(const ReplicaParams& p) {
                                   "rate >= " + three_digits(p.strain / (kMostSteps * largest_dt)) + " here: strain = " +
                                       show_value(p.strain) + " would take " + three_digits(duration / largest_dt) +
                                       " steps even at the largest stable dt = " + three_digits(largest_dt) +
-                                      ", and a replica runs at most " + three_digits(kMostSteps)});
+                                      ", and a replica runs at most " + three_digits(kMostSteps) +
+                                      " (check strain and rate)"});
             else if (!(duration / p.dt <= kMostSteps))
                 errors.push_back({"dt", show_value(p.dt),
                                   "dt >= " + three_digits(duration / kMostSteps) + " here: " + run.key + " = " +
