@@ -1,7 +1,8 @@
 /* LD_PRELOAD library for the fault case open_one_rank: open() and openat() of a path ending
  * in FAIL_OPEN_SUFFIX fail with errno FAIL_OPEN_ERRNO (default EACCES) in the process whose
  * OMPI_COMM_WORLD_RANK is FAIL_OPEN_RANK, so that one rank of a job cannot open a file the
- * others can (permissions, no descriptors left, a mount another node lacks). */
+ * others can (permissions, no descriptors left, a mount another node lacks). The first
+ * FAIL_OPEN_AFTER such opens (default 0) succeed: a failure at a later stage of the run. */
 #define _GNU_SOURCE
 #include <dlfcn.h>
 #include <errno.h>
@@ -16,7 +17,10 @@ static int should_fail(const char* path) {
     const char* wanted = getenv("FAIL_OPEN_RANK");
     if (!suffix || !rank || !wanted || !path || strcmp(rank, wanted) != 0) return 0;
     const size_t n = strlen(path), m = strlen(suffix);
-    return n >= m && strcmp(path + n - m, suffix) == 0;
+    if (n < m || strcmp(path + n - m, suffix) != 0) return 0;
+    static int passed = 0; /* matching opens let through so far */
+    const char* after = getenv("FAIL_OPEN_AFTER");
+    return passed++ >= (after ? atoi(after) : 0);
 }
 
 static int injected_errno(void) {

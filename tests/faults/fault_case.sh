@@ -204,11 +204,13 @@ open_one_rank)  # one rank cannot open the archive: every rank refuses together,
   # (Open MPI's MPI_File_open waited forever when it failed on one rank only.)
   [[ -n ${FAIL_OPEN_LIB:-} ]] || fail "FAIL_OPEN_LIB is not set"
   last=$((ranks - 1))
-  # failing_open LOG SUFFIX ERRNO ARGS...: jamsim run with open() of *SUFFIX failing on the last rank.
+  # failing_open LOG SUFFIX ERRNO ARGS...: jamsim run with open() of *SUFFIX failing on the last
+  # rank (after FAIL_OPEN_AFTER opens that succeed, default 0).
   failing_open() {
     local log=$1 suffix=$2 code=$3; shift 3
     timeout -k 10 "$limit" "$mpirun" -n "$ranks" -x LD_PRELOAD="$FAIL_OPEN_LIB" -x FAIL_OPEN_SUFFIX="$suffix" \
-      -x FAIL_OPEN_RANK=$last -x FAIL_OPEN_ERRNO="$code" "$jamsim" run "$@" > "$log" 2>&1
+      -x FAIL_OPEN_RANK=$last -x FAIL_OPEN_ERRNO="$code" -x FAIL_OPEN_AFTER="${FAIL_OPEN_AFTER:-0}" \
+      "$jamsim" run "$@" > "$log" 2>&1
     rc=$?
     if [[ $rc -eq 124 || $rc -eq 137 ]]; then cat "$log"; fail "jamsim run $* did not end within ${limit} s (a hang)"; fi
     expect_rc 2 "$log"; no_crash "$log"
@@ -224,6 +226,14 @@ open_one_rank)  # one rank cannot open the archive: every rank refuses together,
   expect_in "creating 'src.h5.extending' failed on rank $last: Permission denied; nothing was changed" extend.log
   [[ "$(sha256sum src.h5)" == "$sum" ]] || fail "src.h5 was modified"
   ! ls src.h5.extending* > /dev/null 2>&1 || fail "the refused extension left $(ls src.h5.extending*)"
+  # Later stages: the extension's archive made, then its reopen refused (it was left beside
+  # the archive); the archive opened, then its reopen at the run's start refused (an MPI abort).
+  FAIL_OPEN_AFTER=2 failing_open extend_late.log src.h5.extending 13 "$here/source_longer.toml" -o src.h5
+  expect_in "opening 'src.h5.extending' failed on rank $last: Permission denied; nothing was changed" extend_late.log
+  ! ls src.h5.extending* > /dev/null 2>&1 || fail "the refused extension left $(ls src.h5.extending*)"
+  FAIL_OPEN_AFTER=2 failing_open start_late.log src.h5 13 "$here/source.toml"
+  expect_in "opening 'src.h5' failed on rank $last: Permission denied; nothing has run" start_late.log
+  ! grep -q MPI_ABORT start_late.log || fail "an MPI abort"
   run longer.log run "$here/source_longer.toml" -o src.h5; expect_rc 0 longer.log
   ;;
 refusals)  # runs no job can finish, duplicates, misleading inputs: one clear message each
