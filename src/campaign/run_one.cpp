@@ -61,6 +61,13 @@ class ThreadUse {
     double thread_seconds_ = 0, seconds_ = 0;
 };
 
+/// A ladder replica's end state, which its successor starts from: its final state as a
+/// checkpoint at its last step.
+void write_end_state(const std::string& path, const ReplicaParams& params, const System& final_state) {
+    const std::int64_t steps = schedule_of(params).steps;
+    write_checkpoint(path, params, ReplicaState{.step = steps, .steps = steps, .system = final_state});
+}
+
 bool same_bits(const FinalConfiguration& a, const FinalConfiguration& b) {
     const auto same = [](const std::vector<double>& u, const std::vector<double>& v) {
         return u.size() == v.size() && std::memcmp(u.data(), v.data(), u.size() * sizeof(double)) == 0;
@@ -76,7 +83,7 @@ bool same_bits(const FinalConfiguration& a, const FinalConfiguration& b) {
 /// runs again from its start, as it ran (with the intermediate end states read back from their
 /// files, as the successors read them), must end on the final configuration that the archive
 /// holds for `id`, bitwise, and its end state is saved where the successor looks for it.
-/// Throws ReplicaInterrupted when `stop` asks (nothing is kept).
+/// Throws ReplicaInterrupted when `stop` asks (the end states made so far are kept).
 System ladder_start(const CampaignSpec& spec, std::int64_t id, const ReplicaParams& params, std::int64_t successor,
                     const Archive& archive, const FarmOptions& options, const std::function<void()>& between,
                     const std::function<bool()>& stop) {
@@ -111,9 +118,7 @@ System ladder_start(const CampaignSpec& spec, std::int64_t id, const ReplicaPara
                                  std::to_string(successor) +
                                  " starts from, did not end on its final configuration in the archive (was the "
                                  "archive written by another build of jamsim?): run the rate ladder in a new archive");
-    fs::create_directories(checkpoint_folder(options.archive_path));
-    const std::int64_t steps = schedule_of(own).steps;
-    write_checkpoint(path, own, ReplicaState{.step = steps, .steps = steps, .system = result.final_state});
+    write_end_state(path, own, result.final_state);
     // The end state it started from was made for this run only (its successor `id` is done);
     // kept until now, so that an interrupted rebuild goes on from it.
     std::error_code ignored;
@@ -208,12 +213,7 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, A
                                            .resume = resume ? &*resume : nullptr,
                                            .initial = initial ? &*initial : nullptr});
         if (has_successor)  // durable before the status that lets the successor start
-            timed([&] {
-                write_checkpoint(end_state_path(options.archive_path, id), params,
-                                 ReplicaState{.step = schedule_of(params).steps,
-                                              .steps = schedule_of(params).steps,
-                                              .system = result.final_state});
-            });
+            timed([&] { write_end_state(end_state_path(options.archive_path, id), params, result.final_state); });
         timed([&] { archive.write_done(id, result, rank, threads.mean()); });
         last_checkpoint = result.last_checkpoint;
         if (before >= 0) {  // the predecessor's end state has served
