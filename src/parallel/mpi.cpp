@@ -33,6 +33,11 @@ Session::Session(int& argc, char**& argv) {
     if (!initialised && started_without_launcher()) {
         setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
         setenv("OMPI_MCA_mtl", "^psm,psm2,ofi", 0);
+        // Isolated singletons share one session folder (/tmp/ompi.HOST.UID/jf.0/1), which the
+        // first to finish removes: the shared-file-pointer component `sm` keeps its mmap file
+        // there, so another singleton's MPI_File_open of its archive failed then (2 of 40
+        // `jamsim run`s, 8 at a time). jamsim uses no shared file pointer.
+        setenv("OMPI_MCA_sharedfp", "^sm", 0);
     }
     // Only the main thread calls MPI; kernel loops run on OpenMP threads between calls.
     int provided = MPI_THREAD_SINGLE;
