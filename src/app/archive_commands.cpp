@@ -85,6 +85,9 @@ int merge(const std::string& output, const std::vector<std::string>& inputs, int
     } catch (const CampaignRefused& e) {
         std::fprintf(stderr, "jamsim merge: %s\n", e.what());
         return kExitRefused;
+    } catch (const MergeFailed& e) {
+        std::fprintf(stderr, "jamsim merge: %s\n", e.what());
+        return 1;
     }
     std::printf("merged %lld %s from %zu %s into %s", static_cast<long long>(merged.copied),
                 merged.copied == 1 ? "replica" : "replicas", inputs.size(), inputs.size() == 1 ? "archive" : "archives",

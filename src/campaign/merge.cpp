@@ -183,6 +183,31 @@ void copy_ladder_end_states(const std::string& output, const std::vector<std::st
     }
 }
 
+/// The copy itself, under the output's lock: every finished replica of the inputs that the
+/// output lacks (a done one wins over a failed one), the ladders' end states, the stamp.
+void copy_replicas(const std::string& output, const std::vector<std::string>& inputs, const CampaignSpec& spec,
+                   const std::vector<StoredCampaign>& stored, const std::vector<std::vector<std::int64_t>>& target,
+                   bool exists, MergeOutcome& result) {
+    Archive out = exists ? Archive::open(MPI_COMM_SELF, output) : Archive::create(MPI_COMM_SELF, output, spec);
+    std::vector<ReplicaStatus> have = out.read_status();
+    std::multimap<std::size_t, std::pair<std::size_t, std::size_t>> done_in;  // output id -> (input, id) it came from
+    for (std::size_t k = 0; k < inputs.size(); ++k)
+        for (std::size_t r = 0; r < stored[k].status.size(); ++r) {
+            const ReplicaStatus s = stored[k].status[r];
+            const auto t = static_cast<std::size_t>(target[k][r]);
+            if (s == ReplicaStatus::Done) done_in.emplace(t, std::pair{k, r});
+            const bool finished = s == ReplicaStatus::Done || s == ReplicaStatus::Failed;
+            if (!finished || have[t] == ReplicaStatus::Done) continue;
+            if (have[t] == ReplicaStatus::Failed && s == ReplicaStatus::Failed) continue;
+            out.import_replica(inputs[k], static_cast<std::int64_t>(r), static_cast<std::int64_t>(t));
+            have[t] = s;
+            ++result.copied;
+        }
+    copy_ladder_end_states(output, inputs, spec, have, done_in);
+    out.stamp("merged");
+    out.close();
+}
+
 }  // namespace
 
 MergeOutcome merge_archives(const std::string& output, const std::vector<std::string>& inputs) {
@@ -220,26 +245,30 @@ MergeOutcome merge_archives(const std::string& output, const std::vector<std::st
         lock.emplace(ArchiveLock::acquire(MPI_COMM_SELF, output, "jamsim merge"));
     } catch (const ArchiveBusy& e) { throw CampaignRefused(e.what()); }
     if (exists) check_existing_output(output, inputs, spec);
-    Archive out = exists ? Archive::open(MPI_COMM_SELF, output) : Archive::create(MPI_COMM_SELF, output, spec);
-    std::vector<ReplicaStatus> have = out.read_status();
+    std::error_code ec;
+    const bool had_checkpoints = std::filesystem::exists(checkpoint_folder(output), ec);
     MergeOutcome result{.replicas = spec.replicas.size(),
                         .union_campaign = fingerprint(spec) != fingerprint(stored.front().spec)};
-    std::multimap<std::size_t, std::pair<std::size_t, std::size_t>> done_in;  // output id -> (input, id) it came from
-    for (std::size_t k = 0; k < inputs.size(); ++k)
-        for (std::size_t r = 0; r < stored[k].status.size(); ++r) {
-            const ReplicaStatus s = stored[k].status[r];
-            const auto t = static_cast<std::size_t>(target[k][r]);
-            if (s == ReplicaStatus::Done) done_in.emplace(t, std::pair{k, r});
-            const bool finished = s == ReplicaStatus::Done || s == ReplicaStatus::Failed;
-            if (!finished || have[t] == ReplicaStatus::Done) continue;
-            if (have[t] == ReplicaStatus::Failed && s == ReplicaStatus::Failed) continue;
-            out.import_replica(inputs[k], static_cast<std::int64_t>(r), static_cast<std::int64_t>(t));
-            have[t] = s;
-            ++result.copied;
+    try {
+        copy_replicas(output, inputs, spec, stored, target, exists, result);
+    } catch (const std::exception& e) {
+        // A failed read or write (an input that cannot be opened, a full disk) leaves no lock
+        // and no half-made output: a new output goes, an existing one keeps the replicas copied
+        // whole (a replica's status is written last), which the same merge run again completes.
+        std::string what = "merging into '" + output + "' failed: " + e.what();
+        if (!exists) {
+            std::filesystem::remove(output, ec);
+            std::filesystem::remove(Archive::creation_marker(output), ec);
+            if (!had_checkpoints) std::filesystem::remove_all(checkpoint_folder(output), ec);
+            what += "; the new '" + output + "' was removed";
+        } else {
+            what += "; '" + output + "' keeps what it held and the " + std::to_string(result.copied) +
+                    (result.copied == 1 ? " replica" : " replicas") +
+                    " this merge copied whole before the failure: run the same merge again to copy the rest";
         }
-    copy_ladder_end_states(output, inputs, spec, have, done_in);
-    out.stamp("merged");
-    out.close();
+        lock->release();
+        throw MergeFailed(what);
+    }
     lock->release();
     return result;
 }

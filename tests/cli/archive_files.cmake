@@ -135,6 +135,16 @@ add_test(NAME archive_file.refused_merge_leaves_no_lock
   WORKING_DIRECTORY ${bad_dir})
 set_tests_properties(archive_file.refused_merge_leaves_no_lock PROPERTIES LABELS unit FIXTURES_REQUIRED bad_archives
   RESOURCE_LOCK bad_archives)
+# A merge whose input cannot be read midway (an open that fails after the checks, by the
+# LD_PRELOAD wrapper of the fault cases) leaves no lock: a new output is removed, an existing
+# one keeps what it held, and the same merge then completes it. (It left OUTPUT.lock and a
+# half-made output that status called an interrupted run.)
+set(fail_input "OMPI_COMM_WORLD_RANK=0 FAIL_OPEN_RANK=0 FAIL_OPEN_SUFFIX=fm0.h5 FAIL_OPEN_AFTER=4 LD_PRELOAD=$<TARGET_FILE:jamsim_fail_open>")
+add_test(NAME archive_file.merge_failed_midway
+  COMMAND bash -c "set -e; rm -rf fm*; $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml --shard 0/2 -o fm0.h5 > /dev/null 2>&1; $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml --shard 1/2 -o fm1.h5 > /dev/null 2>&1; ! env ${fail_input} $<TARGET_FILE:jamsim> merge fmn.h5 fm0.h5 fm1.h5 2> new.txt; cat new.txt; grep -q \"^jamsim merge: merging into 'fmn.h5' failed: .*; the new 'fmn.h5' was removed\" new.txt; test ! -e fmn.h5 -a ! -e fmn.h5.lock -a ! -e fmn.h5.creating; cp fm1.h5 fme.h5; ! env ${fail_input} $<TARGET_FILE:jamsim> merge fme.h5 fm0.h5 2> old.txt; cat old.txt; grep -q \"; 'fme.h5' keeps what it held and the 0 replicas this merge copied whole before the failure: run the same merge again\" old.txt; test ! -e fme.h5.lock; $<TARGET_FILE:jamsim> status fme.h5 | grep -q '0/1 done'; $<TARGET_FILE:jamsim> merge fme.h5 fm0.h5 | grep -q '1/1 done'"
+  WORKING_DIRECTORY ${bad_dir})
+set_tests_properties(archive_file.merge_failed_midway PROPERTIES LABELS unit FIXTURES_REQUIRED bad_archives
+  RESOURCE_LOCK bad_archives)
 # A merged archive is complete, not "(running or interrupted)".
 add_test(NAME archive_file.merged_is_complete
   COMMAND bash -c "rm -rf m0.h5* m1.h5* merged_whole.h5*; $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml --shard 0/2 -o m0.h5 > /dev/null 2>&1 && $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml --shard 1/2 -o m1.h5 > /dev/null 2>&1 && $<TARGET_FILE:jamsim> merge merged_whole.h5 m0.h5 m1.h5 > merge.txt && grep -q 'finished - (complete: every replica is finished. merged 20' merge.txt && ! grep -q 'running or interrupted' merge.txt"

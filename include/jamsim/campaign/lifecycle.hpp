@@ -87,6 +87,11 @@ struct RunOutcome {
 RunOutcome run_campaign(MPI_Comm comm, const CampaignSpec& spec, const RunDecision& decision,
                         const RunSettings& settings);
 
+/// A merge that failed midway (an input unreadable, the disk full): says what was kept.
+struct MergeFailed : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
 /// What merge_archives did.
 struct MergeOutcome {
     std::int64_t copied = 0;      ///< replicas copied into the output
@@ -97,7 +102,9 @@ struct MergeOutcome {
 /// Shards of one campaign, or archives of campaigns that differ only in their sweeps, into
 /// `output` (created, or completed if it exists; one process): the output's campaign is then
 /// the union of their replicas, matched by identity (parameters and seed). Throws
-/// CampaignRefused (nothing written) for inputs that cannot be merged.
+/// CampaignRefused (nothing written) for inputs that cannot be merged, and MergeFailed when a
+/// read or write fails midway (the lock released; a new output removed, an existing one holding
+/// whole replicas only).
 MergeOutcome merge_archives(const std::string& output, const std::vector<std::string>& inputs);
 
 }  // namespace jamsim
