@@ -83,7 +83,8 @@ bool same_bits(const FinalConfiguration& a, const FinalConfiguration& b) {
 /// runs again from its start, as it ran (with the intermediate end states read back from their
 /// files, as the successors read them), must end on the final configuration that the archive
 /// holds for `id`, bitwise, and its end state is saved where the successor looks for it.
-/// Throws ReplicaInterrupted when `stop` asks (the end states made so far are kept).
+/// Throws ReplicaInterrupted when `stop` asks (the end states made so far are kept, and the
+/// state of the replica being made again, in rebuild_state_path).
 System ladder_start(const CampaignSpec& spec, std::int64_t id, const ReplicaParams& params, std::int64_t successor,
                     const Archive& archive, const FarmOptions& options, const std::function<void()>& between,
                     const std::function<bool()>& stop) {
@@ -98,20 +99,34 @@ System ladder_start(const CampaignSpec& spec, std::int64_t id, const ReplicaPara
     }
     const ReplicaParams& own = spec.replicas[static_cast<std::size_t>(id)];
     const std::int64_t before = spec.predecessor[static_cast<std::size_t>(id)];
+    // The rebuild saves checkpoints as any run does: interrupted (a signal, a time limit), it
+    // goes on from there, so a chain that needs more than one allocation is made all the same.
+    const std::string rebuild = rebuild_state_path(options.archive_path, id);
+    std::optional<ReplicaState> resume;
+    if (fs::exists(rebuild)) resume = usable_checkpoint(rebuild, own, id);
     std::fprintf(stderr,
                  "jamsim run: replica %lld starts from the end state of replica %lld, which '%s' no longer holds (a "
-                 "merge or a copy of the archive leaves it behind): replica %lld runs again to make it; its data in "
-                 "the archive stay as they are\n",
+                 "merge or a copy of the archive leaves it behind): replica %lld runs again to make it%s; its data "
+                 "in the archive stay as they are\n",
                  static_cast<long long>(successor), static_cast<long long>(id),
-                 checkpoint_folder(options.archive_path).c_str(), static_cast<long long>(id));
+                 checkpoint_folder(options.archive_path).c_str(), static_cast<long long>(id),
+                 resume ? (", from its checkpoint '" + rebuild + "'").c_str() : "");
     std::optional<System> initial;
-    if (before >= 0)
+    if (!resume && before >= 0)  // resumed, it needs not its own start
         initial = ladder_start(spec, before, own, id, archive, options, between, stop);
-    else if (options.initial_states)
+    else if (!resume && options.initial_states)
         initial = options.initial_states->load(own, id);
-    const CheckpointPolicy stop_only{.due = {}, .save = {}, .stop = stop};
+    auto last_save = Clock::now();
+    const CheckpointPolicy saved{.due = [&] { return seconds_since(last_save) >= options.checkpoint_seconds; },
+                                 .save =
+                                     [&](const ReplicaState& state) {
+                                         write_checkpoint(rebuild, own, state);
+                                         last_save = Clock::now();
+                                     },
+                                 .stop = stop};
     const ReplicaResult result = run_replica(own, RunContext{.after_sample = [&](double) { between(); },
-                                                             .checkpoints = &stop_only,
+                                                             .checkpoints = &saved,
+                                                             .resume = resume ? &*resume : nullptr,
                                                              .initial = initial ? &*initial : nullptr});
     if (!same_bits(final_configuration(result.final_state), archive.read_final(id, static_cast<std::size_t>(own.n))))
         throw std::runtime_error("replica " + std::to_string(id) + ", run again to make the end state that replica " +
@@ -122,6 +137,8 @@ System ladder_start(const CampaignSpec& spec, std::int64_t id, const ReplicaPara
     // The end state it started from was made for this run only (its successor `id` is done);
     // kept until now, so that an interrupted rebuild goes on from it.
     std::error_code ignored;
+    fs::remove(rebuild, ignored);
+    fs::remove(rebuild + ".tmp", ignored);
     if (before >= 0) fs::remove(end_state_path(options.archive_path, before), ignored);
     return read_state_system(path, params);
 }

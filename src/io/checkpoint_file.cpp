@@ -119,6 +119,10 @@ std::string end_state_path(const std::string& archive_path, std::int64_t id) {
     return checkpoint_folder(archive_path) + "/end_" + std::to_string(id) + ".h5";
 }
 
+std::string rebuild_state_path(const std::string& archive_path, std::int64_t id) {
+    return checkpoint_folder(archive_path) + "/rebuild_" + std::to_string(id) + ".h5";
+}
+
 void write_checkpoint(const std::string& path, const ReplicaParams& p, const ReplicaState& state, bool final) {
     h5::quiet_errors();
     namespace fs = std::filesystem;

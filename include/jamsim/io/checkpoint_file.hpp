@@ -47,6 +47,9 @@ std::optional<ProgressNote> read_progress_note(const std::string& path);
 
 /// The end state of a replica of a rate ladder, which its successor starts from.
 std::string end_state_path(const std::string& archive_path, std::int64_t id);
+/// The checkpoint of a done replica of a rate ladder that runs again to make its lost end
+/// state (ARCHIVE.checkpoints/rebuild_<id>.h5): a long rebuild interrupted goes on from it.
+std::string rebuild_state_path(const std::string& archive_path, std::int64_t id);
 
 /// The configuration saved in a checkpoint or end-state file (format checked only).
 System read_state_system(const std::string& path);
