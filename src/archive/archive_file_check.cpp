@@ -22,6 +22,7 @@
 #include "jamsim/spec/campaign_spec.hpp"
 #include "jamsim/io/hdf5.hpp"
 #include "jamsim/io/lammps_data.hpp"
+#include "jamsim/io/read_deadline.hpp"
 
 namespace jamsim {
 
@@ -308,6 +309,7 @@ std::string diagnose_archive_file(const std::string& path) {
                " bytes, the file has " + std::to_string(size) + " (an interrupted copy or a full disk?)";
     h5::quiet_errors();
     try {
+        const ReadDeadline deadline(path, read_deadline_seconds());
         return check_contents(path);
     } catch (const h5::Error& e) {
         return quoted(path) + " is a damaged HDF5 file (it has the HDF5 signature but " + e.what() + ")";

@@ -135,6 +135,27 @@ add_test(NAME archive_file.refused_merge_leaves_no_lock
   WORKING_DIRECTORY ${bad_dir})
 set_tests_properties(archive_file.refused_merge_leaves_no_lock PROPERTIES LABELS unit FIXTURES_REQUIRED bad_archives
   RESOURCE_LOCK bad_archives)
+# An archive on which HDF5 loops for ever (a global heap's objects zeroed): every reader gives
+# up after the read deadline (2 s here) with one message, exit 2, changing nothing (they spun
+# until killed, and jamsim run ignored SIGTERM meanwhile).
+set(heap_message "^jamsim: reading 'heap_zeroed.h5' did not finish within 2 s: its HDF5 structure is damaged")
+set(heap_commands
+  "status|status heap_zeroed.h5"
+  "run|run ${campaigns}/other_campaign.toml -o heap_zeroed.h5"
+  "merge_shard|merge -o merged.h5 good.h5 heap_zeroed.h5"
+  "merge_into|merge heap_zeroed.h5 good.h5"
+  "export|export heap_zeroed.h5 -r 0 -o merged.h5"
+  "initial|replica --N 16 --phi 0.8 --rate 1e-2 --strain 0.01 --initial heap_zeroed.h5 -o merged.h5")
+foreach(row IN LISTS heap_commands)
+  jamsim_row_fields("${row}" name command)
+  separate_arguments(command)
+  add_test(NAME archive_file.heap_zeroed_${name}
+    COMMAND ${expect} "${heap_message}" ${bad_dir}/merged.h5 $<TARGET_FILE:jamsim> ${command}
+    WORKING_DIRECTORY ${bad_dir})
+  set_tests_properties(archive_file.heap_zeroed_${name} PROPERTIES LABELS unit FIXTURES_REQUIRED bad_archives
+    RESOURCE_LOCK bad_archives TIMEOUT 60
+    ENVIRONMENT "EXPECT_STATUS=2;PROTECT=heap_zeroed.h5 good.h5;JAMSIM_READ_DEADLINE_SECONDS=2")
+endforeach()
 # A merge whose input cannot be read midway (an open that fails after the checks, by the
 # LD_PRELOAD wrapper of the fault cases) leaves no lock: a new output is removed, an existing
 # one keeps what it held, and the same merge then completes it. (It left OUTPUT.lock and a

@@ -1,0 +1,53 @@
+#include "jamsim/io/read_deadline.hpp"
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
+#include <cstdlib>
+#include <mutex>
+#include <thread>
+
+namespace jamsim {
+
+double read_deadline_seconds() {
+    if (const char* text = std::getenv("JAMSIM_READ_DEADLINE_SECONDS"); text && *text) {
+        char* end = nullptr;
+        const double seconds = std::strtod(text, &end);
+        if (end && *end == '\0' && seconds > 0 && seconds < 1e9) return seconds;
+    }
+    return 60.0;
+}
+
+struct ReadDeadline::Watch {
+    std::mutex mutex;
+    std::condition_variable done_signal;
+    bool done = false;
+    std::thread thread;
+};
+
+ReadDeadline::ReadDeadline(const std::string& path, double seconds) : watch_(std::make_unique<Watch>()) {
+    watch_->thread = std::thread([watch = watch_.get(), path, seconds] {
+        std::unique_lock lock(watch->mutex);
+        if (watch->done_signal.wait_for(lock, std::chrono::duration<double>(seconds), [&] { return watch->done; }))
+            return;
+        std::fprintf(stderr,
+                     "jamsim: reading '%s' did not finish within %g s: its HDF5 structure is damaged (HDF5 "
+                     "loops on some damaged files, such as blocks zeroed by a crash), or its filesystem does not "
+                     "answer; nothing was changed (use the archive's copy, or run the campaign into a new "
+                     "archive)\n",
+                     path.c_str(), seconds);
+        std::fflush(stderr);
+        std::_Exit(2);
+    });
+}
+
+ReadDeadline::~ReadDeadline() {
+    {
+        const std::lock_guard lock(watch_->mutex);
+        watch_->done = true;
+    }
+    watch_->done_signal.notify_one();
+    watch_->thread.join();
+}
+
+}  // namespace jamsim
