@@ -23,6 +23,7 @@
 #include "jamsim/io/lammps_data.hpp"
 #include "jamsim/io/stored_replicas.hpp"
 #include "jamsim/params/parameters.hpp"
+#include "jamsim/io/temporary_file.hpp"
 
 namespace jamsim::app {
 
@@ -158,7 +159,7 @@ int run_export(const ExportOptions& opt) {
     std::vector<std::string> written;
     try {
         for (std::size_t i = 0; i < replicas.size(); ++i) {
-            const std::string tmp = outputs[i] + ".tmp";
+            const std::string tmp = make_temporary_beside(outputs[i]);
             try {
                 if (format == "h5md")
                     write_h5md(tmp, replicas[i], opt.archive, stored.campaign());

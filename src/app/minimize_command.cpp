@@ -21,6 +21,7 @@
 #include "jamsim/minimize/minimizer.hpp"
 #include "jamsim/params/parameters.hpp"
 #include "jamsim/run/model_registry.hpp"
+#include "jamsim/io/temporary_file.hpp"
 
 namespace jamsim::app {
 
@@ -39,8 +40,8 @@ struct Options {
 /// The start configuration as a LAMMPS `atom_style atomic` data file: type 1 = small
 /// (d = 1), type 2 = large (d = size ratio); orthogonal cell [0, L)², unit masses.
 void write_lammps_data(const System& sys, const std::string& path) {
-    // Written as PATH.tmp and renamed: a full disk leaves no partial file under the name.
-    const std::string tmp = path + ".tmp";
+    // Written beside it and renamed: a full disk leaves no partial file under the name.
+    const std::string tmp = make_temporary_beside(path);
     std::ofstream out(tmp);
     if (!out) throw std::runtime_error("cannot write LAMMPS data file '" + path + "'");
     const Particles& p = sys.particles;

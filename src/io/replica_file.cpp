@@ -9,6 +9,7 @@
 #include "jamsim/core/version.hpp"
 #include "jamsim/io/hdf5.hpp"
 #include "jamsim/run/model_registry.hpp"
+#include "jamsim/io/temporary_file.hpp"
 
 namespace jamsim {
 
@@ -42,7 +43,7 @@ void write_final(hid_t root, const System& sys) {
 
 void write_replica_file(const std::string& path, const ReplicaParams& params, const ReplicaResult& result) {
     h5::quiet_errors();
-    const std::string tmp = path + ".tmp";
+    const std::string tmp = make_temporary_beside(path);
     try {
         h5::FileInMemory file(tmp);
         const hid_t root = file.get();

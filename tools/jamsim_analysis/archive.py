@@ -13,6 +13,8 @@ Layouts (campaigns/README.md, "Campaign archive" and "Single-replica file"):
 """
 import dataclasses
 import os
+import signal
+import time
 
 import h5py
 import numpy as np
@@ -59,7 +61,66 @@ def _text(value):
     return value.decode() if isinstance(value, bytes) else str(value)
 
 
+# Seconds the first look into a file may take (JAMSIM_READ_DEADLINE_SECONDS, as for jamsim):
+# HDF5 1.10 loops for ever on some damaged files (a global heap whose objects a crash zeroed).
+DEFAULT_READ_DEADLINE = 60.0
+_probed = set()  # (path, size, mtime) of files whose first look finished
+
+
+def _read_deadline():
+    try:
+        seconds = float(os.environ.get("JAMSIM_READ_DEADLINE_SECONDS", ""))
+    except ValueError:
+        return DEFAULT_READ_DEADLINE
+    return seconds if 0 < seconds < 1e9 else DEFAULT_READ_DEADLINE
+
+
+def _probe(path):
+    """Read every attribute of `path` once in a child process, within the read deadline: a
+    file on which HDF5 loops, or crashes, is refused in words instead of hanging the tool. The
+    child's own errors are left to the real open, which says them."""
+    try:
+        st = os.stat(path)
+    except OSError:
+        return  # the open says why
+    key = (os.path.realpath(path), st.st_size, st.st_mtime_ns)
+    if key in _probed:
+        return
+    pid = os.fork()
+    if pid == 0:  # the child: no output, no cleanup handlers, only its exit status
+        code = 0
+        try:
+            with h5py.File(path, "r", locking=False) as f:
+                list(f.attrs.items())
+                f.visititems(lambda name, obj: list(obj.attrs.items()))
+        except BaseException:
+            code = 3
+        os._exit(code)
+    deadline = time.monotonic() + _read_deadline()
+    while True:
+        done, status = os.waitpid(pid, os.WNOHANG)
+        if done:
+            break
+        if time.monotonic() > deadline:
+            os.kill(pid, signal.SIGKILL)
+            os.waitpid(pid, 0)
+            raise AnalysisError(f"reading '{path}' did not finish within {_read_deadline():g} s: its HDF5 structure is "
+                                "damaged (HDF5 loops on some damaged files, such as blocks zeroed by a crash), or "
+                                "its filesystem does not answer")
+        time.sleep(0.01)
+    if os.WIFSIGNALED(status):
+        raise AnalysisError(f"reading '{path}' crashed HDF5 (signal {os.WTERMSIG(status)}): its HDF5 structure is "
+                            "damaged")
+    if os.WEXITSTATUS(status) == 0:
+        _probed.add(key)
+
+
 def _open(path):
+    if not path:
+        raise AnalysisError("an empty path is not an archive")
+    if os.path.exists(path) and not os.path.isfile(path):
+        raise AnalysisError(f"'{path}' is not a regular file (a directory, a pipe or a device), not an archive")
+    _probe(path)
     try:
         return h5py.File(path, "r", locking=False)
     except (OSError, TypeError) as e:

@@ -12,7 +12,7 @@ import sys
 import types
 
 from .command_support import (ANIMATION_SUFFIXES, FIGURE_SUFFIXES, describe_ids, output_directory, output_file,
-                              prog_name, run_command)
+                              prog_name, run_command, write_beside)
 from .errors import AnalysisError
 
 # numpy, pandas and the analysis modules (scipy, h5py, matplotlib: over a second) are imported
@@ -76,8 +76,11 @@ def cmd_averages(a):
     """Steady windows, per-replica means with errors and tau_int, averages over seeds."""
     from .archive import open_archives
     run = open_archives(a.archives)
-    if a.output:  # checked before the work, never an input or an archive
+    if a.output is not None:  # checked before the work, never an input, an archive or another kind of file
         output_file(a.output, "--output", inputs=a.archives)
+        if os.path.splitext(a.output)[1].lower() not in (".tsv", ".txt"):
+            raise AnalysisError(f"--output '{a.output}': a file name ending in .tsv or .txt (a table of "
+                                "tab-separated values)")
     table, groups = _averages(run, a.observable)
     cols = ["replica", "model", "N", "phi", "rate", "seed", "window_start", "samples", "drift_z", "left_out"]
     for o in a.observable:
@@ -85,8 +88,8 @@ def cmd_averages(a):
     _print_table(table[[c for c in cols if c in table]])
     print()
     _print_table(groups)
-    if a.output:  # counts as integers, as printed (N 64, not 64.0)
-        _shown(groups).to_csv(a.output, sep="\t", index=False)
+    if a.output is not None:  # counts as integers, as printed (N 64, not 64.0)
+        write_beside(a.output, lambda tmp: _shown(groups).to_csv(tmp, sep="\t", index=False))
 
 
 def cmd_csv(a):
@@ -449,7 +452,7 @@ def analyze_parser():
     p.add_argument("archives", nargs="+", help="campaign archives, shards or replica files")
     p.add_argument("--observable", nargs="+", default=["pressure", "shear_stress"],
                    help="time-series columns averaged (default: pressure shear_stress)")
-    p.add_argument("--output", help="TSV file of the averages over seeds")
+    p.add_argument("--output", help="TSV file of the averages over seeds (a name ending in .tsv or .txt)")
     p = sub.add_parser("csv", help=cmd_csv.__doc__, description=cmd_csv.__doc__ + " " + tables.__doc__,
                        formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("archives", nargs="+", help="campaign archives, shards or replica files")

@@ -27,7 +27,26 @@ def run_command(func, a, prog):
     except AnalysisError as e:
         print(f"{prog}: {e}", file=sys.stderr)
         return 2
+    except OSError as e:  # a file that cannot be written, or HDF5 on a damaged archive
+        if e.filename:
+            print(f"{prog}: '{e.filename}': {e.strerror or e}", file=sys.stderr)
+        else:
+            print(f"{prog}: {e} (a damaged archive?)", file=sys.stderr)
+        return 2
+    except RuntimeError as e:
+        if not _raised_in_h5py(e):
+            raise
+        print(f"{prog}: reading an archive failed: {e} (a damaged archive?)", file=sys.stderr)
+        return 2
     return 0
+
+
+def _raised_in_h5py(error):
+    """Whether `error` came out of h5py (HDF5 reports a damaged file as a RuntimeError)."""
+    tb = error.__traceback__
+    while tb is not None and tb.tb_next is not None:
+        tb = tb.tb_next
+    return tb is not None and "h5py" in tb.tb_frame.f_code.co_filename.replace(os.sep, "/").split("/")
 
 
 def pyplot():
@@ -78,11 +97,15 @@ def output_file(path, what="FIGURE", inputs=(), suffixes=None):
     is not a directory, not one of the `inputs`, not an HDF5 file (an archive is never
     overwritten), and, when `suffixes` is given, its name ends in one of them (the format
     comes from the name)."""
+    if not path:
+        raise AnalysisError(f"{what} '': an empty file name")
     folder = os.path.dirname(path) or "."
     if os.path.isdir(path):
         raise AnalysisError(f"{what} '{path}' is a directory, not a file name")
     if not os.path.isdir(folder):
         raise AnalysisError(f"{what} '{path}': no directory '{folder}'")
+    if not os.access(folder, os.W_OK):
+        raise AnalysisError(f"{what} '{path}': the directory '{folder}' is not writable")
     if suffixes and os.path.splitext(path)[1].lower() not in suffixes:
         raise AnalysisError(f"{what} '{path}': a file name ending in {', '.join(suffixes)} (the format comes from "
                             "the name)")
@@ -94,6 +117,26 @@ def output_file(path, what="FIGURE", inputs=(), suffixes=None):
             raise AnalysisError(f"{what} '{path}' is an HDF5 file (an archive?), which is never overwritten: "
                                 "name another file")
     return path
+
+
+def write_beside(path, write):
+    """Call write(tmp) on a new file beside `path` (a unique name, so no file of the user's is
+    overwritten), then rename it to `path`: a failure leaves no partial file under the name."""
+    import tempfile
+    try:
+        fd, tmp = tempfile.mkstemp(dir=os.path.dirname(path) or ".", prefix=os.path.basename(path) + ".",
+                                   suffix=".tmp")
+    except OSError as e:
+        raise AnalysisError(f"'{path}' cannot be written: {e.strerror}") from None
+    os.close(fd)
+    try:
+        write(tmp)
+        os.replace(tmp, path)
+    except OSError as e:
+        raise AnalysisError(f"writing '{path}' failed: {e.strerror} (nothing was left under its name)") from None
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
 
 
 def run_script(prog, func, args):

@@ -20,6 +20,7 @@ import numpy as np
 import pandas as pd
 
 from . import stats
+from .command_support import write_beside
 from .errors import AnalysisError
 
 GRID = ("N", "phi", "rate", "seed")
@@ -116,11 +117,5 @@ def write_means_csv(table, path, observables):
     if not os.path.isdir(directory):
         raise AnalysisError(f"'{path}': the directory '{directory}' does not exist")
     out = means_table(table, observables)
-    tmp = path + ".tmp"
-    try:
-        out.to_csv(tmp, index=False, na_rep="")
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
+    write_beside(path, lambda tmp: out.to_csv(tmp, index=False, na_rep=""))
     return out

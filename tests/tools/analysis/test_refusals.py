@@ -221,3 +221,45 @@ def test_averages_output_writes_counts_as_integers(small_archive, tmp_path):
     header, first = target.read_text().splitlines()[:2]
     row = dict(zip(header.split("\t"), first.split("\t")))
     assert row["N"] == "64" and row["seeds"].isdigit(), row
+
+
+def test_a_file_on_which_hdf5_loops_is_refused_after_the_deadline(small_archive, copy_of, monkeypatch):
+    """The objects of the first global heap zeroed (as a crash can leave them): HDF5 1.10
+    loops for ever reading the attributes; the tools gave up only when killed."""
+    path = copy_of(small_archive, "heap_zeroed.h5")
+    with open(path, "r+b") as f:
+        data = f.read()
+        at = data.index(b"GCOL")
+        size = int.from_bytes(data[at + 8:at + 16], "little")
+        f.seek(at + 16)
+        f.write(bytes(size - 16))
+    before = digest(path)
+    monkeypatch.setenv("JAMSIM_READ_DEADLINE_SECONDS", "2")
+    for tool in ((ANALYZE, "summary"), (ANALYZE, "averages"), (PLOT_REPLICA,)):
+        refused(run(*tool, path, *(["out.png"] if tool[0] == PLOT_REPLICA else [])),
+                f"reading '{path}' did not finish within 2 s: its HDF5 structure is damaged")
+    assert digest(path) == before
+
+
+def test_odd_paths_are_refused(small_archive, tmp_path):
+    refused(run(ANALYZE, "summary", ""), "an empty path is not an archive")
+    pipe = tmp_path / "pipe.h5"
+    os.mkfifo(pipe)
+    refused(run(ANALYZE, "summary", str(pipe)), "is not a regular file")
+    refused(run(ANALYZE, "averages", small_archive, "--output", ""), "--output '': an empty file name")
+
+
+def test_outputs_never_overwrite_other_files(small_archive, tmp_path):
+    """averages --output wrote its table over any file (a campaign file too); a file kept under
+    OUTPUT.tmp was overwritten and removed by csv; an unwritable output ended in a traceback."""
+    victim = tmp_path / "campaign.toml"
+    victim.write_text("[campaign]\n")
+    refused(run(ANALYZE, "averages", small_archive, "--output", str(victim)), "a file name ending in .tsv or .txt")
+    assert victim.read_text() == "[campaign]\n"
+    kept = tmp_path / "means.csv.tmp"
+    kept.write_text("precious")
+    out = run(ANALYZE, "csv", small_archive, "-o", str(tmp_path / "means.csv"))
+    assert out.returncode == 0, out.stderr
+    assert kept.read_text() == "precious" and (tmp_path / "means.csv").exists()
+    assert not [p for p in os.listdir(tmp_path) if p.startswith("means.csv.") and p != "means.csv.tmp"]
+    refused(run(ANALYZE, "csv", small_archive, "-o", "/proc/means.csv"), "'/proc/means.csv' cannot be written")
