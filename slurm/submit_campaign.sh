@@ -50,6 +50,15 @@ done
 [[ $# -ge 3 ]] || usage
 campaign=$1 merged=$2 shards=$3
 shift 3
+# This script's options after the positionals would go to sbatch (--threads 4 there left the
+# tasks on one CPU each, running one thread).
+for option in "$@"; do
+  case $option in
+    --wait | --retry-failed | --throttle | --throttle=* | --threads | --threads=*)
+      echo "submit_campaign.sh: option '$option' after CAMPAIGN.toml MERGED.h5 SHARDS is not allowed: the options after them go to sbatch; give --wait, --throttle K, --threads T and --retry-failed before CAMPAIGN.toml" >&2
+      exit 2 ;;
+  esac
+done
 if ! [[ $shards =~ ^[1-9][0-9]*$ ]]; then
   echo "submit_campaign.sh: SHARDS = '$shards' is not allowed: a positive integer" >&2
   exit 2
@@ -125,9 +134,14 @@ if [[ -f $record ]]; then
     exit 2
   fi
 fi
-replicas=$(sed -n 's/^campaign .*: \([0-9]*\) replicas.*/\1/p' <<<"$plan" | head -1)
-if [[ -n $replicas && $shards -gt $replicas ]]; then
-  echo "submit_campaign.sh: note: $shards shards for $replicas replicas; shards $replicas..$((shards - 1)) will be empty" >&2
+replicas=$(sed -n 's/^campaign .*: \([0-9]*\) replicas\{0,1\} .*/\1/p' <<<"$plan" | head -1)
+if [[ -z $replicas ]]; then
+  echo "submit_campaign.sh: the dry run of $campaign did not say how many replicas it has; nothing was queued" >&2
+  exit 2
+fi
+if (( ${#shards} > 9 || shards > replicas )); then  # a shard past the replicas holds none: a task for nothing
+  echo "submit_campaign.sh: SHARDS = $shards is not allowed for $campaign: at most its $replicas replica$([[ $replicas == 1 ]] || echo s) (task K runs the replicas with id % SHARDS == K)" >&2
+  exit 2
 fi
 mkdir -p "$(dirname "$merged")" "$shard_dir"
 range=0-$((shards - 1))${throttle:+%$throttle}

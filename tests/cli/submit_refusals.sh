@@ -26,4 +26,13 @@ for v in abc -1 1.5 "2 3"; do
 done
 check "JAMSIM_SIGNAL_LEAD = '0' is not allowed" JAMSIM_SIGNAL_LEAD=0 bash "$submit" "$campaign" new/m.h5 2
 check "phi = 2 is not allowed" bash "$submit" bad.toml new/sub/m.h5 2
+# The script's own options after the positionals went to sbatch (--threads 4 ran one thread);
+# SHARDS beyond the replicas queued tasks for nothing (10^8 without a word for one replica).
+for option in --threads=4 --wait --retry-failed; do
+  check "option '$option' after CAMPAIGN.toml MERGED.h5 SHARDS is not allowed" bash "$submit" "$campaign" new/m.h5 1 "$option"
+done
+check "option '--throttle' after CAMPAIGN.toml MERGED.h5 SHARDS is not allowed" bash "$submit" "$campaign" new/m.h5 1 --throttle 2
+for shards in 2 100000000; do
+  check "SHARDS = $shards is not allowed for .*other_campaign.toml: at most its 1 replica \\(" bash "$submit" "$campaign" new/m.h5 $shards
+done
 echo "ok: refused before any folder or job"
