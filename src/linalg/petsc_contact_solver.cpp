@@ -418,12 +418,23 @@ SolveInfo PetscContactSolver::Impl::run(std::span<const ContactPair> pairs, std:
         check(VecSet(m.x, 0.0), "VecSet");
         its = m.run_ksp();
     }
-    if (its < 0)
+    if (its < 0) {
+        char tolerance[32];
+        std::snprintf(tolerance, sizeof tolerance, "%.3g", static_cast<double>(m.half_rtol));
+        PetscInt most = 0;
+        check(KSPGetTolerances(m.ksp, nullptr, nullptr, nullptr, &most), "KSPGetTolerances");
+        const std::string why =
+            m.last_reason == KSP_DIVERGED_ITS
+                ? " (the iteration limit, " + std::to_string(most) +
+                      " iterations, came before the relative tolerance " + tolerance +
+                      " for each half: raise -cd0_ksp_max_it, loosen -cd0_ksp_rtol, or use a preconditioner that "
+                      "suits the contact matrix)"
+                : std::string(" (relative tolerance ") + tolerance +
+                      " for each half; a tighter one than round-off allows, or a solver that does not suit the "
+                      "contact matrix?)";
         throw std::runtime_error(std::string("CD0 contact solve did not converge: ") +
-                                 KSPConvergedReasons[m.last_reason] + " (relative tolerance " +
-                                 std::to_string(m.half_rtol) +
-                                 " for each half; a tighter one than round-off allows, or a solver that "
-                                 "does not suit the contact matrix?)");
+                                 KSPConvergedReasons[m.last_reason] + why);
+    }
     if (m.shell && (!shortcut || check_here)) {
         // One application met the tolerance: the updated factor is exact for this matrix.
         // More: round-off accumulated by the updates; factorise afresh next time.
