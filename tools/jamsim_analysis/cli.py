@@ -126,8 +126,9 @@ def _check_numbers(parser, a):
         refuse("--degree", a.degree, "a whole number >= 1 (the degree of ln F(x); at 0 phi_J is not determined)")
     if has("correction_degree") and a.correction_degree < 0:
         refuse("--correction-degree", a.correction_degree, "a whole number >= 0 (the degree of Q(x))")
-    if has("bootstrap") and (a.bootstrap < 0 or 0 < a.bootstrap < 10):
-        refuse("--bootstrap", a.bootstrap, "0 (none) or at least 10 resamples (the error needs 10 converged fits)")
+    if has("bootstrap") and (a.bootstrap < 0 or 0 < a.bootstrap < 10 or a.bootstrap > 100_000):
+        refuse("--bootstrap", a.bootstrap, "0 (none) or from 10 to 100000 resamples (the error needs 10 converged "
+               "fits; each resample is a whole fit)")
     if has("N") and a.N < 1:
         refuse("--N", a.N, "a system size >= 1")
     for name in ("phi_min", "phi_max", "rate_max"):
@@ -249,6 +250,11 @@ def cmd_compare(a):
             names = list(a.archives)
         if len(set(names)) < len(names):
             raise AnalysisError("--by file: an archive is given twice")
+        for k, first in enumerate(a.archives):  # one file under two names compared with itself
+            for second in a.archives[k + 1:]:
+                if os.path.exists(first) and os.path.exists(second) and os.path.samefile(first, second):
+                    raise AnalysisError(f"--by file: '{first}' and '{second}' are the same file: compare two "
+                                        "different archives")
         for path, name in zip(a.archives, names):
             t = stats.replica_averages(open_archives([path]), a.observable)
             t.insert(0, "file", name)

@@ -70,6 +70,9 @@ def output_directory(path, what="OUTDIR", create=True):
     if os.path.exists(path) and not os.path.isdir(path):
         hint = " (the output directory comes after the archives)" if what == "OUTDIR" else ""
         raise AnalysisError(f"{what} '{path}' is an existing file, not a directory{hint}")
+    if not os.path.exists(path) and os.path.splitext(path)[1].lower() in (".h5", ".hdf5"):
+        raise AnalysisError(f"{what} '{path}' does not exist and ends in {os.path.splitext(path)[1]}, as an archive "
+                            f"does: a mistyped archive? (name the output directory otherwise)")
     if not create:
         return path
     try:

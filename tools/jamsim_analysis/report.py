@@ -541,6 +541,11 @@ def build_report(paths, outdir, opts=None):
     archive = open_archives(paths)
     if archive.done().empty:
         raise AnalysisError(f"{', '.join(paths)}: no finished replica (status done) to analyse")
+    if opts.N is not None:
+        sizes = sorted({int(n) for n in archive.done()["N"]})
+        if opts.N not in sizes:
+            raise AnalysisError(f"--N = {opts.N} is not allowed: no finished replica has N = {opts.N} (the finished "
+                                f"sizes: {', '.join(map(str, sizes))})")
     attrs = archive.attributes()
     rep = Report(f"jamsim report: {', '.join(sorted(set(archive.replicas['campaign'])))}", outdir)
     rep.doc.paragraph(f"Files: {', '.join(paths)}; models: {', '.join(archive.models)}; code version "

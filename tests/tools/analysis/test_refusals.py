@@ -263,3 +263,18 @@ def test_outputs_never_overwrite_other_files(small_archive, tmp_path):
     assert kept.read_text() == "precious" and (tmp_path / "means.csv").exists()
     assert not [p for p in os.listdir(tmp_path) if p.startswith("means.csv.") and p != "means.csv.tmp"]
     refused(run(ANALYZE, "csv", small_archive, "-o", "/proc/means.csv"), "'/proc/means.csv' cannot be written")
+
+
+def test_report_and_compare_refuse_what_they_cannot_mean(small_archive, copy_of, tmp_path):
+    """Each was accepted: a size missing from the data (the report exited 0 with its analyses
+    'not run'), an OUTDIR named like an archive (a mistyped archive became a folder), one file
+    compared with itself under two names, a bootstrap of 10^9 fits."""
+    refused(run(REPORT, small_archive, str(tmp_path / "rep"), "--N", "63"), "--N = 63 is not allowed: no finished "
+            "replica has N = 63")
+    refused(run(REPORT, small_archive, str(tmp_path / "typo.h5")), "ends in .h5, as an archive does")
+    assert not (tmp_path / "typo.h5").exists() and not (tmp_path / "rep").exists()
+    same = copy_of(small_archive, "same.h5")
+    twice = os.path.join(os.path.dirname(same), ".", "same.h5")
+    refused(run(ANALYZE, "compare", same, twice, "--by", "file"), "are the same file")
+    refused(run(ANALYZE, "collapse", small_archive, str(tmp_path / "col"), "--bootstrap", "1000000000"),
+            "--bootstrap = 1000000000 is not allowed")
