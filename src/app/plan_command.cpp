@@ -54,8 +54,7 @@ ReplicaSeconds seconds_from_listing(const std::string& path, const CampaignSpec&
         throw PlanError("jamsim plan: --costs " + path + ": " + odd + " (the listing of a dry run)");
     std::ifstream in(path);
     if (!in) throw PlanError("jamsim plan: --costs " + path + ": cannot be read");
-    static const std::regex row(
-        R"(^\s*(\d+)\s+(\d+)\s+\S+\s+\S+\s+\d+\s+\d+\s+\S+\s+([0-9.eE+-]+)\s+([0-9.eE+-]+)\s*$)");
+    static const std::regex row(R"(^\s*(\d+)\s+(\d+)\s+\S+\s+\S+\s+\d+\s+\d+\s+\S+\s+(\S+)\s+(\S+)\s*$)");
     std::vector<double> seconds(spec.replicas.size(), -1.0), serial(spec.replicas.size(), 0.0);
     std::size_t found = 0;
     std::string line;
@@ -78,15 +77,19 @@ ReplicaSeconds seconds_from_listing(const std::string& path, const CampaignSpec&
         if (seconds[id] >= 0) throw PlanError(where + " is listed twice");
         seconds[id] = listed_seconds;
         serial[id] = listed_serial;
-        if (!(seconds[id] >= 0 && serial[id] >= 0 && serial[id] <= seconds[id]))  // finite: parse_finite
+        if (!(seconds[id] >= 0 && serial[id] >= 0 && serial[id] <= seconds[id] && seconds[id] <= 1e12))
             throw PlanError(where + ": est.s = " + m[3].str() + ", sampling = " + m[4].str() +
-                            " are not allowed: seconds >= 0, the sampling's part of them at most all of them");
+                            " are not allowed: seconds from 0 to 1e12, the sampling's part of them at most all of "
+                            "them");
         ++found;
     }
-    if (found != spec.replicas.size())
+    if (found != spec.replicas.size()) {
+        const auto missing = std::find_if(seconds.begin(), seconds.end(), [](double v) { return v < 0; });
         throw PlanError("jamsim plan: --costs " + path + " lists " + std::to_string(found) + " of the " +
-                        std::to_string(spec.replicas.size()) + " replicas of " + spec.path +
-                        ": give the whole listing of `jamsim run --dry-run " + spec.path + "`");
+                        std::to_string(spec.replicas.size()) + " replicas of " + spec.path + " (not replica " +
+                        std::to_string(missing - seconds.begin()) +
+                        "): give the whole listing of `jamsim run --dry-run " + spec.path + "`");
+    }
     return {.seconds = seconds, .serial = serial, .source = "one-thread seconds from " + path, .extrapolated = {}};
 }
 
