@@ -61,6 +61,15 @@ int main(int argc, char** argv) {
     CLI::App app{"jamsim: sheared bidisperse soft disks through the jamming transition"};
     app.set_version_flag("--version", std::string("jamsim ") + jamsim::kVersion);
     app.require_subcommand(1);
+    // CLI11's own messages ("--strain: At Most 1 required but received 2", "archive is
+    // required") named no command: prefixed as jamsim's own refusals are.
+    app.failure_message([](const CLI::App* root, const CLI::Error& e) {
+        std::string text = e.what();
+        const auto used = root->get_subcommands();
+        const std::string command = used.empty() ? "jamsim" : "jamsim " + used.front()->get_name();
+        if (!text.starts_with("jamsim")) text = command + ": " + text;
+        return text + "\nRun '" + command + " --help' for more information.\n";
+    });
     jamsim::app::add_replica_command(app);
     jamsim::app::add_run_command(app, argc, argv);
     jamsim::app::add_status_command(app);

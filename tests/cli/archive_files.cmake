@@ -159,7 +159,7 @@ endforeach()
 # A file the user keeps under OUTPUT.tmp survives the commands that write OUTPUT (they wrote
 # through that name and renamed it away): export, minimize --lammps-data, replica -o.
 add_test(NAME archive_file.user_tmp_file_kept
-  COMMAND bash -c "set -e; rm -rf keep.*; for f in keep.data.tmp keep_min.data.tmp keep.h5.tmp; do echo precious > $f; done; $<TARGET_FILE:jamsim> export good.h5 -r 0 -o keep.data > /dev/null; $<TARGET_FILE:jamsim> minimize --N 64 --lammps-data keep_min.data > /dev/null; $<TARGET_FILE:jamsim> replica --N 16 --phi 0.8 --rate 1e-2 --strain 0.01 -o keep.h5 > /dev/null 2>&1; for f in keep.data.tmp keep_min.data.tmp keep.h5.tmp; do grep -qx precious $f; done; test -s keep.data -a -s keep_min.data -a -s keep.h5; test -z \"$(ls keep*.??????.tmp 2> /dev/null)\""
+  COMMAND bash -c "set -e; rm -rf keep*; for f in keep.data.tmp keep_min.data.tmp keep.h5.tmp; do echo precious > $f; done; $<TARGET_FILE:jamsim> export good.h5 -r 0 -o keep.data > /dev/null; $<TARGET_FILE:jamsim> minimize --N 64 --lammps-data keep_min.data > /dev/null; $<TARGET_FILE:jamsim> replica --N 16 --phi 0.8 --rate 1e-2 --strain 0.01 -o keep.h5 > /dev/null 2>&1; for f in keep.data.tmp keep_min.data.tmp keep.h5.tmp; do grep -qx precious $f; done; test -s keep.data -a -s keep_min.data -a -s keep.h5; test -z \"$(ls keep*.??????.tmp 2> /dev/null)\""
   WORKING_DIRECTORY ${bad_dir})
 set_tests_properties(archive_file.user_tmp_file_kept PROPERTIES LABELS unit FIXTURES_REQUIRED bad_archives
   RESOURCE_LOCK bad_archives)

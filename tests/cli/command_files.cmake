@@ -15,7 +15,7 @@ foreach(entry IN LISTS empty_path_commands)
   jamsim_row_fields("${entry}" name option words)
   separate_arguments(words UNIX_COMMAND "${words}")
   add_test(NAME cli.empty_path_${name}
-    COMMAND ${expect} "^${option}: value '' is not allowed: the path of a file" ${bad_dir}/none.h5
+    COMMAND ${expect} "^jamsim ${name}: ${option}: value '' is not allowed: the path of a file" ${bad_dir}/none.h5
       $<TARGET_FILE:jamsim> ${words} "")
   set_tests_properties(cli.empty_path_${name} PROPERTIES LABELS unit WORKING_DIRECTORY ${bad_dir}
     FIXTURES_REQUIRED bad_archives RESOURCE_LOCK bad_archives ENVIRONMENT "EXPECT_STATUS=2;PROTECT=good.h5 version.h5")
@@ -82,7 +82,7 @@ set_tests_properties(cli.replica_replaces_replica_file PROPERTIES LABELS unit)
 # --ranks and --shards of a dry run: a whole number >= 1, said in those words.
 foreach(option ranks shards)
   add_test(NAME cli.dry_run_${option}_zero
-    COMMAND ${expect} "^--${option}: value 0 is not allowed: a whole number of ${option} >= 1" ${bad_dir}/none.h5
+    COMMAND ${expect} "^jamsim run: --${option}: value 0 is not allowed: a whole number of ${option} >= 1" ${bad_dir}/none.h5
       $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml --dry-run --${option} 0)
   set_tests_properties(cli.dry_run_${option}_zero PROPERTIES LABELS unit ENVIRONMENT "EXPECT_STATUS=2")
 endforeach()

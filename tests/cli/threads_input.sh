@@ -48,10 +48,10 @@ over="warning: 2 threads per replica \(--threads\) are more than the"
 short=(--N 4096 --strain 0.0005 --sample-interval 0.00025)  # long enough loops for threads
 
 case $case in
-  flag_not_a_number) refused "^--threads = abc $allowed" "$jamsim" replica --threads abc -o out.h5 ;;
-  flag_zero) refused "^--threads = 0 $allowed" "$jamsim" replica --threads 0 -o out.h5 ;;
-  flag_negative) refused "^--threads = -3 $allowed" "$jamsim" run "$campaign" --threads -3 -o out.h5 ;;
-  flag_fraction) refused "^--threads = 1.5 $allowed" "$jamsim" run "$campaign" --threads 1.5 -o out.h5 ;;
+  flag_not_a_number) refused "^jamsim replica: --threads = abc $allowed" "$jamsim" replica --threads abc -o out.h5 ;;
+  flag_zero) refused "^jamsim replica: --threads = 0 $allowed" "$jamsim" replica --threads 0 -o out.h5 ;;
+  flag_negative) refused "^jamsim run: --threads = -3 $allowed" "$jamsim" run "$campaign" --threads -3 -o out.h5 ;;
+  flag_fraction) refused "^jamsim run: --threads = 1.5 $allowed" "$jamsim" run "$campaign" --threads 1.5 -o out.h5 ;;
   env_zero) refused "^jamsim run: OMP_NUM_THREADS = \"0\" $allowed" env OMP_NUM_THREADS=0 "$jamsim" run "$campaign" -o out.h5 ;;
   env_negative) refused "^jamsim replica: OMP_NUM_THREADS = \"-1\" $allowed" env OMP_NUM_THREADS=-1 "$jamsim" replica -o out.h5 ;;
   env_not_a_number)
