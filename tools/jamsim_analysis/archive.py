@@ -432,6 +432,17 @@ class Archive:
         """The replicas table restricted to finished replicas."""
         return self.replicas[self.replicas["status"] == DONE]
 
+    def why_none_done(self):
+        """Where the replicas stand when none is done, in words: '3 failed (replica 0: REASON),
+        1 pending'."""
+        counts = self.replicas["status"].map(STATUS_NAMES).value_counts()
+        parts = [f"{counts[name]} {name}" for name in ("failed", "running", "pending") if name in counts]
+        failed = self.replicas[self.replicas["status"] == 3]
+        if not failed.empty and "failure_reason" in failed:
+            first = failed.iloc[0]
+            parts[0] += f" (replica {int(first['replica'])}: {_text(first['failure_reason'])})"
+        return ", ".join(parts) or "no replicas"
+
     def observables(self):
         """Names of the time-series columns present in every file."""
         names = None

@@ -278,3 +278,15 @@ def test_report_and_compare_refuse_what_they_cannot_mean(small_archive, copy_of,
     refused(run(ANALYZE, "compare", same, twice, "--by", "file"), "are the same file")
     refused(run(ANALYZE, "collapse", small_archive, str(tmp_path / "col"), "--bootstrap", "1000000000"),
             "--bootstrap = 1000000000 is not allowed")
+
+
+def test_an_archive_whose_replicas_all_failed_says_so(small_archive, copy_of, tmp_path):
+    """plot_campaign.py said 'no finished replica ... yet' and transient_length.py that CD0 was
+    no sheared-flow model; both now say how many failed and the first reason."""
+    path = copy_of(small_archive, "all_failed.h5")
+    with h5py.File(path, "r+") as f:
+        f["replicas/status"][...] = 3
+        f["replicas/failure_reason"][0] = b"the reason"
+    for tool in ("plot_campaign.py", "transient_length.py"):
+        extra = [str(tmp_path / "figures")] if tool == "plot_campaign.py" else []
+        refused(run(os.path.join(TOOLS, tool), path, *extra), "no finished replica", " failed (replica 0: the reason)")

@@ -123,7 +123,7 @@ def plot(a):
                             "for static campaigns use analyze_jamming.py")
     done = run.done()
     if done.empty:
-        raise AnalysisError(f"no finished replica in {', '.join(a.archives)} yet")
+        raise AnalysisError(f"no finished replica in {', '.join(a.archives)}: {run.why_none_done()}")
     groups = seed_averages(run)
     if a.replica is not None and a.replica not in set(done["replica"]):
         raise AnalysisError(f"--replica {a.replica} is not a finished replica (allowed: "

@@ -30,6 +30,8 @@ def groups_of(run, rate):
     import numpy as np
     done = run.done()
     done = done[done["rate"] > 0] if "rate" in done else done.iloc[0:0]
+    if run.done().empty:
+        raise AnalysisError(f"no finished replica: {run.why_none_done()}")
     if done.empty:
         raise AnalysisError("no finished replica with rate > 0: transient_length.py needs sheared-flow "
                             f"campaigns (models here: {', '.join(run.models)})")
