@@ -239,6 +239,8 @@ def cmd_compare(a):
     separate ones, with an F test (needs >= 3 rates)."""
     if a.collapse:
         return _compare_collapses(a)
+    if a.outdir:  # checked before the work (it was refused after every table was printed)
+        output_directory(a.outdir, "--outdir", create=False)
     import numpy as np
     import pandas as pd
     from . import comparison, figures, report, stats
