@@ -242,10 +242,30 @@ std::string check_attribute_classes(hid_t f) {
     return "";
 }
 
+/// Reads every text attribute of the root once. Each variable-length one lives in a global
+/// heap collection, and HDF5 loops on a damaged collection; read here, under the read deadline,
+/// a later reader (status's run_finished, the stamps of a run or merge) never meets one first.
+void read_every_text_attribute(hid_t f) {
+    const auto read = [](hid_t root, const char* name, const H5A_info_t*, void*) -> herr_t {
+        const hid_t attr = H5Aopen(root, name, H5P_DEFAULT);
+        if (attr < 0) return 0;
+        const hid_t type = H5Aget_type(attr);
+        const bool text = type >= 0 && H5Tget_class(type) == H5T_STRING;
+        if (type >= 0) H5Tclose(type);
+        H5Aclose(attr);
+        if (text) try {
+                (void)h5::read_string_attribute(root, name);
+            } catch (const h5::Error&) {}  // a damaged attribute: the checks below say what is wrong
+        return 0;
+    };
+    H5Aiterate2(f, H5_INDEX_NAME, H5_ITER_NATIVE, nullptr, read, nullptr);
+}
+
 /// The checks that need HDF5 to open the file; "" when it is a usable archive.
 std::string check_contents(const std::string& path) {
     const h5::Handle file = h5::open_unlocked_readonly(path);
     const hid_t f = file.get();
+    read_every_text_attribute(f);
     const bool archive = has_attribute(f, "spec_fingerprint") && has_attribute(f, "campaign");
     if (!archive) {
         if (is_replica_root(f))

@@ -16,6 +16,8 @@
 #include "jamsim/core/digest.hpp"
 #include "jamsim/core/version.hpp"
 #include "jamsim/io/hdf5.hpp"
+#include "jamsim/io/global_heap_check.hpp"
+#include "jamsim/io/read_deadline.hpp"
 
 namespace jamsim {
 
@@ -210,13 +212,23 @@ std::string body_problem(const ReplicaState& s, std::int64_t n) {
     return "";
 }
 
+/// A checkpoint whose global heap HDF5 would loop on (blocks a crash zeroed): damaged, as an
+/// unreadable one (the read deadline is the backstop for other such loops).
+void check_global_heaps(const std::string& path) {
+    if (const std::string why = damaged_global_heap(path); !why.empty())
+        throw CheckpointUnreadable("checkpoint '" + path + "' is damaged: " + why);
+}
+
 /// Everything in the file; checks its format, the lengths of its arrays and (where the file
 /// has one) its checksum; with `n` >= 0 also the body against a replica of n disks.
 ReplicaState read_state(const std::string& path, std::int64_t n = -1) {
     h5::quiet_errors();
+    check_global_heaps(path);
     ReplicaState s{.system = System{Particles{}, Box(1.0)}};  // the box is read below
     std::optional<std::int64_t> checksum;
     try {
+        const ReadDeadline deadline(path, read_deadline_seconds(),
+                                    "remove it: its replica starts again from its start");
         const h5::Handle file = h5::open_file_readonly(path);
         const hid_t f = file.get();
         const std::string format = h5::read_string_attribute(f, "format");
@@ -271,8 +283,11 @@ ReplicaState read_state(const std::string& path, std::int64_t n = -1) {
 
 ReplicaState read_checkpoint(const std::string& path, const ReplicaParams& p) {
     h5::quiet_errors();
+    check_global_heaps(path);
     std::string replica;
     try {
+        const ReadDeadline deadline(path, read_deadline_seconds(),
+                                    "remove it: its replica starts again from its start");
         replica = h5::read_string_attribute(h5::open_file_readonly(path).get(), "replica");
     } catch (const h5::Error& e) { throw CheckpointError("checkpoint '" + path + "' cannot be read: " + e.what()); }
     ReplicaState s = read_state(path, p.n);
@@ -295,8 +310,11 @@ System read_state_system(const std::string& path, const ReplicaParams& p) { retu
 
 void check_checkpoint_header(const std::string& path, const ReplicaParams& p) {
     h5::quiet_errors();
+    check_global_heaps(path);
     std::string format, replica;
     try {
+        const ReadDeadline deadline(path, read_deadline_seconds(),
+                                    "remove it: its replica starts again from its start");
         const h5::Handle f = h5::open_file_readonly(path);
         format = h5::read_string_attribute(f.get(), "format");
         replica = h5::read_string_attribute(f.get(), "replica");

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <mutex>
 #include <thread>
+#include <utility>
 
 namespace jamsim {
 
@@ -25,17 +26,17 @@ struct ReadDeadline::Watch {
     std::thread thread;
 };
 
-ReadDeadline::ReadDeadline(const std::string& path, double seconds) : watch_(std::make_unique<Watch>()) {
-    watch_->thread = std::thread([watch = watch_.get(), path, seconds] {
+ReadDeadline::ReadDeadline(const std::string& path, double seconds, std::string advice)
+    : watch_(std::make_unique<Watch>()) {
+    watch_->thread = std::thread([watch = watch_.get(), path, seconds, advice = std::move(advice)] {
         std::unique_lock lock(watch->mutex);
         if (watch->done_signal.wait_for(lock, std::chrono::duration<double>(seconds), [&] { return watch->done; }))
             return;
         std::fprintf(stderr,
                      "jamsim: reading '%s' did not finish within %g s: its HDF5 structure is damaged (HDF5 "
                      "loops on some damaged files, such as blocks zeroed by a crash), or its filesystem does not "
-                     "answer; nothing was changed (use the archive's copy, or run the campaign into a new "
-                     "archive)\n",
-                     path.c_str(), seconds);
+                     "answer; %s\n",
+                     path.c_str(), seconds, advice.c_str());
         std::fflush(stderr);
         std::_Exit(2);
     });

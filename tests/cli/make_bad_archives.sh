@@ -10,14 +10,15 @@
 # final_cut.h5 (/final/x cut to 3 disks), no_series.h5 (no /timeseries); and two whose layout
 # is whole but whose final state jamsim cannot have written: final_nan.h5 (x = nan at disk 3),
 # box_negative.h5 (/final/box_side = -1); ranks_text.h5 (the n_ranks attribute as text);
-# heap_zeroed.h5 (the objects of its first global heap zeroed, as a crash can leave them:
-# HDF5 1.10 loops for ever reading its attributes).
+# heap_zeroed.h5 and heap_last.h5 (the objects of its first or last global heap zeroed, as a
+# crash can leave them: HDF5 1.10 loops for ever reading its attributes; the last holds the
+# stamps, which status read after the checks).
 set -euo pipefail
 jamsim=$1 spec=$2
 here=$(cd "$(dirname "$0")" && pwd)
 rm -rf good.h5 good.h5.checkpoints empty.h5 text.h5 truncated.h5 plain.h5 replica.h5 \
   layout.h5 version.h5 missing.h5 a_directory status_rows.h5 status_value.h5 series_cut.h5 final_cut.h5 \
-  no_series.h5 final_nan.h5 box_negative.h5 ranks_text.h5 heap_zeroed.h5
+  no_series.h5 final_nan.h5 box_negative.h5 ranks_text.h5 heap_zeroed.h5 heap_last.h5
 "$jamsim" run "$spec" -o good.h5 >/dev/null 2>&1
 : > empty.h5
 echo "not an archive" > text.h5
@@ -48,12 +49,13 @@ damaged("no_series.h5", lambda f: f.__delitem__("timeseries"))
 damaged("final_nan.h5", lambda f: f["final/x"].__setitem__(3, float("nan")))
 damaged("box_negative.h5", lambda f: f["final/box_side"].__setitem__(0, -1.0))
 damaged("ranks_text.h5", lambda f: f.attrs.__setitem__("n_ranks", "two"))
-shutil.copy("good.h5", "heap_zeroed.h5")
-with open("heap_zeroed.h5", "r+b") as f:  # "GCOL", version, reserved, the collection's size, objects
-    data = f.read()
-    at = data.index(b"GCOL")
-    size = int.from_bytes(data[at + 8:at + 16], "little")
-    f.seek(at + 16)
-    f.write(bytes(size - 16))
+for name, last in (("heap_zeroed.h5", False), ("heap_last.h5", True)):
+    shutil.copy("good.h5", name)
+    with open(name, "r+b") as f:  # "GCOL", version, reserved, the collection's size, objects
+        data = f.read()
+        at = data.rindex(b"GCOL") if last else data.index(b"GCOL")
+        size = int.from_bytes(data[at + 8:at + 16], "little")
+        f.seek(at + 16)
+        f.write(bytes(size - 16))
 PY
 /usr/bin/python3 "$here/../mpi/other_version.py" version.h5

@@ -2,7 +2,9 @@
 Damages a jamsim checkpoint (or an archive's final state) the way a disk, a kill or a hand
 does: truncated, zero_filled, short_column (one time series column a row short),
 fewer_disks (every particle array two disks short), nan_position, edited_step (the step
-attribute moved by one checkpoint interval), other_diameter (an archive: one final disk of
+attribute moved by one checkpoint interval), heap_zeroed (the objects of its first global
+heap zeroed, as a crash can leave them: HDF5 1.10 loops for ever reading its text
+attributes), other_diameter (an archive: one final disk of
 replica 0 given another diameter)."""
 import os
 import sys
@@ -17,6 +19,13 @@ elif kind == "zero_filled":
     size = os.path.getsize(path)
     with open(path, "r+b") as f:
         f.write(b"\0" * size)
+elif kind == "heap_zeroed":
+    with open(path, "r+b") as f:  # "GCOL", version, reserved, the collection's size, objects
+        data = f.read()
+        at = data.index(b"GCOL")
+        size = int.from_bytes(data[at + 8:at + 16], "little")
+        f.seek(at + 16)
+        f.write(bytes(size - 16))
 elif kind == "other_diameter":
     with h5py.File(path, "r+", locking=False) as f:
         d = f["final/diameter"]

@@ -14,10 +14,13 @@ namespace jamsim {
 double read_deadline_seconds();
 
 /// While alive, a watchdog: unless destroyed within `seconds`, it prints "jamsim: reading
-/// 'PATH' did not finish within S s: ..." to stderr and ends the process with std::_Exit(2).
+/// 'PATH' did not finish within S s: ...; ADVICE" to stderr and ends the process with
+/// std::_Exit(2) (on every rank that meets the file; mpirun then ends the job).
 class ReadDeadline {
   public:
-    ReadDeadline(const std::string& path, double seconds);
+    ReadDeadline(const std::string& path, double seconds,
+                 std::string advice = "nothing was changed (use the archive's copy, or run the campaign into a "
+                                      "new archive)");
     ~ReadDeadline();
     ReadDeadline(const ReadDeadline&) = delete;
     ReadDeadline& operator=(const ReadDeadline&) = delete;
