@@ -139,8 +139,9 @@ if [[ -z $replicas ]]; then
   echo "submit_campaign.sh: the dry run of $campaign did not say how many replicas it has; nothing was queued" >&2
   exit 2
 fi
-if (( ${#shards} > 9 || shards > replicas )); then  # a shard past the replicas holds none: a task for nothing
-  echo "submit_campaign.sh: SHARDS = $shards is not allowed for $campaign: at most its $replicas replica$([[ $replicas == 1 ]] || echo s) (task K runs the replicas with id % SHARDS == K)" >&2
+# A shard past the replicas holds none: a task for nothing (shards made so earlier go on).
+if [[ ${old_shards:-} != "$shards" ]] && (( ${#shards} > 9 || shards > replicas )); then
+  echo "submit_campaign.sh: SHARDS = $shards is not allowed for $campaign: at most its $replicas replica$([[ $replicas == 1 ]] || echo s) (task K runs the replicas with id % SHARDS == K; a rate ladder's chain stays in one task)" >&2
   exit 2
 fi
 mkdir -p "$(dirname "$merged")" "$shard_dir"

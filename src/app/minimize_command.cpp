@@ -43,7 +43,11 @@ void write_lammps_data(const System& sys, const std::string& path) {
     // Written beside it and renamed: a full disk leaves no partial file under the name.
     const std::string tmp = make_temporary_beside(path);
     std::ofstream out(tmp);
-    if (!out) throw std::runtime_error("cannot write LAMMPS data file '" + path + "'");
+    if (!out) {
+        std::error_code ignored;
+        std::filesystem::remove(tmp, ignored);
+        throw std::runtime_error("cannot write LAMMPS data file '" + path + "'");
+    }
     const Particles& p = sys.particles;
     const double L = sys.box.side();
     char line[256];

@@ -121,6 +121,7 @@ void Archive::extend(MPI_Comm comm, const std::string& path, const CampaignSpec&
         std::error_code ignored;
         std::filesystem::remove(checkpoint_path(path, static_cast<std::int64_t>(r)), ignored);
         std::filesystem::remove(checkpoint_path(path, static_cast<std::int64_t>(r)) + ".tmp", ignored);
+        std::filesystem::remove(rebuild_state_path(path, static_cast<std::int64_t>(r)), ignored);
     }
     out.stamp("extended");
     out.close();

@@ -397,7 +397,7 @@ std::string not_a_regular_file(const std::string& path) {
 }
 
 std::string diagnose_initial_source(const std::string& path) {
-    if (std::error_code ec; !std::filesystem::exists(path, ec)) return quoted(path) + " does not exist";
+    if (std::error_code ec; !std::filesystem::exists(path, ec) && !ec) return quoted(path) + " does not exist";
     if (std::string odd = not_a_regular_file(path); !odd.empty()) return odd;
     return is_hdf5_file(path) ? diagnose_archive_file(path) : "";
 }

@@ -183,12 +183,11 @@ void copy_ladder_end_states(const std::string& output, const std::vector<std::st
     }
 }
 
-/// The copy itself, under the output's lock: every finished replica of the inputs that the
-/// output lacks (a done one wins over a failed one), the ladders' end states, the stamp.
-void copy_replicas(const std::string& output, const std::vector<std::string>& inputs, const CampaignSpec& spec,
-                   const std::vector<StoredCampaign>& stored, const std::vector<std::vector<std::int64_t>>& target,
-                   bool exists, MergeOutcome& result) {
-    Archive out = exists ? Archive::open(MPI_COMM_SELF, output) : Archive::create(MPI_COMM_SELF, output, spec);
+/// copy_replicas' work on the open output: every finished replica of the inputs that it lacks
+/// (a done one wins over a failed one), the ladders' end states, the stamp.
+void fill(Archive& out, const std::string& output, const std::vector<std::string>& inputs, const CampaignSpec& spec,
+          const std::vector<StoredCampaign>& stored, const std::vector<std::vector<std::int64_t>>& target,
+          MergeOutcome& result) {
     std::vector<ReplicaStatus> have = out.read_status();
     std::multimap<std::size_t, std::pair<std::size_t, std::size_t>> done_in;  // output id -> (input, id) it came from
     for (std::size_t k = 0; k < inputs.size(); ++k)
@@ -206,6 +205,21 @@ void copy_replicas(const std::string& output, const std::vector<std::string>& in
     copy_ladder_end_states(output, inputs, spec, have, done_in);
     out.stamp("merged");
     out.close();
+}
+
+/// The copy itself, under the output's lock (fill).
+void copy_replicas(const std::string& output, const std::vector<std::string>& inputs, const CampaignSpec& spec,
+                   const std::vector<StoredCampaign>& stored, const std::vector<std::vector<std::int64_t>>& target,
+                   bool exists, MergeOutcome& result) {
+    Archive out = exists ? Archive::open(MPI_COMM_SELF, output) : Archive::create(MPI_COMM_SELF, output, spec);
+    try {
+        fill(out, output, inputs, spec, stored, target, result);
+    } catch (...) {  // closed before the caller lets the lock go: no late flush after another writer came
+        try {
+            out.close();
+        } catch (...) {}
+        throw;
+    }
 }
 
 }  // namespace
@@ -231,7 +245,7 @@ MergeOutcome merge_archives(const std::string& output, const std::vector<std::st
             (void)Archive::undo_interrupted_creation(output);
         }
     } catch (const ArchiveBusy& e) { throw CampaignRefused(e.what()); }
-    const bool exists = std::filesystem::exists(output);
+    bool exists = std::filesystem::exists(output);
     if (const std::string too_large = check_capacity(estimate_capacity(spec, output, 1, 1), {}, spec, output);
         !too_large.empty())
         throw CampaignRefused(too_large);
@@ -244,6 +258,9 @@ MergeOutcome merge_archives(const std::string& output, const std::vector<std::st
         for (const auto& path : inputs) ArchiveLock::check_free(path);
         lock.emplace(ArchiveLock::acquire(MPI_COMM_SELF, output, "jamsim merge"));
     } catch (const ArchiveBusy& e) { throw CampaignRefused(e.what()); }
+    // Again under the lock: another merge may have made the output in between (a new output
+    // would be truncated, and a failure would remove it).
+    exists = std::filesystem::exists(output);
     if (exists) check_existing_output(output, inputs, spec);
     std::error_code ec;
     const bool had_checkpoints = std::filesystem::exists(checkpoint_folder(output), ec);

@@ -128,7 +128,18 @@ System ladder_start(const CampaignSpec& spec, std::int64_t id, const ReplicaPara
                                                              .checkpoints = &saved,
                                                              .resume = resume ? &*resume : nullptr,
                                                              .initial = initial ? &*initial : nullptr});
-    if (!same_bits(final_configuration(result.final_state), archive.read_final(id, static_cast<std::size_t>(own.n))))
+    const bool same =
+        same_bits(final_configuration(result.final_state), archive.read_final(id, static_cast<std::size_t>(own.n)));
+    if (!same && resume) {  // a stale checkpoint (of an earlier campaign's replica): once more from the start
+        std::fprintf(stderr,
+                     "jamsim run: warning: replica %lld, run again from its checkpoint '%s', did not end on its final "
+                     "configuration in the archive; it runs again from its start\n",
+                     static_cast<long long>(id), rebuild.c_str());
+        std::error_code ignored;
+        fs::remove(rebuild, ignored);
+        return ladder_start(spec, id, params, successor, archive, options, between, stop);
+    }
+    if (!same)
         throw std::runtime_error("replica " + std::to_string(id) + ", run again to make the end state that replica " +
                                  std::to_string(successor) +
                                  " starts from, did not end on its final configuration in the archive (was the "
@@ -233,10 +244,10 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, A
             timed([&] { write_end_state(end_state_path(options.archive_path, id), params, result.final_state); });
         timed([&] { archive.write_done(id, result, rank, threads.mean()); });
         last_checkpoint = result.last_checkpoint;
-        if (before >= 0) {  // the predecessor's end state has served
-            std::error_code ignored;
+        std::error_code ignored;
+        fs::remove(rebuild_state_path(options.archive_path, id), ignored);  // a rebuild's, stale now
+        if (before >= 0)                                                    // the predecessor's end state has served
             fs::remove(end_state_path(options.archive_path, before), ignored);
-        }
     } catch (const h5::Error&) {
         throw;  // the archive itself is broken: stop
     } catch (const ReplicaInterrupted&) {

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <mutex>
+#include <system_error>
 #include <thread>
 #include <utility>
 
@@ -28,6 +29,12 @@ struct ReadDeadline::Watch {
 
 ReadDeadline::ReadDeadline(const std::string& path, double seconds, std::string advice)
     : watch_(std::make_unique<Watch>()) {
+    try {
+        start(path, seconds, std::move(advice));
+    } catch (const std::system_error&) {}  // no thread to be had (a limit): read without a watch
+}
+
+void ReadDeadline::start(const std::string& path, double seconds, std::string advice) {
     watch_->thread = std::thread([watch = watch_.get(), path, seconds, advice = std::move(advice)] {
         std::unique_lock lock(watch->mutex);
         if (watch->done_signal.wait_for(lock, std::chrono::duration<double>(seconds), [&] { return watch->done; }))
@@ -48,7 +55,7 @@ ReadDeadline::~ReadDeadline() {
         watch_->done = true;
     }
     watch_->done_signal.notify_one();
-    watch_->thread.join();
+    if (watch_->thread.joinable()) watch_->thread.join();
 }
 
 }  // namespace jamsim

@@ -159,9 +159,10 @@ foreach(row IN LISTS heap_commands)
     ENVIRONMENT "EXPECT_STATUS=2;PROTECT=heap_zeroed.h5 heap_last.h5 good.h5;JAMSIM_READ_DEADLINE_SECONDS=2")
 endforeach()
 # A file the user keeps under OUTPUT.tmp survives the commands that write OUTPUT (they wrote
-# through that name and renamed it away): export, minimize --lammps-data, replica -o.
+# through that name and renamed it away): export, minimize --lammps-data, replica -o. The
+# outputs have a new file's mode (0644 under umask 022), not the temporary name's 0600.
 add_test(NAME archive_file.user_tmp_file_kept
-  COMMAND bash -c "set -e; rm -rf keep*; for f in keep.data.tmp keep_min.data.tmp keep.h5.tmp; do echo precious > $f; done; $<TARGET_FILE:jamsim> export good.h5 -r 0 -o keep.data > /dev/null; $<TARGET_FILE:jamsim> minimize --N 64 --lammps-data keep_min.data > /dev/null; $<TARGET_FILE:jamsim> replica --N 16 --phi 0.8 --rate 1e-2 --strain 0.01 -o keep.h5 > /dev/null 2>&1; for f in keep.data.tmp keep_min.data.tmp keep.h5.tmp; do grep -qx precious $f; done; test -s keep.data -a -s keep_min.data -a -s keep.h5; test -z \"$(ls keep*.??????.tmp 2> /dev/null)\""
+  COMMAND bash -c "set -e; umask 022; rm -rf keep*; for f in keep.data.tmp keep_min.data.tmp keep.h5.tmp; do echo precious > $f; done; $<TARGET_FILE:jamsim> export good.h5 -r 0 -o keep.data > /dev/null; $<TARGET_FILE:jamsim> minimize --N 64 --lammps-data keep_min.data > /dev/null; $<TARGET_FILE:jamsim> replica --N 16 --phi 0.8 --rate 1e-2 --strain 0.01 -o keep.h5 > /dev/null 2>&1; for f in keep.data.tmp keep_min.data.tmp keep.h5.tmp; do grep -qx precious $f; done; test -s keep.data -a -s keep_min.data -a -s keep.h5; test -z \"$(ls keep*.??????.tmp 2> /dev/null)\"; test \"$(stat -c %a keep.data keep_min.data keep.h5 | sort -u)\" = 644"
   WORKING_DIRECTORY ${bad_dir})
 set_tests_properties(archive_file.user_tmp_file_kept PROPERTIES LABELS unit FIXTURES_REQUIRED bad_archives
   RESOURCE_LOCK bad_archives)

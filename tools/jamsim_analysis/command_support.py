@@ -27,11 +27,14 @@ def run_command(func, a, prog):
     except AnalysisError as e:
         print(f"{prog}: {e}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # the reader of stdout went away (| head): nothing to say
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # no second error at exit
+        return 1
     except OSError as e:  # a file that cannot be written, or HDF5 on a damaged archive
         if e.filename:
             print(f"{prog}: '{e.filename}': {e.strerror or e}", file=sys.stderr)
         else:
-            print(f"{prog}: {e} (a damaged archive?)", file=sys.stderr)
+            print(f"{prog}: {e}{' (a damaged archive?)' if _raised_in_h5py(e) else ''}", file=sys.stderr)
         return 2
     except RuntimeError as e:
         if not _raised_in_h5py(e):
@@ -131,6 +134,9 @@ def write_beside(path, write):
                                    suffix=".tmp")
     except OSError as e:
         raise AnalysisError(f"'{path}' cannot be written: {e.strerror}") from None
+    mask = os.umask(0)  # mkstemp makes the file for its owner alone: give it a new file's mode
+    os.umask(mask)
+    os.chmod(tmp, 0o666 & ~mask)
     os.close(fd)
     try:
         write(tmp)

@@ -26,6 +26,7 @@ class ReadDeadline {
     ReadDeadline& operator=(const ReadDeadline&) = delete;
 
   private:
+    void start(const std::string& path, double seconds, std::string advice);
     struct Watch;
     std::unique_ptr<Watch> watch_;
 };

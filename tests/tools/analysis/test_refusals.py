@@ -8,7 +8,7 @@ import h5py
 import numpy as np
 import pytest
 
-from test_scripts import TOOLS, run
+from test_scripts import PYTHON, TOOLS, run
 
 ANALYZE = os.path.join(TOOLS, "jamsim_analyze.py")
 REPORT = os.path.join(TOOLS, "jamsim_report.py")
@@ -133,7 +133,7 @@ def test_report_outdir_under_a_file(small_archive, tmp_path):
 
 @pytest.mark.parametrize("args,words", [
     (["--degree", "0"], "--degree = 0 is not allowed"),
-    (["--bootstrap", "1"], "--bootstrap = 1 is not allowed: 0 (none) or at least 10"),
+    (["--bootstrap", "1"], "--bootstrap = 1 is not allowed: 0 (none) or from 10 to 100000"),
     (["--start", "0.84", "0.28", "0"], "--start = 0.84 0.28 0 is not allowed"),
     (["--phi-min", "0.9", "--phi-max", "0.8"], "--phi-min = 0.9 is not allowed: below --phi-max"),
     (["--rate-max", "-1"], "--rate-max = -1.0 is not allowed"),
@@ -258,9 +258,14 @@ def test_outputs_never_overwrite_other_files(small_archive, tmp_path):
     assert victim.read_text() == "[campaign]\n"
     kept = tmp_path / "means.csv.tmp"
     kept.write_text("precious")
-    out = run(ANALYZE, "csv", small_archive, "-o", str(tmp_path / "means.csv"))
+    mask = os.umask(0o022)
+    try:
+        out = run(ANALYZE, "csv", small_archive, "-o", str(tmp_path / "means.csv"))
+    finally:
+        os.umask(mask)
     assert out.returncode == 0, out.stderr
     assert kept.read_text() == "precious" and (tmp_path / "means.csv").exists()
+    assert (tmp_path / "means.csv").stat().st_mode & 0o777 == 0o644  # a new file's mode, not mkstemp's 0600
     assert not [p for p in os.listdir(tmp_path) if p.startswith("means.csv.") and p != "means.csv.tmp"]
     refused(run(ANALYZE, "csv", small_archive, "-o", "/proc/means.csv"), "'/proc/means.csv' cannot be written")
 
@@ -290,3 +295,11 @@ def test_an_archive_whose_replicas_all_failed_says_so(small_archive, copy_of, tm
     for tool in ("plot_campaign.py", "transient_length.py"):
         extra = [str(tmp_path / "figures")] if tool == "plot_campaign.py" else []
         refused(run(os.path.join(TOOLS, tool), path, *extra), "no finished replica", " failed (replica 0: the reason)")
+
+
+def test_a_closed_pipe_is_no_damaged_archive(small_archive):
+    """`averages | head -1` said '[Errno 32] Broken pipe (a damaged archive?)'."""
+    import subprocess
+    out = subprocess.run(f"'{PYTHON}' '{ANALYZE}' averages '{small_archive}' | head -c 1", shell=True,
+                         capture_output=True, text=True, timeout=120)
+    assert "damaged" not in out.stderr and "Traceback" not in out.stderr, out.stderr
