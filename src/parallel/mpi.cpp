@@ -1,6 +1,9 @@
 #include "jamsim/parallel/mpi.hpp"
 
 #include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <system_error>
 
 namespace jamsim::mpi {
 
@@ -38,6 +41,17 @@ Session::Session(int& argc, char**& argv) {
         // there, so another singleton's MPI_File_open of its archive failed then (2 of 40
         // `jamsim run`s, 8 at a time). jamsim uses no shared file pointer.
         setenv("OMPI_MCA_sharedfp", "^sm", 0);
+        // ... and orte_init itself failed once so ("A call to mkdir was unable to create the
+        // desired directory: /tmp/ompi.vm.0/jf.0/1", a CI run of the quick set): each singleton
+        // gets a session folder of its own, removed when it ends.
+        if (!std::getenv("OMPI_MCA_orte_tmpdir_base")) {
+            const char* tmp = std::getenv("TMPDIR");
+            std::string name = std::string(tmp && *tmp ? tmp : "/tmp") + "/jamsim-mpi.XXXXXX";
+            if (::mkdtemp(name.data())) {
+                own_session_folder_ = name;
+                setenv("OMPI_MCA_orte_tmpdir_base", name.c_str(), 1);
+            }
+        }
     }
     // Only the main thread calls MPI; kernel loops run on OpenMP threads between calls.
     int provided = MPI_THREAD_SINGLE;
@@ -49,6 +63,10 @@ Session::~Session() {
     int finalised = 0;
     MPI_Finalized(&finalised);
     if (!finalised) MPI_Finalize();
+    if (!own_session_folder_.empty()) {
+        std::error_code ignored;
+        std::filesystem::remove_all(own_session_folder_, ignored);
+    }
 }
 
 int rank(MPI_Comm comm) {

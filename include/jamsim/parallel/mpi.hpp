@@ -22,6 +22,9 @@ class Session {
     ~Session();
     Session(const Session&) = delete;
     Session& operator=(const Session&) = delete;
+
+  private:
+    std::string own_session_folder_;  ///< a singleton's Open MPI session folder, removed at the end
 };
 
 int rank(MPI_Comm comm);
