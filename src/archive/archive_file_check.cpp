@@ -22,6 +22,7 @@
 #include "jamsim/spec/campaign_spec.hpp"
 #include "jamsim/io/hdf5.hpp"
 #include "jamsim/io/lammps_data.hpp"
+#include "jamsim/io/little_endian.hpp"
 #include "jamsim/io/read_deadline.hpp"
 
 namespace jamsim {
@@ -29,14 +30,6 @@ namespace jamsim {
 namespace {
 
 constexpr std::array<unsigned char, 8> kSignature = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
-
-/// Little-endian unsigned integer of `bytes` bytes at `at` (HDF5 stores addresses so).
-std::uint64_t little_endian(const std::string& data, std::size_t at, std::size_t bytes) {
-    std::uint64_t v = 0;
-    for (std::size_t k = 0; k < bytes; ++k)
-        v |= static_cast<std::uint64_t>(static_cast<unsigned char>(data[at + k])) << (8 * k);
-    return v;
-}
 
 /// Where the HDF5 superblock says the file ends (base address + end-of-file address), in
 /// bytes, when the superblock can be read: HDF5 looks for it at 0, 512, 1024, 2048, ...

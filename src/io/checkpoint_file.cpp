@@ -212,8 +212,12 @@ std::string body_problem(const ReplicaState& s, std::int64_t n) {
     return "";
 }
 
+/// What the read deadline advises for a checkpoint on which HDF5 loops.
+constexpr const char* kDamagedCheckpointAdvice = "remove it: its replica starts again from its start";
+
 /// A checkpoint whose global heap HDF5 would loop on (blocks a crash zeroed): damaged, as an
-/// unreadable one (the read deadline is the backstop for other such loops).
+/// unreadable one (the read deadline is the backstop for other such loops). Each public reader
+/// calls it once, before any HDF5 read.
 void check_global_heaps(const std::string& path) {
     if (const std::string why = damaged_global_heap(path); !why.empty())
         throw CheckpointUnreadable("checkpoint '" + path + "' is damaged: " + why);
@@ -223,12 +227,10 @@ void check_global_heaps(const std::string& path) {
 /// has one) its checksum; with `n` >= 0 also the body against a replica of n disks.
 ReplicaState read_state(const std::string& path, std::int64_t n = -1) {
     h5::quiet_errors();
-    check_global_heaps(path);
     ReplicaState s{.system = System{Particles{}, Box(1.0)}};  // the box is read below
     std::optional<std::int64_t> checksum;
     try {
-        const ReadDeadline deadline(path, read_deadline_seconds(),
-                                    "remove it: its replica starts again from its start");
+        const ReadDeadline deadline(path, read_deadline_seconds(), kDamagedCheckpointAdvice);
         const h5::Handle file = h5::open_file_readonly(path);
         const hid_t f = file.get();
         const std::string format = h5::read_string_attribute(f, "format");
@@ -286,8 +288,7 @@ ReplicaState read_checkpoint(const std::string& path, const ReplicaParams& p) {
     check_global_heaps(path);
     std::string replica;
     try {
-        const ReadDeadline deadline(path, read_deadline_seconds(),
-                                    "remove it: its replica starts again from its start");
+        const ReadDeadline deadline(path, read_deadline_seconds(), kDamagedCheckpointAdvice);
         replica = h5::read_string_attribute(h5::open_file_readonly(path).get(), "replica");
     } catch (const h5::Error& e) { throw CheckpointError("checkpoint '" + path + "' cannot be read: " + e.what()); }
     ReplicaState s = read_state(path, p.n);
@@ -304,17 +305,22 @@ ReplicaState read_checkpoint(const std::string& path, const ReplicaParams& p) {
     return s;
 }
 
-System read_state_system(const std::string& path) { return read_state(path).system; }
+System read_state_system(const std::string& path) {
+    check_global_heaps(path);
+    return read_state(path).system;
+}
 
-System read_state_system(const std::string& path, const ReplicaParams& p) { return read_state(path, p.n).system; }
+System read_state_system(const std::string& path, const ReplicaParams& p) {
+    check_global_heaps(path);
+    return read_state(path, p.n).system;
+}
 
 void check_checkpoint_header(const std::string& path, const ReplicaParams& p) {
     h5::quiet_errors();
     check_global_heaps(path);
     std::string format, replica;
     try {
-        const ReadDeadline deadline(path, read_deadline_seconds(),
-                                    "remove it: its replica starts again from its start");
+        const ReadDeadline deadline(path, read_deadline_seconds(), kDamagedCheckpointAdvice);
         const h5::Handle f = h5::open_file_readonly(path);
         format = h5::read_string_attribute(f.get(), "format");
         replica = h5::read_string_attribute(f.get(), "replica");

@@ -1,21 +1,15 @@
 #include "jamsim/io/global_heap_check.hpp"
 
 #include <cstdint>
-#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <string_view>
 
+#include "jamsim/io/little_endian.hpp"
+
 namespace jamsim {
 
 namespace {
-
-std::uint64_t little_endian(std::string_view data, std::size_t at, std::size_t bytes) {
-    std::uint64_t v = 0;
-    for (std::size_t k = 0; k < bytes; ++k)
-        v |= static_cast<std::uint64_t>(static_cast<unsigned char>(data[at + k])) << (8 * k);
-    return v;
-}
 
 /// The walk of H5HG's cache deserialiser (HDF5 1.10, 8-byte lengths): after the 16-byte
 /// header ("GCOL", version 1, 3 reserved bytes, the collection's size), objects of a 16-byte
