@@ -1,9 +1,7 @@
 #include "jamsim/parallel/mpi.hpp"
 
 #include <cstdlib>
-#include <filesystem>
 #include <string>
-#include <system_error>
 
 namespace jamsim::mpi {
 
@@ -44,13 +42,11 @@ Session::Session(int& argc, char**& argv) {
         // ... and orte_init itself failed once so ("A call to mkdir was unable to create the
         // desired directory: /tmp/ompi.vm.0/jf.0/1", a CI run of the quick set): each singleton
         // gets a session folder of its own, removed when it ends.
+        // A folder left by a killed singleton is removed by the next one (SessionFolder).
         if (!std::getenv("OMPI_MCA_orte_tmpdir_base")) {
-            const char* tmp = std::getenv("TMPDIR");
-            std::string name = std::string(tmp && *tmp ? tmp : "/tmp") + "/jamsim-mpi.XXXXXX";
-            if (::mkdtemp(name.data())) {
-                own_session_folder_ = name;
-                setenv("OMPI_MCA_orte_tmpdir_base", name.c_str(), 1);
-            }
+            session_folder_ = std::make_unique<SessionFolder>();
+            if (!session_folder_->path().empty())
+                setenv("OMPI_MCA_orte_tmpdir_base", session_folder_->path().c_str(), 1);
         }
     }
     // Only the main thread calls MPI; kernel loops run on OpenMP threads between calls.
@@ -63,10 +59,6 @@ Session::~Session() {
     int finalised = 0;
     MPI_Finalized(&finalised);
     if (!finalised) MPI_Finalize();
-    if (!own_session_folder_.empty()) {
-        std::error_code ignored;
-        std::filesystem::remove_all(own_session_folder_, ignored);
-    }
 }
 
 int rank(MPI_Comm comm) {

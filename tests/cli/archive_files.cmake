@@ -192,6 +192,12 @@ add_test(NAME cli.stale_extension
   COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/stale_extension.sh $<TARGET_FILE:jamsim>
   WORKING_DIRECTORY ${bad_dir})
 set_tests_properties(cli.stale_extension PROPERTIES LABELS unit)
+# A singleton killed by SIGKILL leaves its Open MPI session folder (jamsim-mpi.XXXXXX under
+# TMPDIR); the next jamsim removes it, and never a live one's (session_folders.sh).
+add_test(NAME cli.session_folders
+  COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/session_folders.sh $<TARGET_FILE:jamsim>
+  WORKING_DIRECTORY ${bad_dir})
+set_tests_properties(cli.session_folders PROPERTIES LABELS unit)
 # A shard past the campaign's replicas says that it holds none (it made an empty archive
 # without a word); a shard with one says nothing of the kind.
 add_test(NAME cli.shard_without_replicas

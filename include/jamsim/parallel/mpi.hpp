@@ -1,6 +1,9 @@
 #pragma once
 #include <mpi.h>
 
+#include "jamsim/parallel/session_folder.hpp"
+
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -24,7 +27,9 @@ class Session {
     Session& operator=(const Session&) = delete;
 
   private:
-    std::string own_session_folder_;  ///< a singleton's Open MPI session folder, removed at the end
+    /// A singleton's Open MPI session folder; removed after MPI_Finalize (members outlive the
+    /// destructor's body).
+    std::unique_ptr<SessionFolder> session_folder_;
 };
 
 int rank(MPI_Comm comm);
