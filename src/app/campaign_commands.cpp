@@ -201,6 +201,74 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
     return 0;
 }
 
+/// The options that describe the run a dry run plans (`jamsim run --dry-run`).
+void add_dry_run_options(CLI::App& cmd, const std::shared_ptr<RunOptions>& opt) {
+    cmd.add_option("--ranks", opt->plan.ranks, "--dry-run: ranks of the planned run")
+        ->check(count_at_least_one("ranks"))
+        ->default_str("1");
+    cmd.add_option("--shards", opt->plan.shards, "--dry-run: Slurm array tasks of the planned run")
+        ->check(count_at_least_one("shards"))
+        ->default_str("1");
+    add_serial_fraction_option(cmd, opt->plan.serial_fraction);
+    add_probe_seconds_option(cmd, opt->plan.probe_seconds);
+    cmd.add_option_function<std::string>(
+           "--time-limit",
+           [opt](const std::string& v) {
+               opt->plan.time_limit = parse_duration(v);
+               if (!(opt->plan.time_limit > 0))
+                   throw CLI::ValidationError(
+                       "jamsim run: --time-limit = " + v +
+                       " is not allowed: a duration > 0 such as 3600, 90min or 24h (at most 1e9 s)");
+               opt->time_limit_text = v;
+           },
+           "--dry-run: a task's time limit, to count the requeues it needs")
+        ->type_name("DURATION");
+    cmd.add_flag("--summary", opt->plan.summary,
+                 "--dry-run: one line per (model, N) with its work, longest replica and archive share, "
+                 "instead of one per replica (`jamsim plan --costs` needs the full listing)");
+    cmd.add_flag_callback(
+        "--no-calibrate", [opt] { opt->plan.calibrate = false; },
+        "--dry-run: nominal throughput instead of a short probe per model and N");
+}
+
+/// Options that mean nothing together: a dry run's plan options on a run, a run's own on a
+/// dry run, and a time limit shorter than the warning's lead.
+void check_option_combinations(RunOptions& opt, const CLI::App& cmd) {
+    // The planned run's options describe a dry run's plan; a run takes its ranks from
+    // mpirun and its time limit from Slurm, so there they would be silently ignored.
+    if (!opt.dry_run)
+        for (const char* name : {"--ranks", "--shards", "--time-limit", "--summary", "--no-calibrate",
+                                 "--serial-fraction", "--probe-seconds"})
+            if (cmd.count(name) > 0)
+                throw CLI::ValidationError(std::string("jamsim run: ") + name +
+                                           " is not allowed without --dry-run: it describes the run a dry run "
+                                           "plans (a run's ranks are mpirun's -n, its time limit Slurm's)");
+    // And a run's own options describe nothing a dry run does: it starts no replica.
+    if (opt.dry_run)
+        for (const char* name :
+             {"--shard", "--retry-failed", "--checkpoint-every", "--progress", "--progress-interval"})
+            if (cmd.count(name) > 0)
+                throw CLI::ValidationError(
+                    std::string("jamsim run: ") + name +
+                    " is not allowed with --dry-run: it changes how a run runs, and a dry run starts none" +
+                    (std::string_view(name) == "--shard"
+                         ? " (the dry run of the whole campaign plans its shards: --shards N --time-limit T)"
+                         : ""));
+    if (cmd.count("--no-calibrate") > 0 && cmd.count("--probe-seconds") > 0)
+        throw CLI::ValidationError("jamsim run: --probe-seconds is not allowed with --no-calibrate: nominal "
+                                   "throughput probes nothing");
+    if (opt.plan.time_limit > 0) {
+        opt.plan.signal_lead = signal_lead_from_environment();
+        // Slurm may send the warning up to a minute early (its event timer's period).
+        const double least = opt.plan.signal_lead + 60;
+        if (opt.plan.time_limit <= least)
+            throw CLI::ValidationError(
+                "jamsim run: --time-limit = " + opt.time_limit_text + " is not allowed: longer than " +
+                show_value(least) + " s, the warning's lead (JAMSIM_SIGNAL_LEAD = " + show_value(opt.plan.signal_lead) +
+                " s) plus the minute by which Slurm may send it early: no task could work");
+    }
+}
+
 }  // namespace
 
 CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
@@ -258,32 +326,7 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
            "checked as well)")
         ->default_str("1T")
         ->type_name("SIZE");
-    cmd->add_option("--ranks", opt->plan.ranks, "--dry-run: ranks of the planned run")
-        ->check(count_at_least_one("ranks"))
-        ->default_str("1");
-    cmd->add_option("--shards", opt->plan.shards, "--dry-run: Slurm array tasks of the planned run")
-        ->check(count_at_least_one("shards"))
-        ->default_str("1");
-    add_serial_fraction_option(*cmd, opt->plan.serial_fraction);
-    add_probe_seconds_option(*cmd, opt->plan.probe_seconds);
-    cmd->add_option_function<std::string>(
-           "--time-limit",
-           [opt](const std::string& v) {
-               opt->plan.time_limit = parse_duration(v);
-               if (!(opt->plan.time_limit > 0))
-                   throw CLI::ValidationError(
-                       "jamsim run: --time-limit = " + v +
-                       " is not allowed: a duration > 0 such as 3600, 90min or 24h (at most 1e9 s)");
-               opt->time_limit_text = v;
-           },
-           "--dry-run: a task's time limit, to count the requeues it needs")
-        ->type_name("DURATION");
-    cmd->add_flag("--summary", opt->plan.summary,
-                  "--dry-run: one line per (model, N) with its work, longest replica and archive share, "
-                  "instead of one per replica (`jamsim plan --costs` needs the full listing)");
-    cmd->add_flag_callback(
-        "--no-calibrate", [opt] { opt->plan.calibrate = false; },
-        "--dry-run: nominal throughput instead of a short probe per model and N");
+    add_dry_run_options(*cmd, opt);
     cmd->add_option("--shard", opt->shard,
                     "K/N: run only replicas with id % N == K, rate ladders whole (ladder k % N == K; merge shards "
                     "with jamsim merge)")
@@ -294,40 +337,7 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
         ->capture_default_str();
     cmd->callback([opt, cmd, &argc, &argv] {
         check_threads_environment("jamsim run", true);
-        // The planned run's options describe a dry run's plan; a run takes its ranks from
-        // mpirun and its time limit from Slurm, so there they would be silently ignored.
-        if (!opt->dry_run)
-            for (const char* name : {"--ranks", "--shards", "--time-limit", "--summary", "--no-calibrate",
-                                     "--serial-fraction", "--probe-seconds"})
-                if (cmd->count(name) > 0)
-                    throw CLI::ValidationError(std::string("jamsim run: ") + name +
-                                               " is not allowed without --dry-run: it describes the run a dry run "
-                                               "plans (a run's ranks are mpirun's -n, its time limit Slurm's)");
-        // And a run's own options describe nothing a dry run does: it starts no replica.
-        if (opt->dry_run)
-            for (const char* name :
-                 {"--shard", "--retry-failed", "--checkpoint-every", "--progress", "--progress-interval"})
-                if (cmd->count(name) > 0)
-                    throw CLI::ValidationError(
-                        std::string("jamsim run: ") + name +
-                        " is not allowed with --dry-run: it changes how a run runs, and a dry run starts none" +
-                        (std::string_view(name) == "--shard"
-                             ? " (the dry run of the whole campaign plans its shards: --shards N --time-limit T)"
-                             : ""));
-        if (cmd->count("--no-calibrate") > 0 && cmd->count("--probe-seconds") > 0)
-            throw CLI::ValidationError("jamsim run: --probe-seconds is not allowed with --no-calibrate: nominal "
-                                       "throughput probes nothing");
-        if (opt->plan.time_limit > 0) {
-            opt->plan.signal_lead = signal_lead_from_environment();
-            // Slurm may send the warning up to a minute early (its event timer's period).
-            const double least = opt->plan.signal_lead + 60;
-            if (opt->plan.time_limit <= least)
-                throw CLI::ValidationError(
-                    "jamsim run: --time-limit = " + opt->time_limit_text + " is not allowed: longer than " +
-                    show_value(least) +
-                    " s, the warning's lead (JAMSIM_SIGNAL_LEAD = " + show_value(opt->plan.signal_lead) +
-                    " s) plus the minute by which Slurm may send it early: no task could work");
-        }
+        check_option_combinations(*opt, *cmd);
         parse_shard(opt->shard);  // bad value: message and exit before MPI starts
         const int rc = run(*opt, argc, argv);
         if (rc != 0) throw CLI::RuntimeError(rc);

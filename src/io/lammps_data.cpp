@@ -126,113 +126,131 @@ bool next_line(std::istream& in, std::string& raw, const std::string& path, std:
 }
 }  // namespace
 
-LammpsData read_lammps_data(const std::string& path) {
-    std::ifstream in(path);
-    if (!in) throw LammpsDataError("'" + path + "' cannot be read");
-    LammpsData d;
-    const auto where = [&](std::size_t line) { return "'" + path + "' line " + std::to_string(line) + ": "; };
-    std::string raw;
-    std::size_t line_no = 0;
-    ++line_no;
-    next_line(in, raw, path, line_no);  // the title
-    bool have_x = false, have_y = false, have_atoms = false, have_types = false;
-    std::string section;
-    std::string style_hint;
-    std::set<std::string> sections_seen;
-    std::set<std::string> header_seen;  // the header lines read (atoms, xlo xhi, ...)
-    while (next_line(in, raw, path, line_no + 1)) {
-        ++line_no;
-        const std::string_view full(raw);
+namespace {
+
+/// Reads a LAMMPS data file line by line into LammpsData: the header, then its sections
+/// (only Atoms is kept). Each method takes one line; `where` names the file and the line.
+class DataFileReader {
+  public:
+    explicit DataFileReader(const std::string& path) : path_(path) {}
+
+    void read_line(std::string_view full, std::size_t line_no) {
+        line_no_ = line_no;
         const auto hash = full.find('#');
         const std::string_view text = trim(full.substr(0, hash));
-        if (text.empty()) continue;
+        if (text.empty()) return;
         const auto f = fields(text);
-        if (!starts_numeric(f[0])) {  // a section keyword
-            // ... unless it is a header line with a value that is not a number ("nan 0 0 xy xz
-            // yz" was taken for a section, and the tilt for 0).
-            for (const char* header : {" xy xz yz", " xlo xhi", " ylo yhi", " zlo zhi", " atoms", " atom types"})
-                if (section.empty() && text.size() > std::strlen(header) && text.ends_with(header))
-                    throw LammpsDataError(where(line_no) + "'" + std::string(text) + "': finite numbers before '" +
-                                          std::string(header + 1) + "'");
-            section = std::string(text);
-            if (sections_seen.count(section))
-                throw LammpsDataError(where(line_no) + "a second '" + section + "' section");
-            sections_seen.insert(section);
-            if (section == "Atoms" && hash != std::string_view::npos)
-                style_hint = std::string(trim(full.substr(hash + 1)));
-            continue;
-        }
-        if (section.empty()) {  // header
-            const auto keyword = [&](std::size_t k) {
-                std::string s;
-                for (std::size_t i = k; i < f.size(); ++i) {
-                    if (i > k) s.push_back(' ');
-                    s.append(f[i]);
-                }
-                return s;
-            };
-            std::int64_t count = 0;
-            // One line of each (LAMMPS would take the last of two silently).
-            for (const std::string& said : {keyword(1), keyword(2), keyword(3)})
-                if (said == "atoms" || said == "atom types" || said == "xlo xhi" || said == "ylo yhi" ||
-                    said == "zlo zhi" || said == "xy xz yz") {
-                    if (!header_seen.insert(said).second)
-                        throw LammpsDataError(where(line_no) + "a second '" + said + "' line in the header");
-                    break;
-                }
-            if (f.size() >= 2 && keyword(1) == "atoms") {
-                if (!to_int(f[0], count) || count < 0)
-                    throw LammpsDataError(where(line_no) + "atoms = " + std::string(f[0]) + ": a count >= 0");
-                d.atoms = count;
-                have_atoms = true;
-            } else if (f.size() >= 3 && keyword(1) == "atom types") {
-                if (!to_int(f[0], count) || count < 1)
-                    throw LammpsDataError(where(line_no) + "atom types = " + std::string(f[0]) + ": a count >= 1");
-                d.atom_types = count;
-                have_types = true;
-            } else if (f.size() == 4 &&
-                       (keyword(2) == "xlo xhi" || keyword(2) == "ylo yhi" || keyword(2) == "zlo zhi")) {
-                double lo = 0, hi = 0;
-                if (!to_double(f[0], lo) || !to_double(f[1], hi) || !(hi > lo))
-                    throw LammpsDataError(where(line_no) + "'" + std::string(text) + "': two numbers lo < hi");
-                if (f[2] == "xlo") {
-                    d.xlo = lo;
-                    d.xhi = hi;
-                    have_x = true;
-                } else if (f[2] == "ylo") {
-                    d.ylo = lo;
-                    d.yhi = hi;
-                    have_y = true;
-                } else {
-                    d.zlo = lo;
-                    d.zhi = hi;
-                }
-            } else if (f.size() == 6 && keyword(3) == "xy xz yz") {
-                if (!to_double(f[0], d.xy) || !to_double(f[1], d.xz) || !to_double(f[2], d.yz))
-                    throw LammpsDataError(where(line_no) + "'" + std::string(text) + "': three numbers");
+        if (!starts_numeric(f[0]))
+            read_section_keyword(full, text, hash);
+        else if (section_.empty())
+            read_header_line(text, f);
+        else if (section_ == "Atoms")  // Masses, Velocities, Pair Coeffs, ...: not needed
+            read_atom_line(text, f);
+    }
+
+    LammpsData finish() {
+        if (!have_atoms_ || !have_types_ || !have_x_ || !have_y_)
+            throw LammpsDataError("'" + path_ +
+                                  "' is not a LAMMPS data file: its header needs 'N atoms', 'N atom types', "
+                                  "'xlo xhi' and 'ylo yhi'");
+        if (!sections_seen_.count("Atoms")) throw LammpsDataError("'" + path_ + "' has no Atoms section");
+        if (static_cast<std::int64_t>(d_.id.size()) != d_.atoms)
+            throw LammpsDataError("'" + path_ + "': the header says " + std::to_string(d_.atoms) +
+                                  " atoms, the Atoms section has " + std::to_string(d_.id.size()));
+        return std::move(d_);
+    }
+
+  private:
+    std::string where() const { return "'" + path_ + "' line " + std::to_string(line_no_) + ": "; }
+
+    void read_section_keyword(std::string_view full, std::string_view text, std::size_t hash) {
+        // ... unless it is a header line with a value that is not a number ("nan 0 0 xy xz
+        // yz" was taken for a section, and the tilt for 0).
+        for (const char* header : {" xy xz yz", " xlo xhi", " ylo yhi", " zlo zhi", " atoms", " atom types"})
+            if (section_.empty() && text.size() > std::strlen(header) && text.ends_with(header))
+                throw LammpsDataError(where() + "'" + std::string(text) + "': finite numbers before '" +
+                                      std::string(header + 1) + "'");
+        section_ = std::string(text);
+        if (sections_seen_.count(section_)) throw LammpsDataError(where() + "a second '" + section_ + "' section");
+        sections_seen_.insert(section_);
+        if (section_ == "Atoms" && hash != std::string_view::npos)
+            style_hint_ = std::string(trim(full.substr(hash + 1)));
+    }
+
+    void read_header_line(std::string_view text, const std::vector<std::string_view>& f) {
+        const auto keyword = [&](std::size_t k) {
+            std::string s;
+            for (std::size_t i = k; i < f.size(); ++i) {
+                if (i > k) s.push_back(' ');
+                s.append(f[i]);
             }
-            // other header lines (bonds, extra/atom, ellipsoids, ...) say nothing about disks
-            continue;
+            return s;
+        };
+        // One line of each (LAMMPS would take the last of two silently).
+        for (const std::string& said : {keyword(1), keyword(2), keyword(3)})
+            if (said == "atoms" || said == "atom types" || said == "xlo xhi" || said == "ylo yhi" ||
+                said == "zlo zhi" || said == "xy xz yz") {
+                if (!header_seen_.insert(said).second)
+                    throw LammpsDataError(where() + "a second '" + said + "' line in the header");
+                break;
+            }
+        std::int64_t count = 0;
+        if (f.size() >= 2 && keyword(1) == "atoms") {
+            if (!to_int(f[0], count) || count < 0)
+                throw LammpsDataError(where() + "atoms = " + std::string(f[0]) + ": a count >= 0");
+            d_.atoms = count;
+            have_atoms_ = true;
+        } else if (f.size() >= 3 && keyword(1) == "atom types") {
+            if (!to_int(f[0], count) || count < 1)
+                throw LammpsDataError(where() + "atom types = " + std::string(f[0]) + ": a count >= 1");
+            d_.atom_types = count;
+            have_types_ = true;
+        } else if (f.size() == 4 && (keyword(2) == "xlo xhi" || keyword(2) == "ylo yhi" || keyword(2) == "zlo zhi")) {
+            double lo = 0, hi = 0;
+            if (!to_double(f[0], lo) || !to_double(f[1], hi) || !(hi > lo))
+                throw LammpsDataError(where() + "'" + std::string(text) + "': two numbers lo < hi");
+            if (f[2] == "xlo") {
+                d_.xlo = lo;
+                d_.xhi = hi;
+                have_x_ = true;
+            } else if (f[2] == "ylo") {
+                d_.ylo = lo;
+                d_.yhi = hi;
+                have_y_ = true;
+            } else {
+                d_.zlo = lo;
+                d_.zhi = hi;
+            }
+        } else if (f.size() == 6 && keyword(3) == "xy xz yz") {
+            if (!to_double(f[0], d_.xy) || !to_double(f[1], d_.xz) || !to_double(f[2], d_.yz))
+                throw LammpsDataError(where() + "'" + std::string(text) + "': three numbers");
         }
-        if (section != "Atoms") continue;  // Masses, Velocities, Pair Coeffs, ...: not needed
-        if (d.atom_style.empty()) {
-            const std::string hint = fields(style_hint).empty() ? "" : std::string(fields(style_hint)[0]);
-            if (hint == "sphere" || hint == "atomic")
-                d.atom_style = hint;
-            else if (!hint.empty())
-                throw LammpsDataError(where(line_no) + "Atoms # " + hint +
-                                      ": atom_style sphere (id type diameter density x y z) or atomic (id type x y z)");
-            else if (f.size() == 5 || f.size() == 8)
-                d.atom_style = "atomic";
-            else
-                d.atom_style = "sphere";
-        }
-        const bool sphere = d.atom_style == "sphere";
+        // other header lines (bonds, extra/atom, ellipsoids, ...) say nothing about disks
+    }
+
+    /// atom_style from the section's comment ("Atoms # sphere"), else from the first line's
+    /// field count.
+    void choose_atom_style(std::size_t field_count) {
+        const std::string hint = fields(style_hint_).empty() ? "" : std::string(fields(style_hint_)[0]);
+        if (hint == "sphere" || hint == "atomic")
+            d_.atom_style = hint;
+        else if (!hint.empty())
+            throw LammpsDataError(where() + "Atoms # " + hint +
+                                  ": atom_style sphere (id type diameter density x y z) or atomic (id type x y z)");
+        else if (field_count == 5 || field_count == 8)
+            d_.atom_style = "atomic";
+        else
+            d_.atom_style = "sphere";
+    }
+
+    void read_atom_line(std::string_view text, const std::vector<std::string_view>& f) {
+        if (d_.atom_style.empty()) choose_atom_style(f.size());
+        const bool sphere = d_.atom_style == "sphere";
         const std::size_t columns = sphere ? 7 : 5;
         if (f.size() != columns && f.size() != columns + 3)
             throw LammpsDataError(
-                where(line_no) + "an Atoms line of " + std::to_string(f.size()) + " fields: atom_style " +
-                d.atom_style + " has " + (sphere ? "id type diameter density x y z" : "id type x y z") + " (" +
+                where() + "an Atoms line of " + std::to_string(f.size()) + " fields: atom_style " + d_.atom_style +
+                " has " + (sphere ? "id type diameter density x y z" : "id type x y z") + " (" +
                 std::to_string(columns) + ", or " + std::to_string(columns + 3) + " with image flags)");
         std::int64_t id = 0, type = 0;
         double diameter = 0, density = 0, x = 0, y = 0, z = 0;
@@ -240,40 +258,52 @@ LammpsData read_lammps_data(const std::string& path) {
         if (!to_int(f[0], id) || !to_int(f[1], type) ||
             (sphere && (!to_double(f[2], diameter) || !to_double(f[3], density))) || !to_double(f[p], x) ||
             !to_double(f[p + 1], y) || !to_double(f[p + 2], z))
-            throw LammpsDataError(where(line_no) + "'" + std::string(text) + "': integer id and type, finite numbers");
+            throw LammpsDataError(where() + "'" + std::string(text) + "': integer id and type, finite numbers");
         // As LAMMPS's own reader demands ("Invalid atom ID", "Invalid density in Atoms section").
         if (id < 1)
-            throw LammpsDataError(where(line_no) + "atom id " + std::string(f[0]) +
-                                  ": atom ids are whole numbers >= 1");
+            throw LammpsDataError(where() + "atom id " + std::string(f[0]) + ": atom ids are whole numbers >= 1");
         if (sphere && !(density > 0))
-            throw LammpsDataError(where(line_no) + "atom " + std::string(f[0]) + " has density " + std::string(f[3]) +
+            throw LammpsDataError(where() + "atom " + std::string(f[0]) + " has density " + std::string(f[3]) +
                                   ": atom_style sphere needs a density > 0");
         // LAMMPS: "Invalid atom type"; jamsim's disks are of two types.
-        if (type < 1 || (have_types && type > d.atom_types) || type > 2)
-            throw LammpsDataError(where(line_no) + "atom " + std::string(f[0]) + " has type " + std::string(f[1]) +
+        if (type < 1 || (have_types_ && type > d_.atom_types) || type > 2)
+            throw LammpsDataError(where() + "atom " + std::string(f[0]) + " has type " + std::string(f[1]) +
                                   ": types 1 (small disks) and 2 (large), at most the header's " +
-                                  std::to_string(d.atom_types) + " atom types");
+                                  std::to_string(d_.atom_types) + " atom types");
         for (std::size_t k = columns; k < f.size(); ++k)  // image flags: whole numbers
             if (std::int64_t image = 0; !to_int(f[k], image))
-                throw LammpsDataError(where(line_no) + "atom " + std::string(f[0]) + " has image flag '" +
-                                      std::string(f[k]) + "': image flags are whole numbers");
-        d.id.push_back(id);
-        d.type.push_back(static_cast<int>(type));
-        if (sphere) d.diameter.push_back(diameter);
-        d.x.push_back(x);
-        d.y.push_back(y);
-        d.z.push_back(z);
+                throw LammpsDataError(where() + "atom " + std::string(f[0]) + " has image flag '" + std::string(f[k]) +
+                                      "': image flags are whole numbers");
+        d_.id.push_back(id);
+        d_.type.push_back(static_cast<int>(type));
+        if (sphere) d_.diameter.push_back(diameter);
+        d_.x.push_back(x);
+        d_.y.push_back(y);
+        d_.z.push_back(z);
     }
+
+    const std::string& path_;
+    LammpsData d_;
+    std::size_t line_no_ = 0;
+    bool have_x_ = false, have_y_ = false, have_atoms_ = false, have_types_ = false;
+    std::string section_;     ///< the section being read; empty in the header
+    std::string style_hint_;  ///< the Atoms line's comment ("sphere", "atomic")
+    std::set<std::string> sections_seen_;
+    std::set<std::string> header_seen_;  ///< the header lines read (atoms, xlo xhi, ...)
+};
+
+}  // namespace
+
+LammpsData read_lammps_data(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw LammpsDataError("'" + path + "' cannot be read");
+    DataFileReader reader(path);
+    std::string raw;
+    std::size_t line_no = 1;
+    next_line(in, raw, path, line_no);  // the title
+    while (next_line(in, raw, path, line_no + 1)) reader.read_line(raw, ++line_no);
     if (in.bad()) throw LammpsDataError("'" + path + "' cannot be read");
-    if (!have_atoms || !have_types || !have_x || !have_y)
-        throw LammpsDataError("'" + path +
-                              "' is not a LAMMPS data file: its header needs 'N atoms', 'N atom types', "
-                              "'xlo xhi' and 'ylo yhi'");
-    if (!sections_seen.count("Atoms")) throw LammpsDataError("'" + path + "' has no Atoms section");
-    if (static_cast<std::int64_t>(d.id.size()) != d.atoms)
-        throw LammpsDataError("'" + path + "': the header says " + std::to_string(d.atoms) +
-                              " atoms, the Atoms section has " + std::to_string(d.id.size()));
-    return d;
+    return reader.finish();
 }
 
 System system_from_lammps_data(const LammpsData& d, const std::string& path, std::int64_t n, double size_ratio) {
