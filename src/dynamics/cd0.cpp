@@ -139,8 +139,8 @@ DynamicsInfo cd0_model() {
                 return std::make_unique<Cd0>(p);
             },
             // The contact matrix and its factor: the peak over the libraries' base, from the relaxed
-            // random start, is about 2.0 kB per disk at N = 65536 and 131072 (tests/README.md,
-            // CD0's start).
+            // random start, is about 2.0 kB per disk at N = 65536 and 131072 (tests/bench/cd0_solver.md,
+            // "CD0's start").
             .bytes_per_disk = 2560.0,
             .stable_dt_basis = contact_drag_dt_basis,
             .advisory = [](const ReplicaParams& p) { return overdamped_dt_advisory(p, contact_drag_stable_dt); },

@@ -82,7 +82,7 @@ class CholmodUpdatedFactor {
     /// steps' cost grows faster than the entries (N = 65536, φ = 0.84: 8 → 15 ms a step on one
     /// thread as the fill reaches 1.4). With 1.02 a 4000-step run's CD0 step cost 8–30% less on
     /// one thread and 36–43% less on two than with 1.3, the fresh analyses (0.45 s each, every
-    /// 500–700 steps) included (tests/README, "CD0 over long runs").
+    /// 500–700 steps) included (tests/bench/cd0_threads.md, "CD0 over long runs").
     static constexpr double kFillGrowth = 1.02;
     /// What `follow` did since construction: changes applied by the in-place sweep, contacts
     /// formed outside L's pattern (CHOLMOD's update, which allocates their fill), and fresh

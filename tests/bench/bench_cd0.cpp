@@ -208,7 +208,7 @@ void BM_Cd0Threads(benchmark::State& state) {
 
 /// Steps of BM_Cd0ThreadsInterleaved: several cycles of the factor's life (a fresh analysis,
 /// then fill from contacts that form outside its pattern until the next), where BM_Cd0Threads'
-/// 500 steps see a fresh factor only (tests/README, "CD0 over long runs").
+/// 500 steps see a fresh factor only (tests/bench/cd0_threads.md, "CD0 over long runs").
 constexpr long kLongRun = 4000;
 
 /// CD0 over a long run on one thread and on T, in one process: the steps alternate between
@@ -281,7 +281,7 @@ void BM_Rd0Step(benchmark::State& state) {
 }
 /// The memory bandwidth a pass over L could have: a streaming read (sum) of 512 MiB on T
 /// threads (bytes_per_second). The factor's passes read L (22 MB at N = 65536) at about a
-/// third to a half of this on one thread (tests/README, "CD0 on threads").
+/// third to a half of this on one thread (tests/bench/cd0_threads.md).
 void BM_ReadBandwidth(benchmark::State& state) {
     using Four = double __attribute__((vector_size(32)));
     const std::size_t n = std::size_t{64} << 20;  // doubles

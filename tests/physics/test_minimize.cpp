@@ -63,7 +63,7 @@ TEST(Minimize, RandAboveJammingBalancesForces) {
 
 // Isostaticity (Paper II): just above its own φ_J a jammed packing has exactly
 // N_c′ = 2(N′ − 1) + 1 contacts among its N′ non-rattlers. Degenerate or not-quite-minimised
-// cases may miss by one; the issue asks for at least 90% exact over ≥ 20 seeds.
+// cases may miss by one; at least 90% must be exact over ≥ 20 seeds.
 TEST(Jamming, IsostaticJustAboveJamming) {
     int exact = 0, total = 0;
     for (std::int64_t n : {64, 128})

@@ -82,8 +82,8 @@ class Scheduler {
 
 /// How many times faster a replica runs on T threads than on one: Amdahl's law,
 /// 1 / (f + (1 − f) / T'), with T' = min(T, useful_threads(kernel, N)) and the serial
-/// fraction f of its kernel by N, fitted to one run on a 16-core Xeon (tests/README.md
-/// "Benchmarks": tests/bench/scaling.sh for the pair loop and CG, "CD0 on threads" for the
+/// fraction f of its kernel by N, fitted to one run on a 16-core Xeon (tests/bench/README.md:
+/// tests/bench/scaling.sh for the pair loop and CG, "CD0 on threads" for the
 /// contact solve), interpolated in log N and held beyond the ends:
 ///  - pair_loop (RD0): 2.46× at N = 16384 on 16 threads (4 blocks), 9.50× at 65536 and 9.57×
 ///    at 262144, which are f = 0.21, 0.046 and 0.045, rounded up to 0.21, 0.05 and 0.045;
@@ -91,7 +91,7 @@ class Scheduler {
 ///    3.10×, 4.48× and 6.91× at 65536: f = 0.10 at both (1.82× to 6.40× on 2 to 16 threads
 ///    at 65536, where 2 threads measured 2.38×);
 ///  - contact_solve (CD0): about 1.38× at N = 16384 and 1.46× at 65536 on 2 threads (medians,
-///    tests/README.md "CD0 on threads", the 2-core VM): f = 0.45 and 0.37, on at most 2
+///    tests/bench/cd0_threads.md, the 2-core VM): f = 0.45 and 0.37, on at most 2
 ///    threads (the factor splits its elimination tree in two; the older code gained nothing
 ///    past 2 on the 16-core Xeon).
 /// Below 4096 disks the kernel's loops run on one thread (f = 1). `serial_fraction` >= 0

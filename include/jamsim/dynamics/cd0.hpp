@@ -66,7 +66,7 @@ class Cd0 final : public Model {
 /// that the first contact solves see several times the contacts of a sheared state and
 /// change most of them every step, and the updated factor's fill, with it the replica's
 /// memory, grows far beyond the steady state's (peak RSS 632 MB against 166 MB at N = 65536,
-/// about 10.5 GB against 0.37 GB at 262144; tests/README.md, CD0). So the random start is first
+/// about 10.5 GB against 0.37 GB at 262144; tests/bench/cd0_solver.md, "CD0's start"). So the random start is first
 /// relaxed
 /// by kCd0StartRelaxTime of RD0 dynamics without shear (reservoir drag k_d, Euler, Δt =
 /// min(dt, half RD0's stable Δt), a fixed number of steps): the energy falls about 50-fold

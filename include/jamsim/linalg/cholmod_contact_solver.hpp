@@ -23,7 +23,7 @@ namespace jamsim::linalg {
 /// The factor itself (analysis, updates, solves) is CholmodUpdatedFactor, shared with the
 /// PETSc backend's default preconditioner. Below φ_J the contact graph falls apart into
 /// clusters, but the factor's pattern is the candidates', which stays connected: an
-/// update walks the whole elimination-tree path of its rows (measured costs: tests/README.md, CD0).
+/// update walks the whole elimination-tree path of its rows (measured costs: tests/bench/cd0_solver.md).
 /// Everything is sequential and deterministic (no threads, fixed ordering seed).
 class CholmodContactSolver final : public ContactSolver {
   public:

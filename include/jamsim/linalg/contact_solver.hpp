@@ -69,7 +69,7 @@ class ContactSolver {
 /// The backend `solver = "auto"` picks: PETSc KSP with its default preconditioner, the
 /// CHOLMOD LDLᵀ factor updated in place (PetscContactSolver), at every N. The "cholmod"
 /// backend is the same factor without PETSc (its own residual check), "eigen" an Eigen LDLᵀ
-/// updated by rank-one changes; jamsim_bench_cd0 compares them (tests/README.md, CD0 table).
+/// updated by rank-one changes; jamsim_bench_cd0 compares them (tests/bench/cd0_solver.md).
 inline constexpr std::string_view resolve_backend(std::string_view backend, std::size_t /*n*/) {
     return backend == "auto" ? std::string_view("petsc") : backend;
 }

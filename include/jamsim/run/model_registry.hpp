@@ -101,7 +101,7 @@ std::vector<ParamError> validate(const ReplicaParams& p);
 std::vector<std::pair<std::string, std::string>> advisories(const ReplicaParams& p);
 
 /// A nominal single-core throughput (particle force evaluations per second; the measured
-/// RD0 figure, tests/README.md "Benchmarks") for time estimates before anything has been measured.
+/// RD0 figure, tests/bench/README.md) for time estimates before anything has been measured.
 inline constexpr double kNominalEvaluationsPerSecond = 7e7;
 /// The most steps one dynamics replica may take (validate() refuses more): far below 2^63,
 /// and far beyond what any allocation can run.
