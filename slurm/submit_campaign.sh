@@ -139,9 +139,18 @@ if [[ -z $replicas ]]; then
   echo "submit_campaign.sh: the dry run of $campaign did not say how many replicas it has; nothing was queued" >&2
   exit 2
 fi
-# A shard past the replicas holds none: a task for nothing (shards made so earlier go on).
-if [[ ${old_shards:-} != "$shards" ]] && (( ${#shards} > 9 || shards > replicas )); then
-  echo "submit_campaign.sh: SHARDS = $shards is not allowed for $campaign: at most its $replicas replica$([[ $replicas == 1 ]] || echo s) (task K runs the replicas with id % SHARDS == K; a rate ladder's chain stays in one task)" >&2
+# Shards are dealt chains (a rate ladder's replicas stay together; a chain without a ladder
+# is one replica), and a shard past the chains holds none: a task for nothing (shards made so
+# earlier go on).
+chains=$(sed -n 's/^at once: at most \([0-9]*\) replicas\{0,1\} run together.*/\1/p' <<<"$plan" | head -1)
+chains=${chains:-$replicas}
+if (( chains < replicas )); then
+  most="$chains rate-ladder chains (of $replicas replicas; task K runs the chains k with k % SHARDS == K, each chain whole)"
+else
+  most="$replicas replica$([[ $replicas == 1 ]] || echo s) (task K runs the replicas with id % SHARDS == K; a rate ladder's chain stays in one task)"
+fi
+if [[ ${old_shards:-} != "$shards" ]] && (( ${#shards} > 9 || shards > chains )); then
+  echo "submit_campaign.sh: SHARDS = $shards is not allowed for $campaign: at most its $most" >&2
   exit 2
 fi
 mkdir -p "$(dirname "$merged")" "$shard_dir"

@@ -35,4 +35,7 @@ check "option '--throttle' after CAMPAIGN.toml MERGED.h5 SHARDS is not allowed" 
 for shards in 2 100000000; do
   check "SHARDS = $shards is not allowed for .*other_campaign.toml: at most its 1 replica \\(" bash "$submit" "$campaign" new/m.h5 $shards
 done
+# A rate ladder's chain stays in one task: 24 replicas in 8 chains make at most 8 shards.
+check "SHARDS = 9 is not allowed for .*ladder.toml: at most its 8 rate-ladder chains \\(of 24 replicas" \
+  bash "$submit" "$(dirname "$campaign")/ladder.toml" new/m.h5 9
 echo "ok: refused before any folder or job"
