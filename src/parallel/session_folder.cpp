@@ -19,8 +19,9 @@ namespace {
 
 constexpr const char* kPrefix = "jamsim-mpi.";
 constexpr const char* kLockName = "/owner.lock";
-/// A folder without its lock file is one that another jamsim has just made (mkdtemp, then the
-/// lock): only one older than this is taken for a leftover of a process killed in between.
+constexpr const char* kUnlockedName = "/owner.new";  ///< the lock file before it is locked
+/// A folder without either lock file is one that another jamsim has just made (mkdtemp, then
+/// the lock): only one older than this is taken for a leftover of a process killed in between.
 constexpr std::time_t kUnlockedGraceSeconds = 600;
 
 std::string temporary_base() {
@@ -32,7 +33,14 @@ std::string temporary_base() {
 /// kernel drops an flock when its holder dies), or it never got one and is old.
 bool owner_is_gone(const std::string& folder, const struct stat& folder_status) {
     const int descriptor = ::open((folder + kLockName).c_str(), O_RDWR | O_CLOEXEC | O_NOFOLLOW);
-    if (descriptor < 0) return errno == ENOENT && std::time(nullptr) - folder_status.st_mtime > kUnlockedGraceSeconds;
+    if (descriptor < 0) {
+        // No lock: a folder being made (young), or one whose filesystem refused the lock
+        // (its `owner.new` stays then: kept, since its owner cannot be told from a dead one).
+        if (errno != ENOENT) return false;
+        struct stat unlocked {};
+        return ::stat((folder + kUnlockedName).c_str(), &unlocked) != 0 &&
+               std::time(nullptr) - folder_status.st_mtime > kUnlockedGraceSeconds;
+    }
     const bool gone = ::flock(descriptor, LOCK_EX | LOCK_NB) == 0;
     ::close(descriptor);  // drops the lock again: the removal below needs none
     return gone;
@@ -69,14 +77,10 @@ SessionFolder::SessionFolder() {
     path_ = name;
     // The lock is taken under another name and then renamed into place, so that a sweeper
     // never finds an `owner.lock` that is not yet locked.
-    const std::string unlocked = name + "/owner.new";
+    const std::string unlocked = name + kUnlockedName;
     lock_descriptor_ = ::open(unlocked.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
-    if (lock_descriptor_ < 0) return;
-    if (::flock(lock_descriptor_, LOCK_EX | LOCK_NB) != 0 ||
-        ::rename(unlocked.c_str(), (name + kLockName).c_str()) != 0) {
-        ::close(lock_descriptor_);
-        lock_descriptor_ = -1;
-    }
+    if (lock_descriptor_ >= 0 && ::flock(lock_descriptor_, LOCK_EX | LOCK_NB) == 0)
+        ::rename(unlocked.c_str(), (name + kLockName).c_str());
 }
 
 SessionFolder::~SessionFolder() {

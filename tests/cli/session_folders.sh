@@ -33,21 +33,23 @@ kill -KILL "$killed"; wait "$killed" || true
 live=$!
 alive=$(wait_for_folder "$dead") || { cat live.txt; fail "the second run made no session folder"; }
 # 3. Folders that are not a dead session's: young and without a lock (one being made),
-#    a name of another length, a plain file.
-mkdir tmp/jamsim-mpi.young1 tmp/jamsim-mpi.toolong1 tmp/jamsim-mpi.old111
-touch -d '-1 hour' tmp/jamsim-mpi.old111
+#    a name of another length, a plain file,
+#    and an old one whose filesystem refused the lock (its owner.new stays).
+mkdir tmp/jamsim-mpi.young1 tmp/jamsim-mpi.toolong1 tmp/jamsim-mpi.old111 tmp/jamsim-mpi.nolck1
+touch tmp/jamsim-mpi.nolck1/owner.new
+touch -d '-1 hour' tmp/jamsim-mpi.old111 tmp/jamsim-mpi.nolck1
 touch tmp/jamsim-mpi.file11
 "$jamsim" run short.toml > short.txt 2>&1 || { cat short.txt; fail "the short run"; }
 [[ ! -e $dead ]] || fail "the killed run's folder $dead was not removed"
 [[ -d $alive && -e $alive/owner.lock ]] || fail "the live run's folder $alive was removed"
 [[ ! -e tmp/jamsim-mpi.old111 ]] || fail "an old folder without a lock was kept"
-for kept in jamsim-mpi.young1 jamsim-mpi.toolong1 jamsim-mpi.file11; do
+for kept in jamsim-mpi.young1 jamsim-mpi.toolong1 jamsim-mpi.file11 jamsim-mpi.nolck1; do
   [[ -e tmp/$kept ]] || fail "tmp/$kept was removed"
 done
 kill -USR1 "$live"
 status=0; wait "$live" || status=$?
 [[ $status == 75 ]] || { cat live.txt; fail "the live run ended with $status, not 75 (stopped and resumable)"; }
 [[ ! -e $alive ]] || fail "the live run left its folder $alive"
-[[ -z $(find tmp -maxdepth 1 -name 'jamsim-mpi.??????' -newer long.toml -type d ! -name 'jamsim-mpi.young1') ]] ||
+[[ -z $(find tmp -maxdepth 1 -name 'jamsim-mpi.??????' -newer long.toml -type d ! -name 'jamsim-mpi.young1' ! -name 'jamsim-mpi.nolck1') ]] ||
   fail "a session folder was left"
 echo ok
