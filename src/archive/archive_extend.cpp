@@ -97,9 +97,12 @@ void Archive::extend(MPI_Comm comm, const std::string& path, const CampaignSpec&
                 rerun.push_back(r);
                 continue;
             }
-            if (before[r] != ReplicaStatus::Done && before[r] != ReplicaStatus::Failed) continue;
+            // A replica that was running (a stopped or killed run) keeps its rows and frames
+            // too: it goes on from its checkpoint, which counts on the rows and frames before it
+            // being in the archive (dropped, its early frames were never written again).
+            if (before[r] == ReplicaStatus::Pending) continue;
             out.import_replica(path, static_cast<std::int64_t>(r));
-            if (before[r] != ReplicaStatus::Done) continue;
+            if (before[r] == ReplicaStatus::Failed) continue;
             // Its rows so far stay visible, as partial rows of a replica still running.
             const auto id = static_cast<hsize_t>(r);
             const ReplicaParams& p = spec.replicas[r];
