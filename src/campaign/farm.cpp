@@ -411,8 +411,9 @@ FarmSummary run_farm(MPI_Comm comm, const CampaignSpec& spec, Archive& archive, 
             },
             options.progress, cores);
         const std::function<void()> serve = [&d] { d.serve_pending(); };
+        // Checkpoint steps serve the workers too (a protocol's stages sample rarely).
         const std::function<bool()> stop = [&d] {
-            d.check_stop();
+            d.serve_pending();
             return d.stopping();
         };
         d.first_round();

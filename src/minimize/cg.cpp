@@ -119,6 +119,8 @@ class ConjugateGradient final : public Minimizer {
             return finish(check_stop(pos, sys, f, c, fmax), it);
         };
         for (std::int64_t it = 0;; ++it) {
+            if (c.between_iterations && it > 0 && it % MinimizeCriteria::kIterationsBetweenCalls == 0)
+                c.between_iterations();
             if (fmax <= c.force_tol_abs) return settle(it);
             if (f.tallied) {
                 tallied = f;

@@ -31,6 +31,8 @@ class Fire final : public Minimizer {
         ForceResult f = pos.evaluate();
         ForceResult tallied = f;  // the latest evaluation with energy and virial
         for (std::int64_t it = 0;; ++it) {
+            if (c.between_iterations && it > 0 && it % MinimizeCriteria::kIterationsBetweenCalls == 0)
+                c.between_iterations();
             const double fmax = pos.max_force();
             if (fmax <= c.force_tol_abs && !f.tallied) f = pos.evaluate(Tally::Full);  // same positions
             if (f.tallied) {

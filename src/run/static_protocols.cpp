@@ -66,7 +66,12 @@ Sample sample_of(const StaticState& st, const System& sys, double strain) {
 struct Protocol : ReplicaRun {
     Protocol(const ReplicaParams& p, const RunContext& context, std::int64_t stage_steps = 0)
         : ReplicaRun(p, context), params(p), after_sample(context.after_sample), minimizer(make_minimizer(p.minimizer)),
-          criteria(criteria_of(p)), stage(stage_steps) {}
+          criteria(criteria_of(p)), stage(stage_steps) {
+        // A campaign's farm answers its ranks from inside a long minimisation too (rank 0 ran
+        // a RAND quench of N = 4096 while the others waited for their next replica).
+        if (after_sample)
+            criteria.between_iterations = [this] { after_sample(std::numeric_limits<double>::quiet_NaN()); };
+    }
 
     StaticState minimise() {  // quench the configuration as it is, counting its cost
         StaticState st = quench(system(), forces, *minimizer, criteria);
@@ -84,6 +89,8 @@ struct Protocol : ReplicaRun {
     /// nothing from one minimisation to the next, and the stage holds a reference to it.)
     void before_stage_step(std::int64_t step, std::int64_t before_stage, std::int64_t evaluations) {
         result.force_evaluations = before_stage + evaluations;
+        if (after_sample && step % MinimizeCriteria::kIterationsBetweenCalls == 0)
+            after_sample(std::numeric_limits<double>::quiet_NaN());  // the farm's messages, as above
         checkpoint_step(step, stage + 1);
     }
     void cool_down() {  // overdamped Langevin cooling (Paper I)

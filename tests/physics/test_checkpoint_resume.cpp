@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "jamsim/io/checkpoint_file.hpp"
+#include "jamsim/minimize/minimizer.hpp"
 #include "jamsim/run/replica.hpp"
 
 using namespace jamsim;
@@ -183,4 +184,22 @@ TEST(CheckpointResume, ForeignCheckpointRefused) {
     std::filesystem::resize_file(path, 100);  // a file cut short
     EXPECT_THROW(read_checkpoint(path, p), CheckpointError);
     std::filesystem::remove(path);
+}
+
+// A long minimisation calls the run's hook between iterations (a campaign's farm answers its
+// ranks there: rank 0 used to leave them waiting for a whole RAND quench), about once every
+// kIterationsBetweenCalls iterations, and the result is the run without the hook, bitwise.
+TEST(CheckpointResume, MinimisationCallsTheHookBetweenIterations) {
+    ReplicaParams p = replica("RAND");
+    p.n = 256;
+    const ReplicaResult plain = run_replica(p);
+    int calls = 0;
+    const ReplicaResult hooked = run_replica(p, {.after_sample = [&](double) { ++calls; }});
+    expect_same(plain, hooked, "RAND with the hook");
+    // One call for the recorded state, the rest from inside the quench; it takes at least one
+    // force evaluation per iteration.
+    const std::int64_t evaluations = plain.force_evaluations;
+    ASSERT_GT(evaluations, 4 * MinimizeCriteria::kIterationsBetweenCalls) << "a quench too short to tell";
+    EXPECT_GE(calls, 2);
+    EXPECT_LE(calls, 1 + evaluations / MinimizeCriteria::kIterationsBetweenCalls);
 }

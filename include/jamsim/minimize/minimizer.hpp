@@ -1,5 +1,6 @@
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -32,6 +33,10 @@ struct MinimizeCriteria {
     std::int64_t stall_iterations = 200'000;
     /// Equal positional resolution: positions are base + offset (thesis end of §4.7).
     bool split_positions = true;
+    /// Called every kIterationsBetweenCalls iterations, for what must not wait for the end of
+    /// a long minimisation (a campaign farm's messages); it never changes the minimisation.
+    std::function<void()> between_iterations;
+    static constexpr std::int64_t kIterationsBetweenCalls = 256;
 };
 
 enum class MinimizeOutcome { Unjammed, ForceBalanced, NotConverged };
