@@ -1,3 +1,4 @@
+#include "jamsim/io/read_deadline.hpp"
 #include "jamsim/archive/archive.hpp"
 
 #include "archive_detail.hpp"
@@ -27,6 +28,16 @@ using h5::check;
 using h5::Handle;
 
 namespace {
+
+/// The file name of an open HDF5 file.
+std::string path_of(hid_t file) {
+    const ssize_t length = H5Fget_name(file, nullptr, 0);
+    check(static_cast<herr_t>(length < 0 ? -1 : 0), "name of the archive");
+    std::string path(static_cast<std::size_t>(length) + 1, '\0');
+    check(static_cast<herr_t>(H5Fget_name(file, path.data(), path.size()) < 0 ? -1 : 0), "name of the archive");
+    path.resize(static_cast<std::size_t>(length));
+    return path;
+}
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 }  // namespace
 
@@ -329,6 +340,9 @@ FinalConfiguration Archive::read_final(std::int64_t replica, std::size_t n) cons
 }
 
 void Archive::stamp(const std::string& attribute) {
+    // Collective: a write that fails on one rank leaves the others waiting (read_deadline.hpp).
+    const WriteDeadline deadline(path_of(file_.get()), "the stamp '" + attribute + "'", mpi::rank(comm_),
+                                 write_deadline_seconds());
     std::string now = utc_now();
     mpi::broadcast(now, 0, comm_);
     // Metadata changes are collective, and HDF5 needs every rank's metadata cache to take
@@ -337,12 +351,7 @@ void Archive::stamp(const std::string& attribute) {
     // attribute write with 64 ranks and 10^4 replicas; closing and reopening the file makes
     // them the same (empty) first.
     {
-        const ssize_t length = H5Fget_name(file_.get(), nullptr, 0);
-        check(static_cast<herr_t>(length < 0 ? -1 : 0), "name of the archive");
-        std::string path(static_cast<std::size_t>(length) + 1, '\0');
-        check(static_cast<herr_t>(H5Fget_name(file_.get(), path.data(), path.size()) < 0 ? -1 : 0),
-              "name of the archive");
-        path.resize(static_cast<std::size_t>(length));
+        const std::string path = path_of(file_.get());
         file_.close("archive '" + path + "'");
         file_ = h5::open_parallel(comm_, path);
     }
@@ -352,7 +361,11 @@ void Archive::stamp(const std::string& attribute) {
     check(H5Fflush(f, H5F_SCOPE_GLOBAL), "flush archive");
 }
 
-void Archive::close() { file_.close("archive"); }
+void Archive::close() {
+    if (!file_.get()) return;
+    const WriteDeadline deadline(path_of(file_.get()), "its close", mpi::rank(comm_), write_deadline_seconds());
+    file_.close("archive");
+}
 
 Archive::~Archive() {
     if (std::uncaught_exceptions() > 0) file_.abandon();

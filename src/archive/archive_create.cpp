@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "archive_detail.hpp"
+#include "jamsim/io/read_deadline.hpp"
 #include "jamsim/archive/archive.hpp"
 #include "jamsim/core/version.hpp"
 #include "jamsim/observe/velocity_correlation.hpp"
@@ -241,6 +242,11 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
     }
     mpi::check(MPI_Bcast(&failed, 1, MPI_INT, 0, comm), "MPI_Bcast");
     if (failed) throw h5::Error("cannot write '" + marker + "'");
+    // Collective writes from here to the barrier: a write that fails on one rank leaves the
+    // ranks waiting for each other inside HDF5 (read_deadline.hpp). The datasets are filled as
+    // they are made, so the limit grows with the archive (20 MB/s).
+    const WriteDeadline deadline(path, "its creation", mpi::rank(comm),
+                                 write_deadline_seconds() + static_cast<double>(archive_layout(spec).bytes) / 20e6);
     Handle file;
     try {
         file = h5::create_parallel(comm, path);

@@ -20,36 +20,36 @@ double read_deadline_seconds() {
     return 60.0;
 }
 
-struct ReadDeadline::Watch {
+double write_deadline_seconds() {
+    if (const char* text = std::getenv("JAMSIM_WRITE_DEADLINE_SECONDS"); text && *text) {
+        char* end = nullptr;
+        const double seconds = std::strtod(text, &end);
+        if (end && *end == '\0' && seconds > 0 && seconds < 1e9) return seconds;
+    }
+    return 600.0;
+}
+
+struct Deadline::Watch {
     std::mutex mutex;
     std::condition_variable done_signal;
     bool done = false;
     std::thread thread;
 };
 
-ReadDeadline::ReadDeadline(const std::string& path, double seconds, std::string advice)
-    : watch_(std::make_unique<Watch>()) {
+Deadline::Deadline(std::string message, double seconds, int status) : watch_(std::make_unique<Watch>()) {
     try {
-        start(path, seconds, std::move(advice));
-    } catch (const std::system_error&) {}  // no thread to be had (a limit): read without a watch
+        watch_->thread = std::thread([watch = watch_.get(), message = std::move(message), seconds, status] {
+            std::unique_lock lock(watch->mutex);
+            if (watch->done_signal.wait_for(lock, std::chrono::duration<double>(seconds), [&] { return watch->done; }))
+                return;
+            std::fprintf(stderr, "%s\n", message.c_str());
+            std::fflush(stderr);
+            std::_Exit(status);
+        });
+    } catch (const std::system_error&) {}  // no thread to be had (a limit): go on without a watch
 }
 
-void ReadDeadline::start(const std::string& path, double seconds, std::string advice) {
-    watch_->thread = std::thread([watch = watch_.get(), path, seconds, advice = std::move(advice)] {
-        std::unique_lock lock(watch->mutex);
-        if (watch->done_signal.wait_for(lock, std::chrono::duration<double>(seconds), [&] { return watch->done; }))
-            return;
-        std::fprintf(stderr,
-                     "jamsim: reading '%s' did not finish within %g s: its HDF5 structure is damaged (HDF5 "
-                     "loops on some damaged files, such as blocks zeroed by a crash), or its filesystem does not "
-                     "answer; %s\n",
-                     path.c_str(), seconds, advice.c_str());
-        std::fflush(stderr);
-        std::_Exit(2);
-    });
-}
-
-ReadDeadline::~ReadDeadline() {
+Deadline::~Deadline() {
     {
         const std::lock_guard lock(watch_->mutex);
         watch_->done = true;
@@ -57,5 +57,28 @@ ReadDeadline::~ReadDeadline() {
     watch_->done_signal.notify_one();
     if (watch_->thread.joinable()) watch_->thread.join();
 }
+
+namespace {
+std::string seconds_text(double seconds) {
+    char text[32];
+    std::snprintf(text, sizeof text, seconds >= 10 ? "%.0f" : "%.3g", seconds);
+    return text;
+}
+}  // namespace
+
+ReadDeadline::ReadDeadline(const std::string& path, double seconds, std::string advice)
+    : deadline_("jamsim: reading '" + path + "' did not finish within " + seconds_text(seconds) +
+                    " s: its HDF5 structure is damaged (HDF5 loops on some damaged files, such as blocks zeroed "
+                    "by a crash), or its filesystem does not answer; " +
+                    advice,
+                seconds, 2) {}
+
+WriteDeadline::WriteDeadline(const std::string& path, const std::string& what, int rank, double seconds)
+    : deadline_("jamsim: writing '" + path + "' (" + what + ") did not finish within " + seconds_text(seconds) +
+                    " s on rank " + std::to_string(rank) +
+                    ": a write failed on some rank (a full disk or quota, an I/O error: parallel HDF5 then waits "
+                    "for ever) or the filesystem does not answer; make room or mend the filesystem, then run the "
+                    "same command again (JAMSIM_WRITE_DEADLINE_SECONDS sets this limit)",
+                seconds, 1) {}
 
 }  // namespace jamsim

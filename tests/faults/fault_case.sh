@@ -200,6 +200,26 @@ export_disk_full)  # jamsim export into a nearly full filesystem: one message, n
   timeout -k 10 "$limit" "$jamsim" export src.h5 -r 0 -o small/e.h5md > export.log 2>&1
   rc=$?; expect_rc 0 export.log
   ;;
+write_one_rank)  # one rank's share of a collective archive write fails (ENOSPC): no hang
+  # Parallel HDF5 1.10 then leaves that rank in a broadcast and the others in a barrier, for
+  # ever: the archive's creation, stamps and close run under a deadline (shortened here).
+  [[ -n ${FAIL_WRITE_LIB:-} ]] || fail "FAIL_WRITE_LIB is not set"
+  last=$((ranks - 1))
+  for after in 0 3; do  # the creation's first write; a later one (the run's stamps)
+    rm -rf w.h5 w.h5.*
+    timeout -k 10 "$limit" "$mpirun" -n "$ranks" -x LD_PRELOAD="$FAIL_WRITE_LIB" -x FAIL_WRITE_SUFFIX=/w.h5 \
+      -x FAIL_WRITE_RANK=$last -x FAIL_WRITE_AFTER=$after -x JAMSIM_WRITE_DEADLINE_SECONDS=3 \
+      "$jamsim" run "$here/source.toml" -o w.h5 > write$after.log 2>&1
+    rc=$?
+    if [[ $rc -eq 124 || $rc -eq 137 ]]; then cat write$after.log; fail "a failed write on rank $last hung the run"; fi
+    [[ $rc -ne 0 ]] || { cat write$after.log; fail "a failed write went unnoticed (exit 0)"; }
+    expect_in "jamsim: writing 'w\.h5' \(its creation\) did not finish within 3 s on rank [0-9]+: a write failed on some rank" write$after.log
+  done
+  # With room again, the same command makes the archive anew and runs it.
+  run again.log run "$here/source.toml" -o w.h5; expect_rc 0 again.log
+  expect_in "removed 'w.h5', an archive whose creation was interrupted" again.log
+  "$jamsim" status w.h5 | grep -q " 0 failed" || fail "replicas failed after the creation was made anew"
+  ;;
 open_one_rank)  # one rank cannot open the archive: every rank refuses together, nothing changes
   # (Open MPI's MPI_File_open waited forever when it failed on one rank only.)
   [[ -n ${FAIL_OPEN_LIB:-} ]] || fail "FAIL_OPEN_LIB is not set"

@@ -1,0 +1,56 @@
+/* LD_PRELOAD library for the fault case write_one_rank: pwrite(), pwrite64(), pwritev() and
+ * write() to a file whose path ends in FAIL_WRITE_SUFFIX fail with ENOSPC in the process whose
+ * OMPI_COMM_WORLD_RANK is FAIL_WRITE_RANK, after FAIL_WRITE_AFTER such writes that succeed
+ * (default 0): one rank's share of a collective write meets a full disk or quota. */
+#define _GNU_SOURCE
+#include <dlfcn.h>
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/types.h>
+#include <sys/uio.h>
+#include <unistd.h>
+
+static int should_fail(int fd) {
+    const char* suffix = getenv("FAIL_WRITE_SUFFIX");
+    const char* rank = getenv("OMPI_COMM_WORLD_RANK");
+    const char* wanted = getenv("FAIL_WRITE_RANK");
+    if (!suffix || !rank || !wanted || strcmp(rank, wanted) != 0) return 0;
+    char link[64], path[4096];
+    snprintf(link, sizeof link, "/proc/self/fd/%d", fd);
+    const ssize_t n = readlink(link, path, sizeof path - 1);
+    if (n < 0) return 0;
+    path[n] = '\0';
+    const size_t m = strlen(suffix);
+    if ((size_t)n < m || strcmp(path + n - m, suffix) != 0) return 0;
+    static int passed = 0; /* matching writes let through so far */
+    const char* after = getenv("FAIL_WRITE_AFTER");
+    if (passed++ < (after ? atoi(after) : 0)) return 0;
+    errno = ENOSPC;
+    return 1;
+}
+
+ssize_t pwrite(int fd, const void* buffer, size_t count, off_t offset) {
+    if (should_fail(fd)) return -1;
+    ssize_t (*next)(int, const void*, size_t, off_t) = dlsym(RTLD_NEXT, "pwrite");
+    return next(fd, buffer, count, offset);
+}
+
+ssize_t pwrite64(int fd, const void* buffer, size_t count, off_t offset) {
+    if (should_fail(fd)) return -1;
+    ssize_t (*next)(int, const void*, size_t, off_t) = dlsym(RTLD_NEXT, "pwrite64");
+    return next(fd, buffer, count, offset);
+}
+
+ssize_t pwritev(int fd, const struct iovec* vectors, int count, off_t offset) {
+    if (should_fail(fd)) return -1;
+    ssize_t (*next)(int, const struct iovec*, int, off_t) = dlsym(RTLD_NEXT, "pwritev");
+    return next(fd, vectors, count, offset);
+}
+
+ssize_t write(int fd, const void* buffer, size_t count) {
+    if (should_fail(fd)) return -1;
+    ssize_t (*next)(int, const void*, size_t) = dlsym(RTLD_NEXT, "write");
+    return next(fd, buffer, count);
+}
