@@ -51,7 +51,10 @@ namespace {
 /// with 143. Only the dynamic loader's mapping of the libraries (PETSc and its solvers are
 /// about 100) comes before.
 void stop_signals_early(int argc, char** argv, char**) {
-    if (argc > 1 && std::string_view(argv[1]) == "run") jamsim::StopRequest::install();
+    if (argc < 2 || std::string_view(argv[1]) != "run") return;
+    for (int k = 2; k < argc; ++k)  // a dry run saves nothing: Ctrl-C ends it
+        if (std::string_view(argv[k]) == "--dry-run") return;
+    jamsim::StopRequest::install();
 }
 [[gnu::section(".preinit_array"), gnu::used]] void (*const stop_signals_at_start)(int, char**,
                                                                                   char**) = &stop_signals_early;

@@ -135,8 +135,10 @@ System ladder_start(const CampaignSpec& spec, std::int64_t id, const ReplicaPara
                      "jamsim run: warning: replica %lld, run again from its checkpoint '%s', did not end on its final "
                      "configuration in the archive; it runs again from its start\n",
                      static_cast<long long>(id), rebuild.c_str());
-        std::error_code ignored;
-        fs::remove(rebuild, ignored);
+        std::error_code ec;
+        fs::remove(rebuild, ec);
+        if (ec)  // else the next call would resume from the same checkpoint, for ever
+            throw std::runtime_error("cannot remove the stale checkpoint '" + rebuild + "': " + ec.message());
         return ladder_start(spec, id, params, successor, archive, options, between, stop);
     }
     if (!same)
@@ -263,9 +265,16 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, A
         fs::remove(note, ignored);
         fs::remove(note + ".tmp", ignored);
     }
-    if (outcome == Outcome::Done && last_checkpoint &&
-        model_of(params).extendable)  // kept: a longer run continues from it
-        timed([&] { write_checkpoint(checkpoint, params, *last_checkpoint, true); });
+    if (outcome == Outcome::Done && last_checkpoint && model_of(params).extendable) {  // a longer run continues from it
+        try {
+            timed([&] { write_checkpoint(checkpoint, params, *last_checkpoint, true); });
+        } catch (const std::exception& e) {  // the replica is done and whole: only an extension's shortcut is lost
+            std::fprintf(stderr,
+                         "jamsim run: warning: replica %lld is done, but its final checkpoint could not be written "
+                         "(%s): an extension of the campaign runs it again from its start\n",
+                         static_cast<long long>(id), e.what());
+        }
+    }
     return counted(outcome);
 }
 

@@ -31,7 +31,7 @@ struct ArchiveLayout {
     /// Bytes the archive will take once every replica is written (data, not metadata).
     double bytes = 0.0;
     /// One replica of N disks: its row of every per-replica dataset (time series and g_y rows
-    /// as long as the campaign's longest, ~40 parameter and bookkeeping numbers, a 256-byte
+    /// as long as the campaign's longest, ~40 parameter and bookkeeping numbers, a 200-byte
     /// reason) and its configurations (configuration_bytes).
     double replica_bytes(std::int64_t n) const;
     /// Its final configuration (x, y, diameter) and frames (x, y per frame, two numbers each).
