@@ -17,6 +17,7 @@
 #include "jamsim/archive/capacity.hpp"
 #include "jamsim/io/hdf5.hpp"
 #include "jamsim/campaign/lifecycle.hpp"
+#include "jamsim/campaign/scheduler.hpp"
 #include "jamsim/linalg/contact_solver.hpp"
 #include "jamsim/parallel/mpi.hpp"
 #include "jamsim/parallel/threads.hpp"
@@ -171,6 +172,18 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
     }
     const CampaignSpec spec = parse_campaign(decision.spec_text, opt.spec_path, opt.max_replicas);
     if (opt.dry_run) {
+        // A shard past the chains holds none (a rate ladder's replicas stay together): the
+        // listing would be one line per empty shard.
+        const std::size_t chains = chains_of(spec.predecessor, spec.replicas.size()).members.size();
+        if (static_cast<std::size_t>(opt.plan.shards) > chains) {
+            if (rank == 0)
+                std::fprintf(stderr, "jamsim run: --shards = %d is not allowed for %s: at most the campaign's %s\n",
+                             opt.plan.shards, opt.spec_path.c_str(),
+                             chains < spec.replicas.size()
+                                 ? (std::to_string(chains) + " rate-ladder chains (each whole in one shard)").c_str()
+                                 : counted(static_cast<long long>(chains), "replica").c_str());
+            return kExitRefused;
+        }
         if (rank == 0) print_dry_run_of(spec, decision, opt.plan);
         return 0;
     }

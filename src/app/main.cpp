@@ -4,6 +4,7 @@
 #include <exception>
 #include <iostream>
 #include <string>
+#include <csignal>
 #include <string_view>
 
 #include "jamsim/campaign/stop_request.hpp"
@@ -52,8 +53,11 @@ namespace {
 /// about 100) comes before.
 void stop_signals_early(int argc, char** argv, char**) {
     if (argc < 2 || std::string_view(argv[1]) != "run") return;
-    for (int k = 2; k < argc; ++k)  // a dry run saves nothing: Ctrl-C ends it
-        if (std::string_view(argv[k]) == "--dry-run") return;
+    for (int k = 2; k < argc; ++k)
+        if (std::string_view(argv[k]) == "--dry-run") {  // it saves nothing: Ctrl-C ends it
+            std::signal(SIGPIPE, SIG_IGN);               // as a run's: `| head` leaves it to finish quietly
+            return;
+        }
     jamsim::StopRequest::install();
 }
 [[gnu::section(".preinit_array"), gnu::used]] void (*const stop_signals_at_start)(int, char**,

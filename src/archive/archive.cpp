@@ -1,9 +1,13 @@
-#include "jamsim/io/read_deadline.hpp"
 #include "jamsim/archive/archive.hpp"
 
 #include "archive_detail.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <functional>
 #include <chrono>
 #include <cmath>
@@ -16,6 +20,7 @@
 #include <utility>
 
 #include "jamsim/core/version.hpp"
+#include "jamsim/io/read_deadline.hpp"
 #include "jamsim/observe/velocity_correlation.hpp"
 #include "jamsim/parallel/mpi.hpp"
 #include "jamsim/run/replica.hpp"
@@ -193,7 +198,9 @@ void Archive::write_done(std::int64_t replica, const ReplicaResult& result, int 
     write_block(f, "/replicas/rank", H5T_NATIVE_INT32, {r}, {1}, &who);
     if (layout_.has_threads)  // not in archives made before the column existed
         write_block(f, "/replicas/threads", H5T_NATIVE_DOUBLE, {r}, {1}, &threads);
-    // Last: the flag that makes the rows above valid.
+    // Last: the flag that makes the rows above valid; after them on the disk too (a node's
+    // crash or power loss writes the page cache back in any order).
+    sync_data();
     const auto s = static_cast<std::int8_t>(ReplicaStatus::Done);
     write_block(f, "/replicas/status", H5T_NATIVE_INT8, {r}, {1}, &s);
 }
@@ -359,6 +366,16 @@ void Archive::stamp(const std::string& attribute) {
     h5::replace_attribute(f, attribute, now);
     h5::replace_attribute(f, "n_ranks", static_cast<std::int64_t>(mpi::size(comm_)));
     check(H5Fflush(f, H5F_SCOPE_GLOBAL), "flush archive");
+}
+
+void Archive::sync_data() const {
+    const std::string path = path_of(file_.get());
+    const int descriptor = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    // fdatasync through any descriptor writes back the file's pages that this node holds.
+    const bool synced = descriptor >= 0 && ::fdatasync(descriptor) == 0;
+    const int error = errno;
+    if (descriptor >= 0) ::close(descriptor);
+    if (!synced) throw h5::Error("writing '" + path + "' to its disk (fdatasync) failed: " + std::strerror(error));
 }
 
 void Archive::close() {

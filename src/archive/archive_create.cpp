@@ -7,9 +7,9 @@
 #include <limits>
 
 #include "archive_detail.hpp"
-#include "jamsim/io/read_deadline.hpp"
 #include "jamsim/archive/archive.hpp"
 #include "jamsim/core/version.hpp"
+#include "jamsim/io/read_deadline.hpp"
 #include "jamsim/observe/velocity_correlation.hpp"
 #include "jamsim/parallel/mpi.hpp"
 #include "jamsim/run/replica.hpp"

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <string_view>
 
@@ -22,6 +23,10 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string growing_path(const std::string& path) { return path + ".growing"; }
+
+/// The file that marks a growth's checkpoint folder as made by the growth: a folder of that
+/// name without it (a user's, a copy's) never replaces the archive's checkpoints.
+constexpr const char* kGrowthMarker = ".growth";
 
 /// The replica id of a checkpoint file name (replica_<id>.h5 or end_<id>.h5) and the
 /// prefix; id −1 for any other file (a .tmp left by a kill).
@@ -131,6 +136,11 @@ void Archive::grow(MPI_Comm comm, const std::string& path, const CampaignSpec& s
             const fs::path folder = checkpoint_folder(next);
             fs::create_directories(folder, ec);
             if (ec) throw h5::Error("cannot create '" + folder.string() + "': " + ec.message());
+            {
+                std::ofstream marker(folder / kGrowthMarker);
+                marker << "jamsim: the checkpoints of the archive growing from '" << path << "'\n";
+                if (!marker.flush()) throw h5::Error("cannot write '" + (folder / kGrowthMarker).string() + "'");
+            }
             for (const auto& entry : fs::directory_iterator(old_folder, ec)) {
                 const auto [prefix, id] = checkpoint_name(entry.path().filename().string());
                 const auto it = new_id.find(id);
@@ -167,12 +177,17 @@ std::string Archive::finish_growth(const std::string& path) {
                "the archive (the archive is as it was)";
     }
     if (!fs::exists(next_folder, ec)) return "";
+    if (!fs::exists(next_folder / kGrowthMarker, ec))
+        return "left '" + next_folder.string() +
+               "' as it is: it is not a growth's checkpoint folder (no marker in it), and the checkpoints of '" + path +
+               "' stay where they are";
     // Renamed: the archive is the grown one, and its checkpoints are those under the new ids.
     fs::remove_all(folder, ec);
     if (ec) throw h5::Error("cannot remove '" + folder.string() + "': " + ec.message());
     fs::rename(next_folder, folder, ec);
     if (ec)
         throw h5::Error("cannot rename '" + next_folder.string() + "' to '" + folder.string() + "': " + ec.message());
+    fs::remove(folder / kGrowthMarker, ec);
     return "completed the growth of '" + path + "' (its checkpoints under the new replica ids)";
 }
 

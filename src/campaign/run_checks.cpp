@@ -101,6 +101,13 @@ std::string check_checkpoints(const std::string& output, const CampaignSpec& spe
     namespace fs = std::filesystem;
     std::error_code ec;
     const fs::path folder = checkpoint_folder(output);
+    // Something else under the folder's name would stop the run at its first checkpoint.
+    // (Appended, not '+': GCC 12's -Wrestrict misfires on that here.)
+    if (fs::symlink_status(folder, ec).type() != fs::file_type::not_found && !fs::is_directory(folder, ec)) {
+        std::string why(1, '\'');
+        why.append(folder.string()).append("' is not allowed: the name of the folder of ").append(output);
+        return why.append("'s checkpoints, and it is not a folder (rename or remove it)");
+    }
     if (!fs::is_directory(folder, ec)) return "";
     for (const auto& entry : fs::directory_iterator(folder, ec)) {
         const std::string name = entry.path().filename().string();

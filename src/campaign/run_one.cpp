@@ -210,6 +210,7 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, A
                 const double done =
                     static_cast<double>(state.step) / static_cast<double>(std::max<std::int64_t>(state.steps, 1));
                 timed([&] {
+                    archive.sync_data();  // the frames before this state are on the disk before it
                     write_checkpoint(checkpoint, params, state);
                     archive.write_progress(id, state.series, rows_saved, done);
                     write_progress_note(note, done);  // the note never says less than the checkpoint

@@ -71,7 +71,9 @@ grep -q "^growing archive grow-ck.h5: 1 replicas kept, 1 new$" ck1.log || fail "
 [[ ! -e grow-ck.h5.growing && ! -e grow-ck.h5.growing.checkpoints ]] || fail "leftovers remain"
 # A kill after the rename, before the checkpoint folders were swapped: the grown archive with
 # the old folder (old ids) and the new one beside it. The next run completes the swap.
+# (The growth's folder carries its marker until the swap; a folder without one is left alone.)
 mv grow-ck.h5.checkpoints grow-ck.h5.growing.checkpoints
+echo "jamsim: the checkpoints of the archive growing from 'grow-ck.h5'" > grow-ck.h5.growing.checkpoints/.growth
 cp -r old.checkpoints grow-ck.h5.checkpoints
 run "$campaigns/grow_checkpointed_more.toml" > ck2.log 2>&1 || { cat ck2.log; fail "the run after the growth"; }
 cat ck2.log | grep -v '^\['

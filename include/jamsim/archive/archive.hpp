@@ -164,6 +164,10 @@ class Archive {
     /// were written before any status that validates them; see above).
     ~Archive();
 
+    /// Independent: this node's writes to the archive so far onto its disk (fdatasync), so that
+    /// what a status or a checkpoint vouches for survives a node's crash.
+    void sync_data() const;
+
   private:
     Archive(h5::Handle file, MPI_Comm comm, ArchiveLayout layout)
         : file_(std::move(file)), comm_(comm), layout_(std::move(layout)) {}
