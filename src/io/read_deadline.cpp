@@ -11,23 +11,21 @@
 
 namespace jamsim {
 
-double read_deadline_seconds() {
-    if (const char* text = std::getenv("JAMSIM_READ_DEADLINE_SECONDS"); text && *text) {
+namespace {
+/// Seconds from the environment variable `name` (a positive number below 1e9), else `otherwise`.
+double seconds_from_environment(const char* name, double otherwise) {
+    if (const char* text = std::getenv(name); text && *text) {
         char* end = nullptr;
         const double seconds = std::strtod(text, &end);
         if (end && *end == '\0' && seconds > 0 && seconds < 1e9) return seconds;
     }
-    return 60.0;
+    return otherwise;
 }
+}  // namespace
 
-double write_deadline_seconds() {
-    if (const char* text = std::getenv("JAMSIM_WRITE_DEADLINE_SECONDS"); text && *text) {
-        char* end = nullptr;
-        const double seconds = std::strtod(text, &end);
-        if (end && *end == '\0' && seconds > 0 && seconds < 1e9) return seconds;
-    }
-    return 600.0;
-}
+double read_deadline_seconds() { return seconds_from_environment("JAMSIM_READ_DEADLINE_SECONDS", 60.0); }
+
+double write_deadline_seconds() { return seconds_from_environment("JAMSIM_WRITE_DEADLINE_SECONDS", 600.0); }
 
 struct Deadline::Watch {
     std::mutex mutex;
