@@ -39,7 +39,8 @@ std::string check_minimizer(const R& p) {
 }
 
 std::string check_force_tol(const R& p) {
-    if (!non_negative(p.force_tol)) return "force_tol >= 0";
+    // A ratio to the mean contact force: at 1 or more a random start counts as balanced.
+    if (!non_negative(p.force_tol) || p.force_tol >= 1.0) return "0 <= force_tol < 1";
     if (p.force_tol == 0.0 && p.force_tol_abs == 0.0)
         return "force_tol > 0 or force_tol_abs > 0 (a reachable stopping rule)";
     return "";
@@ -152,13 +153,18 @@ const ParamInfo kParameters[] = {
     {"strain_step", "model", "strain_step", "--strain-step", "1", "quasistatic shear: strain between minimisations",
      &R::strain_step, kNum, JAMSIM_CHECK(positive(p.strain_step), "strain_step > 0"), "strain_step > 0"},
     {"energy_floor", "model", "energy_floor", "--energy-floor", "k_e", "minimisation: E/N below this is unjammed",
-     &R::energy_floor, kNum, JAMSIM_CHECK(positive(p.energy_floor), "energy_floor > 0"), "energy_floor > 0"},
+     // Below 1e-2: E/N = 1e-2 k_e means overlaps of about a seventh of a diameter, deep in a
+     // jammed packing (energy_floor = 1e300 called every state unjammed).
+     &R::energy_floor, kNum, JAMSIM_CHECK(positive(p.energy_floor) && p.energy_floor < 1e-2, "0 < energy_floor < 0.01"),
+     "0 < energy_floor < 0.01"},
     {"force_tol", "model", "force_tol", "--force-tol", "1",
      "minimisation: largest force component / mean contact force at convergence", &R::force_tol, kNum, check_force_tol,
-     "force_tol >= 0"},
+     "0 <= force_tol < 1"},
     {"force_tol_abs", "model", "force_tol_abs", "--force-tol-abs", "k_e/d_s",
      "minimisation: absolute force floor at convergence", &R::force_tol_abs, kNum,
-     JAMSIM_CHECK(non_negative(p.force_tol_abs), "force_tol_abs >= 0"), "force_tol_abs >= 0"},
+     // Below k_e/d_s, the force of a full overlap.
+     JAMSIM_CHECK(non_negative(p.force_tol_abs) && p.force_tol_abs < 1.0, "0 <= force_tol_abs < 1"),
+     "0 <= force_tol_abs < 1"},
     {"phi_tol", "model", "phi_tol", "--phi-tol", "1", "phi_J search: width of the final bracket", &R::phi_tol, kNum,
      JAMSIM_CHECK(p.phi_tol >= 1e-14 && p.phi_tol < 1e-2, "1e-14 <= phi_tol < 0.01"), "1e-14 <= phi_tol < 0.01"},
     {"alpha", "potential", "alpha", "--alpha", "1",

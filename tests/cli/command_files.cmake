@@ -92,8 +92,10 @@ endforeach()
 set(minimize_refusals
   "seed_negative|--seed -1|--seed: value -1 is not allowed: a whole number"
   "n_hex|--N 0x40|--N: value 0x40 is not allowed: a whole number"
-  "energy_floor|--energy-floor nan|--energy-floor = nan is not allowed: energy_floor > 0"
-  "force_tol|--force-tol -1|--force-tol = -1 is not allowed: force_tol >= 0"
+  "energy_floor|--energy-floor nan|--energy-floor = nan is not allowed: 0 < energy_floor < 0.01"
+  "energy_floor_huge|--energy-floor 1e300|--energy-floor = 1e\\+300 is not allowed: 0 < energy_floor < 0.01"
+  "force_tol|--force-tol -1|--force-tol = -1 is not allowed: 0 <= force_tol < 1"
+  "force_tol_huge|--force-tol 1e300|--force-tol = 1e\\+300 is not allowed: 0 <= force_tol < 1"
   "no_stopping_rule|--force-tol 0 --force-tol-abs 0|--force-tol = 0 is not allowed: force_tol > 0 or force_tol_abs > 0"
   "max_iterations|--max-iterations -5|--max-iterations: value -5 is not allowed: a whole number of iterations >= 1"
   "alpha|--alpha 1|--alpha = 1 is not allowed: 1 < alpha <= 20"
