@@ -30,7 +30,10 @@ std::vector<StoredCampaign> read_inputs(const std::string& output, const std::ve
     std::vector<StoredCampaign> stored;
     for (std::size_t k = 0; k < inputs.size(); ++k) {
         const std::string& path = inputs[k];
-        if (path == output) throw CampaignRefused("'" + path + "' is both the output and an input: name a new output");
+        // (By name, link or path: './a.h5' for 'a.h5' merged into the input itself.)
+        if (std::error_code ec; path == output || std::filesystem::equivalent(path, output, ec))
+            throw CampaignRefused("'" + path + "' is both the output and an input" +
+                                  (path == output ? std::string() : " ('" + output + "')") + ": name a new output");
         // The same file twice (by name, link or path) adds nothing, and its count misleads.
         for (std::size_t j = 0; j < k; ++j) {
             std::error_code ec;

@@ -107,6 +107,14 @@ add_test(NAME archive_file.merge_shard_twice
   WORKING_DIRECTORY ${bad_dir})
 set_tests_properties(archive_file.merge_shard_twice PROPERTIES LABELS unit FIXTURES_REQUIRED bad_archives
   RESOURCE_LOCK bad_archives ENVIRONMENT "EXPECT_STATUS=2;PROTECT=good.h5")
+# The output as an input under another spelling: refused as the same spelling is (it merged
+# into the input, writing its `merged` stamp there).
+add_test(NAME archive_file.merge_into_input_spelled_otherwise
+  COMMAND ${expect} "^jamsim merge: 'good.h5' is both the output and an input \\('./good.h5'\\): name a new output"
+    ${bad_dir}/none.h5 $<TARGET_FILE:jamsim> merge ./good.h5 good.h5
+  WORKING_DIRECTORY ${bad_dir})
+set_tests_properties(archive_file.merge_into_input_spelled_otherwise PROPERTIES LABELS unit FIXTURES_REQUIRED bad_archives
+  RESOURCE_LOCK bad_archives ENVIRONMENT "EXPECT_STATUS=2;PROTECT=good.h5")
 # An archive whose creation a kill interrupted (no HDF5 signature yet, its creation marker
 # beside it, as mpi.kill_loop_resumes_from_checkpoints met it): status says so, and a run or
 # a merge to it makes it anew (it was refused as "not an HDF5 file" for good).
