@@ -99,7 +99,7 @@ jamsim_install_configured(${CMAKE_CURRENT_LIST_DIR}/jamsim.tcl.in
 install(FILES ${PROJECT_SOURCE_DIR}/README.md ${PROJECT_SOURCE_DIR}/LICENSE
         DESTINATION ${CMAKE_INSTALL_DOCDIR})
 # The topic pages beside the front door, in the same folders, so that its links resolve there.
-foreach(page IN ITEMS campaigns/README.md campaigns/models.md campaigns/papers/README.md slurm/README.md
+foreach(page IN ITEMS campaigns/README.md campaigns/models.md campaigns/refusals.md campaigns/papers/README.md slurm/README.md
                      tools/README.md src/README.md tests/README.md tests/bench/README.md tests/bench/cd0_threads.md
                      tests/bench/cd0_solver.md)
   get_filename_component(folder ${page} DIRECTORY)

@@ -51,7 +51,7 @@ class Cd0 final : public Model {
     std::string backend_, petsc_options_;
     linalg::SolveInfo last_;
     std::unique_ptr<linalg::ContactSolver> solver_;
-    /// The skin of the contact matrix's candidate pairs: skin/3 (campaigns/README.md's CD0 section
+    /// The skin of the contact matrix's candidate pairs: skin/3 (campaigns/models.md's CD0 section
     /// gives the measurements behind the choice).
     static double candidate_skin(const ReplicaParams& params);
     SubList candidates_;
