@@ -37,7 +37,7 @@ COMPRESS, COOL_COMPRESS, SHEARED (one jammed state at the configuration's own ph
   pj_from_phi_j.tsv, .png: P_J(phi) as the cumulative distribution of phi_J (a configuration
     compressed to phi jams iff phi >= its phi_J): N, phi (each phi_J), P_J (fraction with
     phi_J <= phi), error (binomial standard error).
-  phi_J depends on the start phi of the search (campaigns/README.md, "Which start phi for
+  phi_J depends on the start phi of the search (campaigns/models.md, "Which start phi for
   COMPRESS"): a note is printed when one N mixes several start phi."""
 import argparse
 import os
