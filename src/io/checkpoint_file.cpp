@@ -223,8 +223,8 @@ void check_global_heaps(const std::string& path) {
         throw CheckpointUnreadable("checkpoint '" + path + "' is damaged: " + why);
 }
 
-/// Everything in the file; checks its format, the lengths of its arrays and (where the file
-/// has one) its checksum; with `n` >= 0 also the body against a replica of n disks.
+/// Everything in the file; checks its format, the lengths of its arrays and its checksum (which
+/// every file of this format has); with `n` >= 0 also the body against a replica of n disks.
 ReplicaState read_state(const std::string& path, std::int64_t n = -1) {
     h5::quiet_errors();
     ReplicaState s{.system = System{Particles{}, Box(1.0)}};  // the box is read below
@@ -244,7 +244,10 @@ ReplicaState read_state(const std::string& path, std::int64_t n = -1) {
         s.force_evaluations = h5::read_int64_attribute(f, "force_evaluations");
         s.list_builds = h5::read_int64_attribute(f, "list_builds");
         s.wall_seconds = h5::read_double_attribute(f, "wall_seconds");
-        if (H5Aexists(f, "checksum") > 0) checksum = h5::read_int64_attribute(f, "checksum");
+        // Every file of this format has one: without it an edit or damage would pass unseen.
+        if (H5Aexists(f, "checksum") <= 0)
+            throw CheckpointError("checkpoint '" + path + "' is damaged: its checksum is missing");
+        checksum = h5::read_int64_attribute(f, "checksum");
         Particles& q = s.system.particles;
         for (const auto& [name, v] : particle_columns(q)) *v = h5::read_dataset(f, std::string("particles/") + name);
         q.tag = h5::read_all<std::int32_t>(f, "particles/tag", H5T_NATIVE_INT32);

@@ -2,7 +2,8 @@
 Damages a jamsim checkpoint (or an archive's final state) the way a disk, a kill or a hand
 does: truncated, zero_filled, short_column (one time series column a row short),
 fewer_disks (every particle array two disks short), nan_position, edited_step (the step
-attribute moved by one checkpoint interval), heap_zeroed (the objects of its first global
+attribute moved by one checkpoint interval), edited_step_no_checksum (the same, and the
+checksum attribute removed), heap_zeroed (the objects of its first global
 heap zeroed, as a crash can leave them: HDF5 1.10 loops for ever reading its text
 attributes), other_diameter (an archive: one final disk of
 replica 0 given another diameter)."""
@@ -46,9 +47,11 @@ else:
         elif kind == "nan_position":
             x = f["particles/x"]
             x[0] = np.nan
-        elif kind == "edited_step":
+        elif kind in ("edited_step", "edited_step_no_checksum"):
             step = int(f.attrs["step"])
             f.attrs["step"] = np.int64(step - 100 if step >= 100 else step + 100)
+            if kind == "edited_step_no_checksum":  # and the checksum that would show it, removed
+                del f.attrs["checksum"]
         else:
             sys.exit(f"unknown damage {kind}")
 print(f"damaged {path}: {kind}")
