@@ -245,8 +245,9 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
     // Collective writes from here to the barrier: a write that fails on one rank leaves the
     // ranks waiting for each other inside HDF5 (read_deadline.hpp). The datasets are filled as
     // they are made, so the limit grows with the archive (20 MB/s).
+    const ArchiveLayout layout = archive_layout(spec);
     const WriteDeadline deadline(path, "its creation", mpi::rank(comm),
-                                 write_deadline_seconds() + static_cast<double>(archive_layout(spec).bytes) / 20e6);
+                                 write_deadline_seconds() + static_cast<double>(layout.bytes) / 20e6);
     Handle file;
     try {
         file = h5::create_parallel(comm, path);
@@ -257,7 +258,6 @@ Archive Archive::create(MPI_Comm comm, const std::string& path, const CampaignSp
     }
     const hid_t f = file.get();
     const auto replicas = static_cast<hsize_t>(spec.replicas.size());
-    const ArchiveLayout layout = archive_layout(spec);
     std::string created = utc_now();
     mpi::broadcast(created, 0, comm);  // attributes must be identical on every rank
     write_root_attributes(f, spec, created, replicas);
