@@ -33,11 +33,15 @@ no_crash() {
 interrupted_campaign() {
   run ref.log run "$here/checkpointed.toml" -o ref.h5
   expect_rc 0 ref.log
-  # SIGUSR1 (what a batch system's time-limit warning sends) 2 s after the start, while the
-  # long replicas run (about 5 s on 2 ranks).
-  timeout -k 10 "$limit" timeout --preserve-status -s USR1 2 "$mpirun" -n "$ranks" "$jamsim" run \
-    "$here/checkpointed.toml" -o cp.h5 --progress lines > cp.log 2>&1
-  rc=$?
+  # SIGUSR1 (what a batch system's time-limit warning sends) to mpiexec 2 s after the ranks
+  # started, while the long replicas run (about 5 s on 2 ranks). A signal before the ranks
+  # start is lost (tests/wait_for_ranks.sh).
+  timeout -k 10 "$limit" "$mpirun" -n "$ranks" "$jamsim" run "$here/checkpointed.toml" -o cp.h5 \
+    --progress lines > cp.log 2>&1 &
+  local leader=$!
+  "$here/../wait_for_ranks.sh" "$leader" "$ranks" "^$jamsim run $here/checkpointed.toml -o cp.h5" &&
+    sleep 2 && pkill -USR1 -P "$leader"  # mpiexec, the child of timeout
+  rc=0; wait "$leader" || rc=$?
   expect_rc 75 cp.log
   # The last progress line counts the stopped replicas as interrupted, not as pending.
   expect_in '[1-9][0-9]* interrupted \(saved\)' cp.log

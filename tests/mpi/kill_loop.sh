@@ -9,6 +9,7 @@
 set -euo pipefail
 jamsim=$1 spec=$2 work=$3 py=$4 kills=${5:-12}
 mpirun=${MPIEXEC:-mpiexec}
+here=$(cd "$(dirname "$0")" && pwd)
 mkdir -p "$work"
 rm -rf "$work"/ref.h5 "$work"/ref.h5.checkpoints "$work"/loop.h5 "$work"/loop.h5.checkpoints
 timeout 300 "$mpirun" -n 2 "$jamsim" run "$spec" -o "$work/ref.h5" > "$work/ref.log"
@@ -22,6 +23,11 @@ for k in $(seq "$kills"); do
   setsid timeout 300 "$mpirun" -n 2 "$jamsim" run "$spec" -o "$work/loop.h5" --checkpoint-every 0 \
     > "$work/loop_$k.log" 2>&1 &
   leader=$!
+  # The kill moment counts from the ranks' start, not mpiexec's (which took seconds on a
+  # loaded machine: every kill then hit mpiexec before any checkpoint).
+  started=0
+  "$here/../wait_for_ranks.sh" "$leader" 2 "^$jamsim run $spec -o $work/loop.h5" || started=$?
+  [[ $started -eq 1 ]] && { echo "FAIL: the ranks did not start"; exit 1; }
   sleep "0.$((3 + RANDOM % 7))"
   if ! kill -0 "$leader" 2>/dev/null; then wait "$leader" || true; break; fi  # finished already
   pkill -KILL -f -- "-o $work/loop.h5" || true
