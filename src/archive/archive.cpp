@@ -363,8 +363,11 @@ void Archive::stamp(const std::string& attribute) {
         file_ = h5::open_parallel(comm_, path);
     }
     const hid_t f = file_.get();
-    h5::replace_attribute(f, attribute, now);
-    h5::replace_attribute(f, "n_ranks", static_cast<std::int64_t>(mpi::size(comm_)));
+    // Written over where they stand (made so at creation): nothing new is allocated, so a
+    // write that fails on one rank here cannot leave the file shorter than its superblock
+    // says, which HDF5 refuses to open ever after.
+    h5::overwrite_attribute(f, attribute, now);
+    h5::overwrite_attribute(f, "n_ranks", static_cast<std::int64_t>(mpi::size(comm_)));
     check(H5Fflush(f, H5F_SCOPE_GLOBAL), "flush archive");
 }
 

@@ -17,6 +17,8 @@
 namespace jamsim {
 
 using archive_detail::kReasonLength;
+using archive_detail::kStampAttributes;
+using archive_detail::kStampBytes;
 using archive_detail::write_block;
 using h5::Handle;
 
@@ -104,6 +106,11 @@ void write_root_attributes(hid_t f, const CampaignSpec& spec, const std::string&
     h5::write_attribute(f, "created", created);
     h5::write_attribute(f, "layout_version", std::int64_t{kArchiveLayoutVersion});
     h5::write_attribute(f, "n_replicas", static_cast<std::int64_t>(replicas));
+    // The stamps of later runs, merges, extensions and growths, made now (empty) with room
+    // for a time stamp: they are written over where they stand (Archive::stamp), so that
+    // a stamp whose write fails on one rank cannot leave the file shorter than its superblock.
+    for (const char* stamp : kStampAttributes) h5::create_fixed_text_attribute(f, stamp, kStampBytes);
+    h5::write_attribute(f, "n_ranks", std::int64_t{0});
 }
 
 /// /replicas: the parameter columns, identity, the initial-state columns and the status

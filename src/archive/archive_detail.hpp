@@ -9,6 +9,10 @@
 namespace jamsim::archive_detail {
 
 inline constexpr std::size_t kReasonLength = 200;  // bytes of /replicas/failure_reason
+/// The root's time stamps (Archive::stamp), made at creation as fixed-length text of
+/// kStampBytes bytes ("2026-11-29T09:01:35Z" is 20) and written over where they stand.
+inline constexpr const char* kStampAttributes[] = {"run_started", "run_finished", "merged", "extended", "grown"};
+inline constexpr std::size_t kStampBytes = 32;
 
 /// Independent write of a block of an archive dataset (the rank that runs a replica).
 inline void write_block(hid_t file, const std::string& path, hid_t memtype, std::vector<hsize_t> start,

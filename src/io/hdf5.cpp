@@ -7,6 +7,8 @@
 
 #include <cerrno>
 #include <cstring>
+#include <functional>
+#include <optional>
 #include <vector>
 
 namespace jamsim::h5 {
@@ -158,6 +160,49 @@ void replace_attribute(hid_t obj, const std::string& name, const std::string& va
 void replace_attribute(hid_t obj, const std::string& name, std::int64_t value) {
     if (H5Aexists(obj, name.c_str()) > 0) check(H5Adelete(obj, name.c_str()), "replace attribute " + name);
     write_attribute(obj, name, value);
+}
+
+void create_fixed_text_attribute(hid_t obj, const std::string& name, std::size_t capacity) {
+    Handle type(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
+    check(H5Tset_size(type.get(), capacity), "string size");
+    check(H5Tset_strpad(type.get(), H5T_STR_NULLPAD), "string padding");
+    const std::string empty(capacity, '\0');
+    write_scalar_attribute(obj, name, type.get(), empty.data());
+}
+
+namespace {
+/// The attribute `name` of `obj` when it exists and `fits` its type and number of values.
+std::optional<Handle> attribute_that_fits(hid_t obj, const std::string& name,
+                                          const std::function<bool(hid_t type)>& fits) {
+    const htri_t exists = H5Aexists(obj, name.c_str());
+    check(exists, "look up attribute " + name);
+    if (exists == 0) return std::nullopt;
+    Handle attr(H5Aopen(obj, name.c_str(), H5P_DEFAULT), H5Aclose, "open attribute " + name);
+    const Handle type(H5Aget_type(attr.get()), H5Tclose, "type of attribute " + name);
+    const Handle space(H5Aget_space(attr.get()), H5Sclose, "space of attribute " + name);
+    if (H5Sget_simple_extent_npoints(space.get()) != 1 || !fits(type.get())) return std::nullopt;
+    return attr;
+}
+}  // namespace
+
+void overwrite_attribute(hid_t obj, const std::string& name, const std::string& value) {
+    std::size_t room = 0;
+    const auto attr = attribute_that_fits(obj, name, [&](hid_t type) {
+        room = H5Tget_size(type);
+        return H5Tget_class(type) == H5T_STRING && H5Tis_variable_str(type) == 0 && room >= value.size();
+    });
+    if (!attr) return replace_attribute(obj, name, value);
+    Handle type(H5Aget_type(attr->get()), H5Tclose, "type of attribute " + name);
+    std::string padded = value;
+    padded.resize(room, '\0');
+    check(H5Awrite(attr->get(), type.get(), padded.data()), "write attribute " + name);
+}
+
+void overwrite_attribute(hid_t obj, const std::string& name, std::int64_t value) {
+    const auto attr = attribute_that_fits(
+        obj, name, [](hid_t type) { return H5Tget_class(type) == H5T_INTEGER && H5Tget_size(type) == 8; });
+    if (!attr) return replace_attribute(obj, name, value);
+    check(H5Awrite(attr->get(), H5T_NATIVE_INT64, &value), "write attribute " + name);
 }
 
 Handle mpio_file_access(MPI_Comm comm) {

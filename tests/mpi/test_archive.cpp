@@ -98,6 +98,45 @@ TEST(Archive, WriteReadBackFailAndImport) {
     EXPECT_NE(why.find("different campaign"), std::string::npos) << why;
 }
 
+// A stamp writes over attributes made at creation and allocates nothing: the file keeps its
+// size. (A variable-length stamp took a new global heap collection at the end of the file;
+// when writing it failed on one rank, the file was left shorter than its superblock says and
+// HDF5 refused it for good, "run the same command again" included.)
+TEST(Archive, StampsAllocateNothing) {
+    const CampaignSpec spec = parse_campaign(kSpec, "inline.toml");
+    const std::string path = "archive_stamps.h5";
+    std::filesystem::remove(path);
+    Archive::create(MPI_COMM_SELF, path, spec).close();
+    const auto size_at_creation = std::filesystem::file_size(path);
+    {
+        Archive archive = Archive::open(MPI_COMM_SELF, path);
+        for (const char* stamp : {"run_started", "run_finished", "merged", "extended", "grown", "run_finished"})
+            archive.stamp(stamp);
+        archive.close();
+    }
+    EXPECT_EQ(std::filesystem::file_size(path), size_at_creation);
+    const ArchiveSummary s = summarize_archive(path);
+    EXPECT_EQ(s.started.size(), 20u) << s.started;  // 2026-11-29T09:01:35Z
+    EXPECT_EQ(s.finished.size(), 20u) << s.finished;
+    EXPECT_EQ(s.merged.size(), 20u) << s.merged;
+    EXPECT_EQ(s.ranks, 1);
+
+    // An archive made before (a variable-length stamp): the stamp replaces it.
+    {
+        const h5::Handle file(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose, "open " + path);
+        h5::check(H5Adelete(file.get(), "run_started"), "delete run_started");
+        h5::write_attribute(file.get(), "run_started", std::string("2020-01-01T00:00:00Z"));
+    }
+    {
+        Archive archive = Archive::open(MPI_COMM_SELF, path);
+        archive.stamp("run_started");
+        archive.close();
+    }
+    const ArchiveSummary again = summarize_archive(path);
+    EXPECT_EQ(again.started.size(), 20u) << again.started;
+    EXPECT_NE(again.started, "2020-01-01T00:00:00Z");
+}
+
 int main(int argc, char** argv) {
     MPI_Init(&argc, &argv);
     ::testing::InitGoogleTest(&argc, argv);

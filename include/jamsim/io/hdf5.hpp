@@ -109,6 +109,16 @@ std::string read_string_attribute(hid_t obj, const std::string& name);
 /// Delete the attribute if it exists, then write it.
 void replace_attribute(hid_t obj, const std::string& name, const std::string& value);
 void replace_attribute(hid_t obj, const std::string& name, std::int64_t value);
+/// An empty text attribute of `capacity` bytes, fixed-length (NUL-padded; h5py reads it as
+/// bytes). `overwrite_attribute` rewrites it where it stands: a variable-length one takes new
+/// room in the file at each write, and a write of that room failing on one rank of a parallel
+/// file left the file shorter than its superblock says, refused by HDF5 for good.
+void create_fixed_text_attribute(hid_t obj, const std::string& name, std::size_t capacity);
+/// Writes `value` over the attribute `name` where it stands when its room fits (fixed-length
+/// text of at least value.size() bytes; one 64-bit integer), allocating nothing in the file;
+/// else replaces it (attributes of archives made before they were fixed-length).
+void overwrite_attribute(hid_t obj, const std::string& name, const std::string& value);
+void overwrite_attribute(hid_t obj, const std::string& name, std::int64_t value);
 
 // --- Parallel files (MPI-IO driver) and datasets written block by block ---
 
