@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "jamsim/campaign/stop_request.hpp"
+#include "jamsim/io/read_deadline.hpp"
 #include "jamsim/core/version.hpp"
 #include "campaign_commands.hpp"
 #include "exit_status.hpp"
@@ -87,6 +88,10 @@ int main(int argc, char** argv) {
     jamsim::app::add_parameters_command(app);
     jamsim::app::add_models_command(app);
     (void)jamsim::app::threads_from_environment();  // refused by the commands that run the kernel
+    if (const std::string problem = jamsim::deadline_environment_problem(); !problem.empty()) {
+        std::cerr << "jamsim: " << problem << '\n';
+        return jamsim::app::kExitRefused;
+    }
     if (const std::string unknown = jamsim::app::unknown_command(app, argc, argv); !unknown.empty()) {
         std::cerr << unknown << '\n';
         return jamsim::app::kExitRefused;

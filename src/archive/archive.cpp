@@ -255,7 +255,7 @@ void Archive::import_replica(const std::string& source_path, std::int64_t source
         paths.emplace_back(p);
     for (const char* p :
          {"/replicas/initial_state", "/replicas/initial_source", "/replicas/threads"})  // where both have them
-        if (H5Lexists(src.get(), p, H5P_DEFAULT) > 0 && H5Lexists(file_.get(), p, H5P_DEFAULT) > 0)
+        if (h5::exists(src.get(), p) && h5::exists(file_.get(), p))
             paths.insert(paths.end() - 1, p);  // before the status
     // The final configuration: its N disks, at the replica's offset in each archive.
     {

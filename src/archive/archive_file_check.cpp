@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cctype>
+#include <cmath>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -202,6 +203,55 @@ std::string check_layout(hid_t f) {
     return "";
 }
 
+std::string number_text(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.17g", value);
+    return text;
+}
+
+/// The counts that place each replica's data: N whole numbers from 1, particle_offset their
+/// running sum from 0 (disks end to end in /final), n_samples whole numbers up to the columns
+/// of /timeseries, rows_written up to n_samples. "" when they agree, else the first that does
+/// not (a hand-edited N = nan or offset = 1e12 met HDF5 or the reader half-way, or was copied
+/// on by merge and export). Called after check_layout's shapes.
+std::string check_counts(hid_t f) {
+    const auto whole = [](double v, double low, double high) { return v >= low && v <= high && v == std::floor(v); };
+    if (!h5::exists(f, "/replicas/N")) return "it has no /replicas/N";
+    const std::vector<double> n = h5::read_dataset(f, "/replicas/N");
+    const auto disks = static_cast<double>(h5::dataset_shape(f, "/final/x").at(0));
+    for (std::size_t r = 0; r < n.size(); ++r)
+        if (!whole(n[r], 1, disks))
+            return "/replicas/N[" + std::to_string(r) + "] is " + number_text(n[r]) +
+                   " (a whole number of disks from 1 to the " + number_text(disks) + " of /final/x)";
+    if (h5::exists(f, "/replicas/particle_offset")) {
+        const auto offset = h5::read_all<std::int64_t>(f, "/replicas/particle_offset", H5T_NATIVE_INT64);
+        double before = 0;
+        for (std::size_t r = 0; r < offset.size(); before += n[r], ++r)
+            if (static_cast<double>(offset[r]) != before)
+                return "/replicas/particle_offset[" + std::to_string(r) + "] is " + std::to_string(offset[r]) +
+                       " where the disks of the replicas before it add up to " + number_text(before);
+        if (before != disks)
+            return "the replicas' N add up to " + number_text(before) + " disks where /final/x has " +
+                   number_text(disks);
+    }
+    const std::vector<std::string> series = link_names(f, "/timeseries");
+    if (series.empty() || !h5::exists(f, "/replicas/n_samples")) return "";
+    const auto columns = static_cast<double>(h5::dataset_shape(f, "/timeseries/" + series.front()).at(1));
+    const std::vector<double> samples = h5::read_dataset(f, "/replicas/n_samples");
+    for (std::size_t r = 0; r < samples.size(); ++r)
+        if (!whole(samples[r], 0, columns))
+            return "/replicas/n_samples[" + std::to_string(r) + "] is " + number_text(samples[r]) +
+                   " (a whole number of rows from 0 to the " + number_text(columns) + " columns of /timeseries)";
+    if (h5::exists(f, "/replicas/rows_written")) {
+        const auto rows = h5::read_all<std::int64_t>(f, "/replicas/rows_written", H5T_NATIVE_INT64);
+        for (std::size_t r = 0; r < rows.size(); ++r)
+            if (rows[r] < 0 || static_cast<double>(rows[r]) > samples[r])
+                return "/replicas/rows_written[" + std::to_string(r) + "] is " + std::to_string(rows[r]) +
+                       " (from 0 to its n_samples, " + number_text(samples[r]) + ")";
+    }
+    return "";
+}
+
 /// The fingerprint version ("jamsim campaign v7") at the start of a fingerprint.
 std::string fingerprint_version(const std::string& fingerprint) {
     const std::string prefix = "jamsim campaign v";
@@ -235,23 +285,32 @@ std::string check_attribute_classes(hid_t f) {
     return "";
 }
 
-/// Reads every text attribute of the root once. Each variable-length one lives in a global
-/// heap collection, and HDF5 loops on a damaged collection; read here, under the read deadline,
-/// a later reader (status's run_finished, the stamps of a run or merge) never meets one first.
+/// Reads every text attribute of every object once (the root's, and the units and
+/// descriptions of the datasets). Each variable-length one lives in a global heap collection,
+/// and HDF5 loops on a damaged collection; read here, under the read deadline, a later reader
+/// (jamsim's own, h5py's) never meets one first.
 void read_every_text_attribute(hid_t f) {
-    const auto read = [](hid_t root, const char* name, const H5A_info_t*, void*) -> herr_t {
-        const hid_t attr = H5Aopen(root, name, H5P_DEFAULT);
+    const H5A_operator2_t read = [](hid_t object, const char* name, const H5A_info_t*, void*) -> herr_t {
+        const hid_t attr = H5Aopen(object, name, H5P_DEFAULT);
         if (attr < 0) return 0;
         const hid_t type = H5Aget_type(attr);
         const bool text = type >= 0 && H5Tget_class(type) == H5T_STRING;
         if (type >= 0) H5Tclose(type);
         H5Aclose(attr);
         if (text) try {
-                (void)h5::read_string_attribute(root, name);
+                (void)h5::read_string_attribute(object, name);
             } catch (const h5::Error&) {}  // a damaged attribute: the checks below say what is wrong
         return 0;
     };
-    H5Aiterate2(f, H5_INDEX_NAME, H5_ITER_NATIVE, nullptr, read, nullptr);
+    const H5O_iterate_t visit = [](hid_t root, const char* name, const H5O_info_t*, void* op) -> herr_t {
+        const hid_t object = H5Oopen(root, name, H5P_DEFAULT);
+        if (object < 0) return 0;  // the checks below say what is wrong
+        H5Aiterate2(object, H5_INDEX_NAME, H5_ITER_NATIVE, nullptr, *static_cast<H5A_operator2_t*>(op), nullptr);
+        H5Oclose(object);
+        return 0;
+    };
+    H5A_operator2_t op = read;
+    H5Ovisit2(f, H5_INDEX_NAME, H5_ITER_NATIVE, visit, &op, H5O_INFO_BASIC);  // the root ("."), then the rest
 }
 
 /// The checks that need HDF5 to open the file; "" when it is a usable archive.
@@ -290,8 +349,10 @@ std::string check_contents(const std::string& path) {
                "archive)";
     if (!has_link(f, "/replicas") || !has_link(f, "/replicas/status"))
         return quoted(path) + " is damaged: a jamsim campaign archive without /replicas/status";
-    if (const std::string bad = check_layout(f); !bad.empty())
-        return quoted(path) + " is damaged: " + bad + "; jamsim writes no such archive (a hand-edited or broken copy?)";
+    for (const auto& check : {check_layout, check_counts})
+        if (const std::string bad = check(f); !bad.empty())
+            return quoted(path) + " is damaged: " + bad +
+                   "; jamsim writes no such archive (a hand-edited or broken copy?)";
     return "";
 }
 

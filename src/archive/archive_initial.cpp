@@ -21,7 +21,7 @@ void create_initial_columns(hid_t file, const CampaignSpec& spec) {
 }
 
 void Archive::record_initial(std::int64_t replica, std::uint64_t source, std::uint64_t state) {
-    if (H5Lexists(file_.get(), "/replicas/initial_source", H5P_DEFAULT) <= 0) return;  // an older archive
+    if (!h5::exists(file_.get(), "/replicas/initial_source")) return;  // an older archive
     const auto r = static_cast<hsize_t>(replica);
     write_block(file_.get(), "/replicas/initial_state", H5T_NATIVE_UINT64, {r}, {1}, &state);
     write_block(file_.get(), "/replicas/initial_source", H5T_NATIVE_UINT64, {r}, {1}, &source);
@@ -31,7 +31,7 @@ InitialRecords read_initial_records(const std::string& path) {
     h5::quiet_errors();
     InitialRecords out;
     const h5::Handle f = h5::open_unlocked_readonly(path);
-    if (H5Lexists(f.get(), "/replicas/initial_source", H5P_DEFAULT) <= 0) return out;
+    if (!h5::exists(f.get(), "/replicas/initial_source")) return out;
     out.source = h5::read_all<std::uint64_t>(f.get(), "/replicas/initial_source", H5T_NATIVE_UINT64);
     out.state = h5::read_all<std::uint64_t>(f.get(), "/replicas/initial_state", H5T_NATIVE_UINT64);
     return out;

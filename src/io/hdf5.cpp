@@ -137,7 +137,9 @@ std::int64_t read_int64_attribute(hid_t obj, const std::string& name) {
 }
 
 std::string read_string_attribute(hid_t obj, const std::string& name) {
-    if (H5Aexists(obj, name.c_str()) <= 0) return "";
+    const htri_t exists = H5Aexists(obj, name.c_str());
+    check(exists, "look up attribute " + name);
+    if (exists == 0) return "";
     Handle attr(H5Aopen(obj, name.c_str(), H5P_DEFAULT), H5Aclose, "open attribute " + name);
     Handle type(H5Aget_type(attr.get()), H5Tclose, "type of " + name);
     if (H5Tis_variable_str(type.get()) > 0) {

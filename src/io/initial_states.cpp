@@ -74,7 +74,7 @@ InitialStates::InitialStates(const std::string& source) : source_(source) {
         Digest d;  // the source campaign's identity: a longer or grown campaign is another source
         d.add(std::string_view(h5::read_string_attribute(f.get(), "spec_fingerprint")));
         fingerprint_ = d.value();
-        if (H5Lexists(f.get(), "/replicas/size_ratio", H5P_DEFAULT) > 0)
+        if (h5::exists(f.get(), "/replicas/size_ratio"))
             size_ratio_ = h5::read_dataset(f.get(), "/replicas/size_ratio");
     } catch (const h5::Error& e) { throw InitialStateError(source, allowed + e.what() + ")", true); }
 }

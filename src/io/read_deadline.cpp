@@ -1,10 +1,12 @@
 #include "jamsim/io/read_deadline.hpp"
 
+#include <cctype>
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
 #include <mutex>
+#include <optional>
 #include <system_error>
 #include <thread>
 #include <utility>
@@ -12,20 +14,40 @@
 namespace jamsim {
 
 namespace {
-/// Seconds from the environment variable `name` (a positive number below 1e9), else `otherwise`.
-double seconds_from_environment(const char* name, double otherwise) {
-    if (const char* text = std::getenv(name); text && *text) {
-        char* end = nullptr;
-        const double seconds = std::strtod(text, &end);
-        if (end && *end == '\0' && seconds > 0 && seconds < 1e9) return seconds;
-    }
-    return otherwise;
+/// A deadline's environment variable and the seconds it stands for when unset.
+struct DeadlineVariable {
+    const char* name;
+    double otherwise;
+};
+constexpr DeadlineVariable kReadVariable{"JAMSIM_READ_DEADLINE_SECONDS", 60.0};
+constexpr DeadlineVariable kWriteVariable{"JAMSIM_WRITE_DEADLINE_SECONDS", 600.0};
+
+/// The seconds `variable` sets when valid (a number above 0 and below 1e9), its default when
+/// unset or empty, nullopt when not valid.
+std::optional<double> seconds_from_environment(const DeadlineVariable& variable) {
+    const char* text = std::getenv(variable.name);
+    if (!text || !*text) return variable.otherwise;
+    if (std::isspace(static_cast<unsigned char>(*text))) return std::nullopt;  // strtod would skip it
+    char* end = nullptr;
+    const double seconds = std::strtod(text, &end);
+    if (end && *end == '\0' && seconds > 0 && seconds < 1e9) return seconds;
+    return std::nullopt;
 }
 }  // namespace
 
-double read_deadline_seconds() { return seconds_from_environment("JAMSIM_READ_DEADLINE_SECONDS", 60.0); }
+// An invalid value was refused in main before any command ran (deadline_environment_problem).
+double read_deadline_seconds() { return seconds_from_environment(kReadVariable).value_or(kReadVariable.otherwise); }
 
-double write_deadline_seconds() { return seconds_from_environment("JAMSIM_WRITE_DEADLINE_SECONDS", 600.0); }
+double write_deadline_seconds() { return seconds_from_environment(kWriteVariable).value_or(kWriteVariable.otherwise); }
+
+std::string deadline_environment_problem() {
+    for (const DeadlineVariable& variable : {kReadVariable, kWriteVariable})
+        if (!seconds_from_environment(variable))
+            return std::string(variable.name) + " = \"" + std::getenv(variable.name) +
+                   "\" is not allowed: a number of seconds above 0 and below 1e9 (unset: " +
+                   std::to_string(static_cast<int>(variable.otherwise)) + ")";
+    return "";
+}
 
 struct Deadline::Watch {
     std::mutex mutex;

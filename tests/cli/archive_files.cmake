@@ -32,7 +32,13 @@ set(bad_kinds
   "series_cut|series_cut.h5|'series_cut.h5' is damaged: /timeseries/pressure is 1 x 2 where /timeseries/[a-z_]+ is 1 x [0-9]+"
   "final_cut|final_cut.h5|'final_cut.h5' is damaged: /final/y is 64 entries where /final/x is 3 entries"
   "no_series|no_series.h5|'no_series.h5' is damaged: it has no /timeseries"
-  "ranks_text|ranks_text.h5|'ranks_text.h5' is damaged: its attribute n_ranks is not one integer")
+  "ranks_text|ranks_text.h5|'ranks_text.h5' is damaged: its attribute n_ranks is not one integer"
+  "n_nan|n_nan.h5|'n_nan.h5' is damaged: /replicas/N\\[0\\] is nan \\(a whole number of disks from 1 to the [0-9]+ of /final/x\\)"
+  "n_zero|n_zero.h5|'n_zero.h5' is damaged: /replicas/N\\[0\\] is 0 \\(a whole number of disks"
+  "n_huge|n_huge.h5|'n_huge.h5' is damaged: /replicas/N\\[0\\] is 1000000000000 \\(a whole number of disks"
+  "offset_far|offset_far.h5|'offset_far.h5' is damaged: /replicas/particle_offset\\[0\\] is 1000000000000 where the disks of the replicas before it add up to 0"
+  "samples_many|samples_many.h5|'samples_many.h5' is damaged: /replicas/n_samples\\[0\\] is 1000000000 \\(a whole number of rows from 0 to the [0-9]+ columns of /timeseries\\)"
+  "rows_many|rows_many.h5|'rows_many.h5' is damaged: /replicas/rows_written\\[0\\] is 1000000000 \\(from 0 to its n_samples, [0-9]+\\)")
 foreach(kind IN LISTS bad_kinds)
   jamsim_row_fields("${kind}" name file regex)
   add_test(NAME archive_file.status_${name}
@@ -212,3 +218,9 @@ add_test(NAME cli.shard_without_replicas
   COMMAND bash -c "rm -rf es*.h5*; $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml --shard 1/2 -o es1.h5 > es1.txt 2>&1 && grep -q '^shard 1/2 holds no replica: the campaign has 1 replica, in shards 0 to 0; this shard.s archive holds them all pending, for jamsim merge' es1.txt && $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml --shard 0/2 -o es0.h5 > es0.txt 2>&1 && ! grep -q 'holds no replica' es0.txt"
   WORKING_DIRECTORY ${campaign_dir})
 set_tests_properties(cli.shard_without_replicas PROPERTIES LABELS unit)
+
+# The deadline variables (JAMSIM_READ_DEADLINE_SECONDS, JAMSIM_WRITE_DEADLINE_SECONDS) refused
+# in words when they are not a number of seconds.
+add_test(NAME cli.deadline_variables_refused
+  COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/deadline_variables.sh $<TARGET_FILE:jamsim>)
+set_tests_properties(cli.deadline_variables_refused PROPERTIES LABELS unit)

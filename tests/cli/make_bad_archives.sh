@@ -10,15 +10,19 @@
 # final_cut.h5 (/final/x cut to 3 disks), no_series.h5 (no /timeseries); and two whose layout
 # is whole but whose final state jamsim cannot have written: final_nan.h5 (x = nan at disk 3),
 # box_negative.h5 (/final/box_side = -1); ranks_text.h5 (the n_ranks attribute as text);
+# n_nan.h5, n_zero.h5, n_huge.h5 (/replicas/N = nan, 0, 1e12), offset_far.h5
+# (particle_offset = 1e12), samples_many.h5 (n_samples = 1e9), rows_many.h5 (rows_written 1e9);
 # heap_zeroed.h5 and heap_last.h5 (the objects of its first or last global heap zeroed, as a
-# crash can leave them: HDF5 1.10 loops for ever reading its attributes; the last holds the
-# stamps, which status read after the checks).
+# crash can leave them: HDF5 1.10 loops for ever reading its attributes; the first holds the
+# root's text, the last the datasets' descriptions, which no command reads: the check reads
+# them all under the read deadline, as a later reader, h5py's included, would loop on them).
 set -euo pipefail
 jamsim=$1 spec=$2
 here=$(cd "$(dirname "$0")" && pwd)
 rm -rf good.h5 good.h5.checkpoints empty.h5 text.h5 truncated.h5 plain.h5 replica.h5 \
   layout.h5 version.h5 missing.h5 a_directory status_rows.h5 status_value.h5 series_cut.h5 final_cut.h5 \
-  no_series.h5 final_nan.h5 box_negative.h5 ranks_text.h5 heap_zeroed.h5 heap_last.h5
+  no_series.h5 final_nan.h5 box_negative.h5 ranks_text.h5 heap_zeroed.h5 heap_last.h5 n_nan.h5 n_zero.h5 \
+  n_huge.h5 offset_far.h5 samples_many.h5 rows_many.h5
 "$jamsim" run "$spec" -o good.h5 >/dev/null 2>&1
 : > empty.h5
 echo "not an archive" > text.h5
@@ -49,6 +53,12 @@ damaged("no_series.h5", lambda f: f.__delitem__("timeseries"))
 damaged("final_nan.h5", lambda f: f["final/x"].__setitem__(3, float("nan")))
 damaged("box_negative.h5", lambda f: f["final/box_side"].__setitem__(0, -1.0))
 damaged("ranks_text.h5", lambda f: f.attrs.__setitem__("n_ranks", "two"))
+damaged("n_nan.h5", lambda f: f["replicas/N"].__setitem__(0, float("nan")))
+damaged("n_zero.h5", lambda f: f["replicas/N"].__setitem__(0, 0.0))
+damaged("n_huge.h5", lambda f: f["replicas/N"].__setitem__(0, 1e12))
+damaged("offset_far.h5", lambda f: f["replicas/particle_offset"].__setitem__(0, 10**12))
+damaged("samples_many.h5", lambda f: f["replicas/n_samples"].__setitem__(0, 1e9))
+damaged("rows_many.h5", lambda f: f["replicas/rows_written"].__setitem__(0, 10**9))
 for name, last in (("heap_zeroed.h5", False), ("heap_last.h5", True)):
     shutil.copy("good.h5", name)
     with open(name, "r+b") as f:  # "GCOL", version, reserved, the collection's size, objects

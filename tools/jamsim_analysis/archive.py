@@ -12,6 +12,7 @@ Layouts (campaigns/README.md, "Campaign archive" and "Single-replica file"):
             [N] with attributes box_side and box_strain; /correlation/{x,g_y} [B].
 """
 import dataclasses
+import math
 import os
 import signal
 import time
@@ -68,11 +69,18 @@ _probed = set()  # (path, size, mtime) of files whose first look finished
 
 
 def _read_deadline():
-    try:
-        seconds = float(os.environ.get("JAMSIM_READ_DEADLINE_SECONDS", ""))
-    except ValueError:
+    """JAMSIM_READ_DEADLINE_SECONDS (unset or empty: 60); refused in words as jamsim refuses it."""
+    text = os.environ.get("JAMSIM_READ_DEADLINE_SECONDS", "")
+    if not text:
         return DEFAULT_READ_DEADLINE
-    return seconds if 0 < seconds < 1e9 else DEFAULT_READ_DEADLINE
+    try:
+        seconds = float(text)
+    except ValueError:
+        seconds = math.nan
+    if not 0 < seconds < 1e9 or text != text.strip():
+        raise AnalysisError(f'JAMSIM_READ_DEADLINE_SECONDS = "{text}" is not allowed: a number of seconds above 0 '
+                            f"and below 1e9 (unset: {DEFAULT_READ_DEADLINE:g})")
+    return seconds
 
 
 def _probe(path):
@@ -86,6 +94,7 @@ def _probe(path):
     key = (os.path.realpath(path), st.st_size, st.st_mtime_ns)
     if key in _probed:
         return
+    seconds = _read_deadline()
     pid = os.fork()
     if pid == 0:  # the child: no output, no cleanup handlers, only its exit status
         code = 0
@@ -96,7 +105,7 @@ def _probe(path):
         except BaseException:
             code = 3
         os._exit(code)
-    deadline = time.monotonic() + _read_deadline()
+    deadline = time.monotonic() + seconds
     while True:
         done, status = os.waitpid(pid, os.WNOHANG)
         if done:
@@ -104,7 +113,7 @@ def _probe(path):
         if time.monotonic() > deadline:
             os.kill(pid, signal.SIGKILL)
             os.waitpid(pid, 0)
-            raise AnalysisError(f"reading '{path}' did not finish within {_read_deadline():g} s: its HDF5 structure is "
+            raise AnalysisError(f"reading '{path}' did not finish within {seconds:g} s: its HDF5 structure is "
                                 "damaged (HDF5 loops on some damaged files, such as blocks zeroed by a crash), or "
                                 "its filesystem does not answer")
         time.sleep(0.01)

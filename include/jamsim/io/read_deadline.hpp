@@ -21,6 +21,11 @@ double read_deadline_seconds();
 /// JAMSIM_WRITE_DEADLINE_SECONDS (a positive number; tests shorten it).
 double write_deadline_seconds();
 
+/// "" when JAMSIM_READ_DEADLINE_SECONDS and JAMSIM_WRITE_DEADLINE_SECONDS are unset, empty
+/// or valid; else one sentence naming the first that is not, its value and what is allowed
+/// (main refuses to start then).
+std::string deadline_environment_problem();
+
 /// While alive, a watchdog: unless destroyed within `seconds`, it prints `message` (one line)
 /// to stderr and ends the process with std::_Exit(status).
 class Deadline {
