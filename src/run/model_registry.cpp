@@ -14,6 +14,7 @@
 #include "jamsim/dynamics/sllod.hpp"
 #include "jamsim/neighbor/neighbor_list.hpp"
 #include "jamsim/observe/time_series.hpp"
+#include "jamsim/protocols/preparation.hpp"
 #include "jamsim/run/replica.hpp"
 
 namespace jamsim {
@@ -256,8 +257,8 @@ std::optional<ParamError> cell_grid_fits(const ReplicaParams& p) {
 /// Runs of whole steps: a run shorter than one step ran one step past the request (rate =
 /// 10: strain 2 for 0.05) or none (rate = 1e308) and was recorded done; a cooling ramp takes
 /// between one step and kMostSteps (cooling_time / dt overflowed to 0 steps); a quasistatic
-/// strain step no larger than the strain, and at most kMostSteps of them (strain_step = 1e-300
-/// overflowed the step count and ran without end).
+/// strain step no larger than the strain, dividing it (the last step sheared past it), and at
+/// most kMostSteps of them (strain_step = 1e-300 overflowed the step count and ran without end).
 std::vector<ParamError> run_in_whole_steps(const ReplicaParams& p, const ModelInfo& m) {
     std::vector<ParamError> out;
     if (uses_parameter(p, "dt") && m.kind == ModelKind::Dynamics) {
@@ -287,6 +288,13 @@ std::vector<ParamError> run_in_whole_steps(const ReplicaParams& p, const ModelIn
                            "strain_step >= strain / " + three_digits(kMostSteps) + " = " +
                                three_digits(p.strain / kMostSteps) + " (strain = " + show_value(p.strain) +
                                " would take " + three_digits(steps) + " minimisations)"});
+        else if (std::abs(steps - std::round(steps)) > 1e-9 * steps)  // the last step sheared past it
+            out.push_back({"strain_step", show_value(p.strain_step),
+                           "strain_step dividing strain = " + show_value(p.strain) + " into whole steps (" +
+                               show_value(p.strain) + " / " + show_value(p.strain_step) + " = " + three_digits(steps) +
+                               " steps: the last would shear to " +
+                               three_digits(static_cast<double>(shear_steps(p.strain, p.strain_step)) * p.strain_step) +
+                               ")"});
     }
     return out;
 }
