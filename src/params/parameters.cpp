@@ -278,7 +278,11 @@ std::string default_text(const ParamInfo& info) { return show_value(get_value(Re
 
 bool parse_value(const ParamInfo& info, const std::string& text, ParamValue& out) {
     if (!is_numeric(info)) return out = text, true;
-    if (text.empty()) return false;
+    if (text.empty() || std::isspace(static_cast<unsigned char>(text.front()))) return false;  // strto* skip it
+    // Decimal only, as in a campaign file: strtod read --phi 0x1p-1 as 0.5, --N 0x10 is not 16.
+    const std::size_t digits = text.find_first_not_of("+-");
+    if (digits != std::string::npos && text.compare(digits, 2, "0x") == 0) return false;
+    if (digits != std::string::npos && text.compare(digits, 2, "0X") == 0) return false;
     char* end = nullptr;
     if (std::holds_alternative<double ReplicaParams::*>(info.field)) {
         const double d = std::strtod(text.c_str(), &end);
