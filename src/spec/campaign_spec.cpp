@@ -130,6 +130,11 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
     };
     if (has_control(spec.name))
         r.fail("[campaign] name", show(*campaign->get("name")), "a name without line breaks or control characters");
+    // The name heads every progress line and is kept in the archive: a 5 MB name was taken.
+    if (constexpr std::size_t most = 256; spec.name.size() > most)
+        r.fail("[campaign] name",
+               "\"" + spec.name.substr(0, 32) + "...\" (" + std::to_string(spec.name.size()) + " bytes)",
+               "a name of at most " + std::to_string(most) + " bytes");
     if (has_control(spec.output))
         r.fail("[campaign] output", show(*campaign->get("output")), "a path without line breaks or control characters");
     spec.run_table = r.table(root, "run") != nullptr;
