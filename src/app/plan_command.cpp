@@ -54,7 +54,8 @@ ReplicaSeconds seconds_from_listing(const std::string& path, const CampaignSpec&
         throw PlanError("jamsim plan: --costs " + path + ": " + odd + " (the listing of a dry run)");
     std::ifstream in(path);
     if (!in) throw PlanError("jamsim plan: --costs " + path + ": cannot be read");
-    static const std::regex row(R"(^\s*(\d+)\s+(\d+)\s+\S+\s+\S+\s+\d+\s+\d+\s+\S+\s+(\S+)\s+(\S+)\s*$)");
+    // id N phi rate seed samples cost est.s sampling
+    static const std::regex row(R"(^\s*(\d+)\s+(\d+)\s+(\S+)\s+(\S+)\s+(\d+)\s+\d+\s+\S+\s+(\S+)\s+(\S+)\s*$)");
     std::vector<double> seconds(spec.replicas.size(), -1.0), serial(spec.replicas.size(), 0.0);
     std::size_t found = 0;
     std::string line;
@@ -67,18 +68,28 @@ ReplicaSeconds seconds_from_listing(const std::string& path, const CampaignSpec&
         long long n = 0;
         double listed_seconds = 0.0, listed_serial = 0.0;
         if (!parse_whole_text(m[1].str(), id) || !parse_whole_text(m[2].str(), n) ||
-            !parse_finite(m[3].str(), listed_seconds) || !parse_finite(m[4].str(), listed_serial))
+            !parse_finite(m[6].str(), listed_seconds) || !parse_finite(m[7].str(), listed_serial))
             throw PlanError(where + ": '" + line +
                             "' is not allowed: a row of the dry run's listing (id and N "
                             "whole numbers, est.s and sampling finite numbers of seconds)");
-        if (id >= spec.replicas.size() || spec.replicas[id].n != n)
-            throw PlanError(where + " (N = " + m[2].str() + ") is not replica " + m[1].str() + " of " + spec.path +
+        // The replica's N, phi, rate and seed as the dry run prints them (phi to 4 digits, rate to 3).
+        const auto listed_as = [](const char* format, double value) {
+            char text[32];
+            std::snprintf(text, sizeof text, format, value);
+            return std::string(text);
+        };
+        if (id >= spec.replicas.size() || spec.replicas[id].n != n ||
+            listed_as("%.4g", spec.replicas[id].phi) != m[3].str() ||
+            listed_as("%.3g", spec.replicas[id].rate) != m[4].str() ||
+            std::to_string(spec.replicas[id].seed) != m[5].str())
+            throw PlanError(where + " (N = " + m[2].str() + ", phi = " + m[3].str() + ", rate = " + m[4].str() +
+                            ", seed = " + m[5].str() + ") is not replica " + m[1].str() + " of " + spec.path +
                             ": give the listing of `jamsim run --dry-run " + spec.path + "`");
         if (seconds[id] >= 0) throw PlanError(where + " is listed twice");
         seconds[id] = listed_seconds;
         serial[id] = listed_serial;
         if (!(seconds[id] >= 0 && serial[id] >= 0 && serial[id] <= seconds[id] && seconds[id] <= 1e12))
-            throw PlanError(where + ": est.s = " + m[3].str() + ", sampling = " + m[4].str() +
+            throw PlanError(where + ": est.s = " + m[6].str() + ", sampling = " + m[7].str() +
                             " are not allowed: seconds from 0 to 1e12, the sampling's part of them at most all of "
                             "them");
         ++found;
