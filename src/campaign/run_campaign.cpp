@@ -7,6 +7,7 @@
 #include "jamsim/archive/archive.hpp"
 #include "jamsim/archive/archive_lock.hpp"
 #include "jamsim/campaign/lifecycle.hpp"
+#include "jamsim/campaign/run_checks.hpp"
 #include "jamsim/campaign/scheduler.hpp"
 #include "jamsim/campaign/stop_request.hpp"
 #include "jamsim/io/checkpoint_file.hpp"
@@ -67,6 +68,27 @@ std::string create_archive(MPI_Comm comm, const CampaignSpec& spec, const std::s
            (why.empty() ? "on another rank" : why) + ")";
 }
 
+/// "" when the archive is still as check_run found it, now that this run holds its lock (on
+/// every rank alike); else why the run stops. Between the checks and the lock another run may
+/// have made, replaced, extended or grown it: this run must not write into another
+/// campaign's archive. (The same campaign's archive made meanwhile is resumed, as it would be.)
+std::string changed_since_checks(MPI_Comm comm, const CampaignSpec& spec, const RunDecision& d) {
+    std::string why;
+    if (mpi::rank(comm) == 0) {
+        OutputMode mode = OutputMode::Fresh;
+        std::vector<std::int64_t> source;
+        why = check_output(d.output, spec, mode, source);
+        if (why.empty() && (mode != d.mode || source != d.grow_source)) why = "it is no longer as this run found it";
+        if (const std::string prefix = spec.path + ": "; why.rfind(prefix, 0) == 0) why.erase(0, prefix.size());
+        if (!why.empty())
+            why = spec.path + ": the archive '" + d.output +
+                  "' changed while this run started (another run made or changed it): " + why +
+                  "; nothing was done (run the same command again to check it anew)";
+    }
+    mpi::broadcast(why, 0, comm);
+    return why;
+}
+
 /// The farm's counts summed over the ranks onto rank 0.
 void add_up(MPI_Comm comm, const FarmSummary& s, RunOutcome& out) {
     long long local[5] = {s.ran, s.failed, s.resumed, s.interrupted, s.skipped}, total[5] = {};
@@ -103,6 +125,7 @@ RunOutcome run_campaign(MPI_Comm comm, const CampaignSpec& spec, const RunDecisi
         out.refusal = std::move(why);
         return out;
     };
+    if (std::string changed = changed_since_checks(comm, spec, d); !changed.empty()) return refuse(std::move(changed));
     int exists = 0;
     std::optional<Archive> created;
     bool reshaped = false;  // extended or grown in place

@@ -2,14 +2,19 @@
  * in FAIL_OPEN_SUFFIX fail with errno FAIL_OPEN_ERRNO (default EACCES) in the process whose
  * OMPI_COMM_WORLD_RANK is FAIL_OPEN_RANK, so that one rank of a job cannot open a file the
  * others can (permissions, no descriptors left, a mount another node lacks). The first
- * FAIL_OPEN_AFTER such opens (default 0) succeed: a failure at a later stage of the run. */
+ * FAIL_OPEN_AFTER such opens (default 0) succeed: a failure at a later stage of the run.
+ * For the fault case archive_changed_before_lock, in any process: an open() that creates a
+ * path ending in HOLD_CREATE_SUFFIX (O_CREAT) first makes the file HOLD_CREATE_UNTIL.waiting
+ * and waits until HOLD_CREATE_UNTIL exists (at most 120 s): the test acts in between. */
 #define _GNU_SOURCE
 #include <dlfcn.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <stdarg.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 static int should_fail(const char* path) {
     const char* suffix = getenv("FAIL_OPEN_SUFFIX");
@@ -21,6 +26,21 @@ static int should_fail(const char* path) {
     static int passed = 0; /* matching opens let through so far */
     const char* after = getenv("FAIL_OPEN_AFTER");
     return passed++ >= (after ? atoi(after) : 0);
+}
+
+/* Waits as the header says when `path` and `flags` are the ones to hold. */
+static void hold_create(const char* path, int flags) {
+    const char* suffix = getenv("HOLD_CREATE_SUFFIX");
+    const char* until = getenv("HOLD_CREATE_UNTIL");
+    if (!suffix || !until || !path || !(flags & O_CREAT)) return;
+    const size_t n = strlen(path), m = strlen(suffix);
+    if (n < m || strcmp(path + n - m, suffix) != 0) return;
+    char waiting[4096];
+    snprintf(waiting, sizeof waiting, "%s.waiting", until);
+    int (*real)(const char*, int, ...) = (int (*)(const char*, int, ...))dlsym(RTLD_NEXT, "open");
+    const int fd = real(waiting, O_WRONLY | O_CREAT | O_CLOEXEC, 0644);
+    if (fd >= 0) close(fd);
+    for (int k = 0; k < 6000 && access(until, F_OK) != 0; ++k) usleep(20000);
 }
 
 static int injected_errno(void) {
@@ -41,6 +61,7 @@ static int injected_errno(void) {
 #define WRAP_OPEN(name)                                                              \
     int name(const char* path, int flags, ...) {                                     \
         MODE_OF(flags)                                                               \
+        hold_create(path, flags);                                                    \
         if (should_fail(path)) {                                                     \
             errno = injected_errno();                                                \
             return -1;                                                               \
@@ -52,6 +73,7 @@ static int injected_errno(void) {
 #define WRAP_OPENAT(name)                                                            \
     int name(int dir, const char* path, int flags, ...) {                            \
         MODE_OF(flags)                                                               \
+        hold_create(path, flags);                                                    \
         if (should_fail(path)) {                                                     \
             errno = injected_errno();                                                \
             return -1;                                                               \

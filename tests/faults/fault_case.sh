@@ -224,6 +224,26 @@ write_one_rank)  # one rank's share of a collective archive write fails (ENOSPC)
   expect_in "removed 'w.h5', an archive whose creation was interrupted" again.log
   "$jamsim" status w.h5 | grep -q " 0 failed" || fail "replicas failed after the creation was made anew"
   ;;
+archive_changed_before_lock)  # another campaign's archive made between a run's checks and its lock
+  # The run's checks find no archive; before it takes the lock (held there by an LD_PRELOAD
+  # wrapper), another campaign runs to the same path. The run used to open that archive and
+  # write its own replicas into it; it checks again under the lock and stops, changing nothing.
+  [[ -n ${FAIL_OPEN_LIB:-} ]] || fail "FAIL_OPEN_LIB is not set"
+  rm -f race.h5 go go.waiting
+  timeout -k 10 "$limit" "$mpirun" -n "$ranks" -x LD_PRELOAD="$FAIL_OPEN_LIB" -x HOLD_CREATE_SUFFIX=race.h5.lock \
+    -x HOLD_CREATE_UNTIL="$PWD/go" "$jamsim" run "$here/checkpointed.toml" -o race.h5 > late.log 2>&1 &
+  late=$!
+  for _ in $(seq $((limit * 50))); do [[ -e go.waiting ]] && break; sleep 0.02; done
+  [[ -e go.waiting ]] || { touch go; wait $late; cat late.log; fail "the run never reached its lock"; }
+  run other.log run "$here/source.toml" -o race.h5; expect_rc 0 other.log
+  sum=$(sha256sum < race.h5)
+  touch go
+  rc=0; wait $late || rc=$?
+  expect_rc 2 late.log
+  expect_in "checkpointed.toml: the archive '.*race.h5' changed while this run started \(another run made or changed it\): .*belongs to a different campaign.*; nothing was done" late.log
+  [[ $(sha256sum < race.h5) == "$sum" ]] || fail "the other campaign's archive was changed"
+  "$jamsim" status race.h5 | grep -q "fault-source (race.h5): 4/4 done" || fail "the other campaign's archive is not whole"
+  ;;
 open_one_rank)  # one rank cannot open the archive: every rank refuses together, nothing changes
   # (Open MPI's MPI_File_open waited forever when it failed on one rank only.)
   [[ -n ${FAIL_OPEN_LIB:-} ]] || fail "FAIL_OPEN_LIB is not set"
