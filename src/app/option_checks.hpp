@@ -41,6 +41,22 @@ inline CLI::Validator count_at_least_one(const std::string& what) {
         "COUNT >= 1");
 }
 
+/// A whole number of `what` from 1 to `most` (CLI11's Range said "Value 0 not in range 1 to
+/// 1000000").
+inline CLI::Validator count_from_one_to(const std::string& what, long long most) {
+    return CLI::Validator(
+        [what, most](std::string& v) -> std::string {
+            char* end = nullptr;
+            errno = 0;
+            const long long n = std::strtoll(v.c_str(), &end, 10);
+            return end != v.c_str() && *end == '\0' && n >= 1 && n <= most && errno != ERANGE
+                       ? ""
+                       : "value " + v + " is not allowed: a whole number of " + what + " from 1 to " +
+                             std::to_string(most);
+        },
+        "COUNT >= 1");
+}
+
 /// A whole number in decimal digits that fits 64 bits: no sign (CLI11 read "-1" into an
 /// unsigned option as 2^64 - 1), no hexadecimal, no exponent.
 inline CLI::Validator whole_number() {

@@ -209,7 +209,7 @@ CLI::App* add_plan_command(CLI::App& app, int& argc, char**& argv) {
         ->default_str("1,4,16,64")
         ->type_name("LIST");
     cmd->add_option("--cores-per-node", opt->cores_per_node, "Cores of each node")
-        ->check(CLI::Range(1, 1'000'000))
+        ->check(count_from_one_to("cores", 1'000'000))
         ->capture_default_str();
     cmd->add_option_function<std::string>(
            "--threads", [opt](const std::string& v) { opt->threads = positive_list("--threads", v); },

@@ -352,8 +352,13 @@ std::vector<ParamError> validate(const ReplicaParams& p) {
     std::vector<ParamError> errors;
     for (const ParamInfo* info : used_parameters(p))
         if (info->check)
-            if (std::string allowed = info->check(p); !allowed.empty())
-                errors.push_back({std::string(info->key), show_in_message(get_value(p, *info)), allowed});
+            if (std::string allowed = info->check(p); !allowed.empty()) {
+                // inf fails "rate >= 0" by being infinite, which the bound alone does not say.
+                const ParamValue value = get_value(p, *info);
+                if (const double* number = std::get_if<double>(&value); number && !std::isfinite(*number))
+                    allowed = "a finite number, " + allowed;
+                errors.push_back({std::string(info->key), show_in_message(value), allowed});
+            }
     if (!errors.empty()) return errors;
     if (auto too_small = box_holds_the_list(p)) errors.push_back(*too_small);
     if (auto too_wide = cell_grid_fits(p)) errors.push_back(*too_wide);
