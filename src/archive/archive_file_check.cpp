@@ -218,7 +218,9 @@ std::string check_counts(hid_t f) {
     const auto whole = [](double v, double low, double high) { return v >= low && v <= high && v == std::floor(v); };
     if (!h5::exists(f, "/replicas/N")) return "it has no /replicas/N";
     const std::vector<double> n = h5::read_dataset(f, "/replicas/N");
-    const auto disks = static_cast<double>(h5::dataset_shape(f, "/final/x").at(0));
+    const std::vector<hsize_t> final_shape = h5::dataset_shape(f, "/final/x");
+    if (final_shape.size() != 1) return "/final/x is " + shape_text(final_shape) + ", not one list of disks";
+    const auto disks = static_cast<double>(final_shape.front());
     for (std::size_t r = 0; r < n.size(); ++r)
         if (!whole(n[r], 1, disks))
             return "/replicas/N[" + std::to_string(r) + "] is " + number_text(n[r]) +
