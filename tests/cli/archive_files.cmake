@@ -224,3 +224,12 @@ set_tests_properties(cli.shard_without_replicas PROPERTIES LABELS unit)
 add_test(NAME cli.deadline_variables_refused
   COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/deadline_variables.sh $<TARGET_FILE:jamsim>)
 set_tests_properties(cli.deadline_variables_refused PROPERTIES LABELS unit)
+
+# An archive whose stored campaign (spec_text) does not parse, merged: the archive is named as
+# damaged (the message blamed the campaign file the archive was made from).
+add_test(NAME archive_file.merge_shard_spec_text_damaged
+  COMMAND ${expect} "^jamsim merge: shard 'spec_text_bad.h5': 'spec_text_bad.h5' is damaged: its stored campaign \\(attribute spec_text, a copy of '.*other_campaign.toml'\\) does not parse \\(line 3:[0-9]+: malformed TOML"
+    ${bad_dir}/merged.h5 $<TARGET_FILE:jamsim> merge merged.h5 good.h5 spec_text_bad.h5
+  WORKING_DIRECTORY ${bad_dir})
+set_tests_properties(archive_file.merge_shard_spec_text_damaged PROPERTIES LABELS unit FIXTURES_REQUIRED bad_archives
+  RESOURCE_LOCK bad_archives ENVIRONMENT "EXPECT_STATUS=2;PROTECT=spec_text_bad.h5 good.h5")
