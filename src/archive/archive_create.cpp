@@ -16,9 +16,11 @@
 
 namespace jamsim {
 
+using archive_detail::Column;
 using archive_detail::kReasonLength;
 using archive_detail::kStampAttributes;
 using archive_detail::kStampBytes;
+using archive_detail::parameter_columns;
 using archive_detail::write_block;
 using h5::Handle;
 
@@ -26,11 +28,9 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-/// A numeric per-replica column: a used parameter, or a derived figure.
-struct Column {
-    std::string name, units, description;
-    std::function<double(const ReplicaParams&)> value;
-};
+}  // namespace
+
+namespace archive_detail {
 
 /// The parameter columns of a campaign: every numeric parameter that its model uses for at
 /// least one replica (NaN for replicas that do not use it), then the derived figures.
@@ -52,7 +52,7 @@ std::vector<Column> parameter_columns(const CampaignSpec& spec) {
     return out;
 }
 
-}  // namespace
+}  // namespace archive_detail
 
 ArchiveLayout archive_layout(const CampaignSpec& spec) {
     ArchiveLayout out;

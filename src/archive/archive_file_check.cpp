@@ -2,6 +2,8 @@
 // kind of bad file gets its own sentence instead of HDF5's "open failed".
 #include "jamsim/archive/archive_file_check.hpp"
 
+#include "archive_detail.hpp"
+
 #include <unistd.h>
 
 #include <sys/stat.h>
@@ -351,7 +353,7 @@ std::string check_contents(const std::string& path) {
                "archive)";
     if (!has_link(f, "/replicas") || !has_link(f, "/replicas/status"))
         return quoted(path) + " is damaged: a jamsim campaign archive without /replicas/status";
-    for (const auto& check : {check_layout, check_counts})
+    for (const auto& check : {check_layout, check_counts, archive_detail::campaign_mismatch})
         if (const std::string bad = check(f); !bad.empty())
             return quoted(path) + " is damaged: " + bad +
                    "; jamsim writes no such archive (a hand-edited or broken copy?)";

@@ -38,7 +38,13 @@ set(bad_kinds
   "n_huge|n_huge.h5|'n_huge.h5' is damaged: /replicas/N\\[0\\] is 1000000000000 \\(a whole number of disks"
   "offset_far|offset_far.h5|'offset_far.h5' is damaged: /replicas/particle_offset\\[0\\] is 1000000000000 where the disks of the replicas before it add up to 0"
   "samples_many|samples_many.h5|'samples_many.h5' is damaged: /replicas/n_samples\\[0\\] is 1000000000 \\(a whole number of rows from 0 to the [0-9]+ columns of /timeseries\\)"
-  "rows_many|rows_many.h5|'rows_many.h5' is damaged: /replicas/rows_written\\[0\\] is 1000000000 \\(from 0 to its n_samples, [0-9]+\\)")
+  "rows_many|rows_many.h5|'rows_many.h5' is damaged: /replicas/rows_written\\[0\\] is 1000000000 \\(from 0 to its n_samples, [0-9]+\\)"
+  "spec_text_bad|spec_text_bad.h5|'spec_text_bad.h5' is damaged: its stored campaign \\(attribute spec_text, a copy of '.*other_campaign.toml'\\) does not parse \\(line 3:[0-9]+: malformed TOML"
+  "spec_text_other|spec_text_other.h5|'spec_text_other.h5' is damaged: its stored campaign \\(attribute spec_text\\) is not the campaign of its spec_fingerprint"
+  "model_edited|model_edited.h5|'model_edited.h5' is damaged: its attribute model is \"XYZ\" where its stored campaign says \"RD0\""
+  "phi_edited|phi_edited.h5|'phi_edited.h5' is damaged: /replicas/phi\\[0\\] is 0.5 where its stored campaign says 0.8"
+  "no_seed|no_seed.h5|'no_seed.h5' is damaged: it has no /replicas/seed, which its campaign has"
+  "box_side_text|box_side_text.h5|'box_side_text.h5' is damaged: /final/box_side is not floating-point numbers")
 foreach(kind IN LISTS bad_kinds)
   jamsim_row_fields("${kind}" name file regex)
   add_test(NAME archive_file.status_${name}
@@ -225,11 +231,3 @@ add_test(NAME cli.deadline_variables_refused
   COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/deadline_variables.sh $<TARGET_FILE:jamsim>)
 set_tests_properties(cli.deadline_variables_refused PROPERTIES LABELS unit)
 
-# An archive whose stored campaign (spec_text) does not parse, merged: the archive is named as
-# damaged (the message blamed the campaign file the archive was made from).
-add_test(NAME archive_file.merge_shard_spec_text_damaged
-  COMMAND ${expect} "^jamsim merge: shard 'spec_text_bad.h5': 'spec_text_bad.h5' is damaged: its stored campaign \\(attribute spec_text, a copy of '.*other_campaign.toml'\\) does not parse \\(line 3:[0-9]+: malformed TOML"
-    ${bad_dir}/merged.h5 $<TARGET_FILE:jamsim> merge merged.h5 good.h5 spec_text_bad.h5
-  WORKING_DIRECTORY ${bad_dir})
-set_tests_properties(archive_file.merge_shard_spec_text_damaged PROPERTIES LABELS unit FIXTURES_REQUIRED bad_archives
-  RESOURCE_LOCK bad_archives ENVIRONMENT "EXPECT_STATUS=2;PROTECT=spec_text_bad.h5 good.h5")

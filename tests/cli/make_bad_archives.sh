@@ -12,7 +12,8 @@
 # box_negative.h5 (/final/box_side = -1); ranks_text.h5 (the n_ranks attribute as text);
 # n_nan.h5, n_zero.h5, n_huge.h5 (/replicas/N = nan, 0, 1e12), offset_far.h5
 # (particle_offset = 1e12), samples_many.h5 (n_samples = 1e9), rows_many.h5 (rows_written 1e9);
-# spec_text_bad.h5 (its stored campaign no TOML);
+# spec_text_bad.h5 (its stored campaign no TOML), spec_text_other.h5 (another campaign's),
+# model_edited.h5, phi_edited.h5, no_seed.h5, box_side_text.h5 (against its stored campaign);
 # heap_zeroed.h5 and heap_last.h5 (the objects of its first or last global heap zeroed, as a
 # crash can leave them: HDF5 1.10 loops for ever reading its attributes; the first holds the
 # root's text, the last the datasets' descriptions, which no command reads: the check reads
@@ -23,7 +24,8 @@ here=$(cd "$(dirname "$0")" && pwd)
 rm -rf good.h5 good.h5.checkpoints empty.h5 text.h5 truncated.h5 plain.h5 replica.h5 \
   layout.h5 version.h5 missing.h5 a_directory status_rows.h5 status_value.h5 series_cut.h5 final_cut.h5 \
   no_series.h5 final_nan.h5 box_negative.h5 ranks_text.h5 heap_zeroed.h5 heap_last.h5 n_nan.h5 n_zero.h5 \
-  n_huge.h5 offset_far.h5 samples_many.h5 rows_many.h5 spec_text_bad.h5
+  n_huge.h5 offset_far.h5 samples_many.h5 rows_many.h5 spec_text_bad.h5 spec_text_other.h5 model_edited.h5 \
+  phi_edited.h5 no_seed.h5 box_side_text.h5
 "$jamsim" run "$spec" -o good.h5 >/dev/null 2>&1
 : > empty.h5
 echo "not an archive" > text.h5
@@ -61,6 +63,11 @@ damaged("offset_far.h5", lambda f: f["replicas/particle_offset"].__setitem__(0, 
 damaged("samples_many.h5", lambda f: f["replicas/n_samples"].__setitem__(0, 1e9))
 damaged("rows_many.h5", lambda f: f["replicas/rows_written"].__setitem__(0, 10**9))
 damaged("spec_text_bad.h5", lambda f: f.attrs.__setitem__("spec_text", "[campaign]\nname = \"other\"\nthis is not toml"))
+damaged("spec_text_other.h5", lambda f: f.attrs.__setitem__("spec_text", f.attrs["spec_text"].replace("0.8", "0.81")))
+damaged("model_edited.h5", lambda f: f.attrs.__setitem__("model", "XYZ"))
+damaged("phi_edited.h5", lambda f: f["replicas/phi"].__setitem__(0, 0.5))
+damaged("no_seed.h5", lambda f: f.__delitem__("replicas/seed"))
+damaged("box_side_text.h5", lambda f: replace(f, "final/box_side", [b"x"]))
 for name, last in (("heap_zeroed.h5", False), ("heap_last.h5", True)):
     shutil.copy("good.h5", name)
     with open(name, "r+b") as f:  # "GCOL", version, reserved, the collection's size, objects
