@@ -83,6 +83,11 @@ inline std::string writable_new_file(const std::string& path) {
     const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
     std::error_code ec;
     if (fs::is_directory(p, ec) || p.filename().empty()) return "a file name, not a directory";
+    // The output is written beside and renamed into place, which replaces a link (a dangling
+    // one, or a loop) instead of writing what it names.
+    if (fs::is_symlink(fs::symlink_status(p, ec)))
+        return "a file's own path, not a symbolic link ('" + path +
+               "' is one: the output would replace the link, not write what it names)";
     if (const std::string why = spaced_file_name(p.filename().string()); !why.empty()) return why;
     if (!fs::is_directory(dir, ec)) return "a file in an existing directory ('" + dir.string() + "' does not exist)";
     if (::access(dir.c_str(), W_OK) != 0)

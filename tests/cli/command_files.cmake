@@ -168,3 +168,10 @@ add_test(NAME cli.replica_initial_match_alone
     $<TARGET_FILE:jamsim> replica --N 16 --phi 0.8 --rate 1e-2 --strain 0.01 --initial-match id -o ${bad_dir}/q.h5)
 set_tests_properties(cli.replica_initial_empty cli.replica_initial_match_alone PROPERTIES LABELS unit
   ENVIRONMENT "EXPECT_STATUS=2")
+
+# New-file outputs that are symbolic links (a loop, a dangling link): refused, the links left
+# as they are (minimize and replica wrote beside and renamed over the link, exit 0).
+add_test(NAME cli.output_symbolic_links_refused
+  COMMAND bash -c "set -u; cd \"$1\" && rm -rf links && mkdir links && cd links && ln -s A B && ln -s B A && ln -s missing/target.data dl.data && for cmd in 'minimize --N 32 --phi 0.9 --lammps-data A' 'minimize --N 32 --phi 0.9 --lammps-data dl.data' 'replica --N 16 --strain 0.01 -o dl.data' 'replica --N 16 --strain 0.01 -o A'; do out=$(\"$0\" $cmd 2>&1); rc=$?; [ $rc -eq 2 ] || { echo \"$cmd: exit $rc\"; exit 1; }; echo \"$out\" | grep -q 'is not allowed: a file.s own path, not a symbolic link' || { echo \"$cmd: $out\"; exit 1; }; done; test -L A && test -L B && test -L dl.data && test ! -e missing"
+    $<TARGET_FILE:jamsim> ${CMAKE_CURRENT_BINARY_DIR})
+set_tests_properties(cli.output_symbolic_links_refused PROPERTIES LABELS unit)
