@@ -113,15 +113,20 @@ CLI::App* add_minimize_command(CLI::App& app) {
     auto opt = std::make_shared<Options>();
     auto* cmd = app.add_subcommand("minimize", "Minimise one random (RAND) configuration and report the cost");
     cmd->add_option("--N", opt->n, "Number of disks (even)")->check(whole_number())->capture_default_str();
-    cmd->add_option("--phi", opt->phi, "Packing fraction")->capture_default_str();
+    cmd->add_option("--phi", opt->phi, "Packing fraction")->check(decimal_number())->capture_default_str();
     cmd->add_option("--seed", opt->seed, "Random seed")->check(whole_number())->capture_default_str();
     cmd->add_option("--minimizer", opt->minimizer, "cg (default), cg-pr or fire")->capture_default_str();
-    cmd->add_option("--alpha", opt->alpha, "Potential exponent (2 harmonic, 2.5 Hertzian)")->capture_default_str();
+    cmd->add_option("--alpha", opt->alpha, "Potential exponent (2 harmonic, 2.5 Hertzian)")
+        ->check(decimal_number())
+        ->capture_default_str();
     cmd->add_option("--energy-floor", opt->criteria.energy_floor, "E/N below which the state is unjammed")
+        ->check(decimal_number())
         ->capture_default_str();
     cmd->add_option("--force-tol", opt->criteria.force_tol, "largest force component / mean contact force")
+        ->check(decimal_number())
         ->capture_default_str();
     cmd->add_option("--force-tol-abs", opt->criteria.force_tol_abs, "largest force component, absolute (k_e/d_s)")
+        ->check(decimal_number())
         ->capture_default_str();
     cmd->add_option("--max-iterations", opt->criteria.max_iterations, "Give up after this many iterations")
         ->check(count_at_least_one("iterations"))

@@ -3,6 +3,7 @@
 // made), a count >= 1.
 #include <unistd.h>
 
+#include <cctype>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -55,6 +56,21 @@ inline CLI::Validator count_from_one_to(const std::string& what, long long most)
                              std::to_string(most);
         },
         "COUNT >= 1");
+}
+
+/// A number written in decimal, as in a campaign file: CLI11 (strtod) also read hexadecimal
+/// (--phi 0x1p-1 as 0.5) and skipped leading white space. The range is the option's own check.
+inline CLI::Validator decimal_number() {
+    return CLI::Validator(
+        [](std::string& v) -> std::string {
+            const std::size_t digits = v.find_first_not_of("+-");
+            const bool hexadecimal = digits != std::string::npos && v.size() > digits + 1 && v[digits] == '0' &&
+                                     (v[digits + 1] == 'x' || v[digits + 1] == 'X');
+            return v.empty() || std::isspace(static_cast<unsigned char>(v.front())) || hexadecimal
+                       ? "value '" + v + "' is not allowed: a number in decimal"
+                       : "";
+        },
+        "NUMBER");
 }
 
 /// A whole number in decimal digits that fits 64 bits: no sign (CLI11 read "-1" into an

@@ -22,7 +22,7 @@ struct DeadlineVariable {
 constexpr DeadlineVariable kReadVariable{"JAMSIM_READ_DEADLINE_SECONDS", 60.0};
 constexpr DeadlineVariable kWriteVariable{"JAMSIM_WRITE_DEADLINE_SECONDS", 600.0};
 
-/// The seconds `variable` sets when valid (a number above 0 and below 1e9), its default when
+/// The seconds `variable` sets when valid (a number of seconds, at least 1 and below 1e9: less takes a good archive for a damaged one), its default when
 /// unset or empty, nullopt when not valid.
 std::optional<double> seconds_from_environment(const DeadlineVariable& variable) {
     const char* text = std::getenv(variable.name);
@@ -30,7 +30,7 @@ std::optional<double> seconds_from_environment(const DeadlineVariable& variable)
     if (std::isspace(static_cast<unsigned char>(*text))) return std::nullopt;  // strtod would skip it
     char* end = nullptr;
     const double seconds = std::strtod(text, &end);
-    if (end && *end == '\0' && seconds > 0 && seconds < 1e9) return seconds;
+    if (end && *end == '\0' && seconds >= 1 && seconds < 1e9) return seconds;
     return std::nullopt;
 }
 }  // namespace
@@ -44,7 +44,7 @@ std::string deadline_environment_problem() {
     for (const DeadlineVariable& variable : {kReadVariable, kWriteVariable})
         if (!seconds_from_environment(variable))
             return std::string(variable.name) + " = \"" + std::getenv(variable.name) +
-                   "\" is not allowed: a number of seconds above 0 and below 1e9 (unset: " +
+                   "\" is not allowed: a number of seconds, at least 1 and below 1e9 (unset: " +
                    std::to_string(static_cast<int>(variable.otherwise)) + ")";
     return "";
 }

@@ -77,8 +77,8 @@ def _read_deadline():
         seconds = float(text)
     except ValueError:
         seconds = math.nan
-    if not 0 < seconds < 1e9 or text != text.strip():
-        raise AnalysisError(f'JAMSIM_READ_DEADLINE_SECONDS = "{text}" is not allowed: a number of seconds above 0 '
+    if not 1 <= seconds < 1e9 or text != text.strip():
+        raise AnalysisError(f'JAMSIM_READ_DEADLINE_SECONDS = "{text}" is not allowed: a number of seconds, at least 1 '
                             f"and below 1e9 (unset: {DEFAULT_READ_DEADLINE:g})")
     return seconds
 

@@ -14,11 +14,11 @@
 namespace jamsim {
 
 /// Seconds that the first look into an archive may take: 60, or JAMSIM_READ_DEADLINE_SECONDS
-/// (a positive number; tests shorten it).
+/// (at least 1 s; tests shorten it).
 double read_deadline_seconds();
 
 /// Seconds that a collective write of an archive's metadata may take: 600, or
-/// JAMSIM_WRITE_DEADLINE_SECONDS (a positive number; tests shorten it).
+/// JAMSIM_WRITE_DEADLINE_SECONDS (at least 1 s; tests shorten it).
 double write_deadline_seconds();
 
 /// "" when JAMSIM_READ_DEADLINE_SECONDS and JAMSIM_WRITE_DEADLINE_SECONDS are unset, empty
