@@ -111,6 +111,7 @@ void check_output(const std::string& path) {
     if (::access(dir.c_str(), W_OK) != 0)
         refuse("-o = '" + path + "' is not allowed: a file in a writable directory ('" + dir.string() +
                "' is not writable)");
+    if (const std::string why = name_fits_folder(p); !why.empty()) refuse("-o = '" + path + "' is not allowed: " + why);
     if (fs::exists(fs::symlink_status(p, ec)))
         refuse("-o = '" + path +
                "' is not allowed: it exists (jamsim export does not overwrite; remove it or "

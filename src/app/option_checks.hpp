@@ -73,6 +73,18 @@ inline CLI::Validator decimal_number() {
         "NUMBER");
 }
 
+/// "" when the file name of `p` leaves room, in its folder's limit on names (NAME_MAX, 255
+/// on most filesystems), for the temporary written beside it (NAME.XXXXXX.tmp); else what is
+/// allowed. A longer name ran the whole replica and failed only when writing it.
+inline std::string name_fits_folder(const std::filesystem::path& p) {
+    const std::filesystem::path dir = p.has_parent_path() ? p.parent_path() : std::filesystem::path(".");
+    const long most = ::pathconf(dir.c_str(), _PC_NAME_MAX);
+    const std::size_t length = p.filename().string().size(), temporary = std::strlen(".XXXXXX.tmp");
+    if (most <= 0 || length + temporary <= static_cast<std::size_t>(most)) return "";
+    return "a file name of at most " + std::to_string(static_cast<std::size_t>(most) - temporary) +
+           " bytes in that folder (this one has " + std::to_string(length) + ")";
+}
+
 /// A whole number in decimal digits that fits 64 bits: no sign (CLI11 read "-1" into an
 /// unsigned option as 2^64 - 1), no hexadecimal, no exponent.
 inline CLI::Validator whole_number() {
@@ -108,6 +120,7 @@ inline std::string writable_new_file(const std::string& path) {
     if (!fs::is_directory(dir, ec)) return "a file in an existing directory ('" + dir.string() + "' does not exist)";
     if (::access(dir.c_str(), W_OK) != 0)
         return "a file in a writable directory ('" + dir.string() + "' is not writable)";
+    if (const std::string why = name_fits_folder(p); !why.empty()) return why;
     std::string probe = (dir / ".jamsim-probe-XXXXXX").string();
     const int fd = ::mkstemp(probe.data());
     if (fd < 0)

@@ -175,3 +175,10 @@ add_test(NAME cli.output_symbolic_links_refused
   COMMAND bash -c "set -u; cd \"$1\" && rm -rf links && mkdir links && cd links && ln -s A B && ln -s B A && ln -s missing/target.data dl.data && for cmd in 'minimize --N 32 --phi 0.9 --lammps-data A' 'minimize --N 32 --phi 0.9 --lammps-data dl.data' 'replica --N 16 --strain 0.01 -o dl.data' 'replica --N 16 --strain 0.01 -o A'; do out=$(\"$0\" $cmd 2>&1); rc=$?; [ $rc -eq 2 ] || { echo \"$cmd: exit $rc\"; exit 1; }; echo \"$out\" | grep -q 'is not allowed: a file.s own path, not a symbolic link' || { echo \"$cmd: $out\"; exit 1; }; done; test -L A && test -L B && test -L dl.data && test ! -e missing"
     $<TARGET_FILE:jamsim> ${CMAKE_CURRENT_BINARY_DIR})
 set_tests_properties(cli.output_symbolic_links_refused PROPERTIES LABELS unit)
+
+# An output name longer than the folder allows (with its temporary's suffix): refused before
+# the replica runs (it ran the whole replica, then failed to write it, exit 1).
+add_test(NAME cli.output_name_too_long
+  COMMAND bash -c "cd \"$1\" && name=$(printf 'n%.0s' $(seq 300)) && for cmd in \"replica --N 16 --strain 0.01 -o $name.h5\" \"minimize --N 32 --phi 0.9 --lammps-data $name.data\"; do out=$(\"$0\" $cmd 2>&1); rc=$?; [ $rc -eq 2 ] || { echo \"exit $rc\"; exit 1; }; echo \"$out\" | grep -q 'is not allowed: a file name of at most [0-9]* bytes in that folder (this one has 30[0-9])' || { echo \"$out\"; exit 1; }; done"
+    $<TARGET_FILE:jamsim> ${CMAKE_CURRENT_BINARY_DIR})
+set_tests_properties(cli.output_name_too_long PROPERTIES LABELS unit)
