@@ -210,6 +210,7 @@ CLI::App* add_export_command(CLI::App& app) {
                     "else lammps")
         ->type_name("FORMAT");
     cmd->callback([opt] {
+        refuse_more_than_one_process("jamsim export");
         int rc = 1;
         try {
             rc = run_export(*opt);

@@ -3,6 +3,9 @@
 
 #include <exception>
 #include <iostream>
+#include <sstream>
+#include <thread>
+#include <chrono>
 #include <string>
 #include <csignal>
 #include <string_view>
@@ -12,6 +15,7 @@
 #include "jamsim/core/version.hpp"
 #include "campaign_commands.hpp"
 #include "exit_status.hpp"
+#include "option_checks.hpp"
 #include "export_command.hpp"
 #include "minimize_command.hpp"
 #include "plan_command.hpp"
@@ -26,7 +30,12 @@ namespace jamsim::app {
 /// --version 0, and every usage error (CLI11's 100-127: an unknown option, a missing or
 /// malformed value, a refused value) 2, the status of a usage error by convention.
 int exit_status(const CLI::App& app, const CLI::ParseError& e) {
-    const int status = app.exit(e);
+    // Under mpirun every rank meets the same usage error: rank 0 alone says it, and the others
+    // end after it (the launcher kills the rest of the job when the first rank ends).
+    std::ostringstream unsaid;
+    const bool other_rank = launcher_ranks().second > 0;
+    const int status = other_rank ? app.exit(e, unsaid, unsaid) : app.exit(e);
+    if (other_rank && status != 0) std::this_thread::sleep_for(std::chrono::seconds(2));
     if (e.get_name() == "RuntimeError" || status == 0) return status;
     return status >= static_cast<int>(CLI::ExitCodes::IncorrectConstruction) ? app::kExitRefused : status;
 }

@@ -138,6 +138,7 @@ CLI::App* add_minimize_command(CLI::App& app) {
         ->check(nonempty_path())
         ->type_name("FILE");
     cmd->callback([opt, cmd] {
+        refuse_more_than_one_process("jamsim minimize");
         check_threads_environment("jamsim minimize", false);
         // The values as written (the messages said only what is allowed).
         const auto as_written = [cmd](const char* name) {

@@ -6,9 +6,14 @@
 #include <cctype>
 #include <cerrno>
 #include <cstdlib>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <initializer_list>
+#include <chrono>
 #include <string>
+#include <thread>
+#include <utility>
 
 #include <CLI/CLI.hpp>
 
@@ -83,6 +88,33 @@ inline std::string name_fits_folder(const std::filesystem::path& p) {
     if (most <= 0 || length + temporary <= static_cast<std::size_t>(most)) return "";
     return "a file name of at most " + std::to_string(static_cast<std::size_t>(most) - temporary) +
            " bytes in that folder (this one has " + std::to_string(length) + ")";
+}
+
+/// The ranks a launcher (mpirun, srun) started this process among, from its environment
+/// (1 without one), and this process's rank among them.
+inline std::pair<long, long> launcher_ranks() {
+    const auto number = [](std::initializer_list<const char*> names) -> long {
+        for (const char* name : names)
+            if (const char* text = std::getenv(name); text && *text) return std::strtol(text, nullptr, 10);
+        return -1;
+    };
+    const long size = number({"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE", "SLURM_STEP_NUM_TASKS"});
+    const long rank = number({"OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK", "SLURM_PROCID"});
+    return {size > 1 ? size : 1, rank > 0 ? rank : 0};
+}
+
+/// A command that runs as one process (replica, minimize, export) started by `mpirun -n 2`:
+/// every rank ran it, wrote the same output and, for export, all but one then refused it as
+/// existing. One message (from rank 0), exit 2 on every rank.
+inline void refuse_more_than_one_process(const std::string& command) {
+    const auto [size, rank] = launcher_ranks();
+    if (size <= 1) return;
+    if (rank == 0)
+        std::fprintf(stderr, "%s: run it as one process (not mpirun -n %ld: every rank would write the same output)\n",
+                     command.c_str(), size);
+    else  // after rank 0 (the launcher kills the rest of the job when the first rank ends)
+        std::this_thread::sleep_for(std::chrono::seconds(2));
+    throw CLI::RuntimeError(2);
 }
 
 /// A whole number in decimal digits that fits 64 bits: no sign (CLI11 read "-1" into an

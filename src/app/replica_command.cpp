@@ -166,6 +166,7 @@ CLI::App* add_replica_command(CLI::App& app) {
         ->type_name("FILE");
     add_threads_option(*cmd);
     cmd->callback([opt] {
+        refuse_more_than_one_process("jamsim replica");
         check_threads_environment("jamsim replica", true);
         run(*opt);
     });
