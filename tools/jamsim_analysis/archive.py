@@ -141,9 +141,12 @@ def _open(path):
 # The newest campaign archive layout this package reads (kArchiveLayoutVersion in
 # include/jamsim/archive/archive_file_check.hpp).
 NEWEST_LAYOUT = 4
-# /replicas columns every campaign archive has (rate only where a model shears; seed read where
-# present).
-REQUIRED_COLUMNS = ("status", "n_samples", "N", "phi")
+# /replicas columns every campaign archive has (rate only where a model shears).
+REQUIRED_COLUMNS = ("status", "n_samples", "N", "phi", "seed")
+# Root attributes of a campaign archive that are text, and those that are one integer.
+TEXT_ATTRIBUTES = ("campaign", "model", "spec_text", "spec_path", "spec_fingerprint", "code_version", "build_flags",
+                   "created", "run_started", "run_finished", "merged", "extended", "grown")
+INTEGER_ATTRIBUTES = ("layout_version", "n_replicas", "n_ranks")
 # Root attributes every single-replica file has.
 REQUIRED_ATTRIBUTES = ("model", "N", "phi", "seed")
 
@@ -151,6 +154,28 @@ REQUIRED_ATTRIBUTES = ("model", "N", "phi", "seed")
 def _damaged(path, what):
     return AnalysisError(f"'{path}' is damaged: {what} (not as jamsim writes it; a hand-edited or "
                          "truncated file?)")
+
+
+def _root_attributes(path, f):
+    """The root's attributes, text decoded; a text attribute that is not text, or not UTF-8, and
+    a count that is not one integer are refused in words (they ended in a TypeError or a
+    UnicodeDecodeError)."""
+    out = {}
+    for key, value in f.attrs.items():
+        if isinstance(value, (bytes, str)):
+            try:
+                value = _text(value)
+            except UnicodeDecodeError:
+                raise _damaged(path, f"its attribute {key} is not UTF-8 text") from None
+        elif key in TEXT_ATTRIBUTES:
+            raise _damaged(path, f"its attribute {key} is not text")
+        elif key in INTEGER_ATTRIBUTES:
+            number = np.asarray(value)
+            if number.size != 1 or number.dtype.kind not in "iu":
+                raise _damaged(path, f"its attribute {key} is not one integer")
+            value = int(number.ravel()[0])
+        out[key] = value
+    return out
 
 
 def _check_campaign(path, f):
@@ -260,7 +285,7 @@ class _Source:
         if os.path.isdir(path):
             raise AnalysisError(f"'{path}' is a directory, not a jamsim archive")
         with _open(path) as f:
-            self.attrs = {k: (_text(v) if isinstance(v, (bytes, str)) else v) for k, v in f.attrs.items()}
+            self.attrs = _root_attributes(path, f)
             if "replicas" in f and "timeseries" in f:
                 self.kind = "campaign"
                 self.n_rows = _check_campaign(path, f)

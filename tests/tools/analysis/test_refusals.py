@@ -241,6 +241,25 @@ def test_a_file_on_which_hdf5_loops_is_refused_after_the_deadline(small_archive,
     assert digest(path) == before
 
 
+@pytest.mark.parametrize("edit, words", [
+    (lambda f: f.attrs.__setitem__("layout_version", np.array([4, 4])), "its attribute layout_version is not one integer"),
+    (lambda f: f.attrs.__setitem__("campaign", np.int64(5)), "its attribute campaign is not text"),
+    (lambda f: f.attrs.__setitem__("model", np.int64(3)), "its attribute model is not text"),
+    (lambda f: f.attrs.__setitem__("spec_text", np.bytes_(b"\xff\xfe")), "its attribute spec_text is not UTF-8 text"),
+    (lambda f: f["replicas"].__delitem__("seed"), "/replicas/seed is missing"),
+])
+def test_edited_root_attributes_are_refused(small_archive, copy_of, edit, words):
+    """Each ended in a TypeError, UnicodeDecodeError or KeyError traceback (plot_campaign too)."""
+    path = copy_of(small_archive, "edited.h5")
+    with h5py.File(path, "r+") as f:
+        edit(f)
+    before = digest(path)
+    refused(run(ANALYZE, "summary", path), f"'{path}' is damaged: {words}")
+    refused(run(os.path.join(TOOLS, "plot_campaign.py"), path, os.path.join(os.path.dirname(path), "plots")),
+            f"'{path}' is damaged: {words}")
+    assert digest(path) == before
+
+
 @pytest.mark.parametrize("value", ["abc", "5s", "0", "0.5", "-5", "1e9", "inf", "nan", " 7"])
 def test_a_bad_read_deadline_is_refused(small_archive, monkeypatch, value):
     """JAMSIM_READ_DEADLINE_SECONDS that is not a number of seconds stood silently for 60 s."""
