@@ -108,10 +108,19 @@ if [[ -z $jamsim ]]; then
   elif [[ -x $here/../build/release/jamsim ]]; then jamsim=$here/../build/release/jamsim
   else jamsim=$(command -v jamsim || true); fi
 fi
-[[ -n $jamsim && -x $jamsim ]] || { echo "submit_campaign.sh: no jamsim executable (set JAMSIM or build first)" >&2; exit 2; }
+[[ -n $jamsim && -f $jamsim && -x $jamsim ]] || { echo "submit_campaign.sh: no jamsim executable (set JAMSIM or build first)" >&2; exit 2; }
+# JAMSIM=/bin/false ended the script with status 2 and no word.
+[[ $("$jamsim" --version 2>/dev/null) == "jamsim "* ]] ||
+  { echo "submit_campaign.sh: JAMSIM = '$jamsim' is not allowed: a jamsim executable ('$jamsim --version' does not say jamsim)" >&2; exit 2; }
 jamsim=$(cd "$(dirname "$jamsim")" && pwd)/$(basename "$jamsim")
 # Jobs may start in another directory: hand them absolute paths.
 # (MERGED's folder may not exist yet: it is made once every check has passed.)
+# An empty or folder-like MERGED is refused as jamsim refuses it (realpath made '' an error of
+# its own and dropped a trailing slash).
+if [[ -z $merged || $merged == */ || $merged == . || $merged == .. || $merged == */. || $merged == */.. ]]; then
+  echo "submit_campaign.sh: MERGED.h5 = '$merged' is not allowed: the path of the campaign's archive file (not empty, not a folder)" >&2
+  exit 2
+fi
 abs() { realpath -ms -- "$1"; }
 campaign=$(abs "$campaign") merged=$(abs "$merged")
 shard_dir=${merged%.h5}.shards

@@ -26,6 +26,16 @@ for v in abc -1 1.5 "2 3"; do
 done
 check "JAMSIM_SIGNAL_LEAD = '0' is not allowed" JAMSIM_SIGNAL_LEAD=0 bash "$submit" "$campaign" new/m.h5 2
 check "phi = 2 is not allowed" bash "$submit" bad.toml new/sub/m.h5 2
+# An empty or folder-like MERGED (realpath failed on '' and dropped the slash of m.h5/), and a
+# JAMSIM that is a folder or no jamsim (line 121: //tmp: Is a directory; /bin/false: no word).
+for merged in '' new/m.h5/ new/.; do
+  check "MERGED.h5 = '$merged' is not allowed: the path of the campaign's archive file" bash "$submit" "$campaign" "$merged" 1
+done
+msg=$(env JAMSIM=/tmp PATH=/usr/bin:/bin bash "$submit" "$campaign" new/m.h5 1 2>&1); rc=$?
+[[ $rc -eq 2 ]] && grep -q "no jamsim executable" <<<"$msg" || { echo "$msg"; echo "FAIL: JAMSIM=/tmp (exit $rc)"; exit 1; }
+msg=$(env JAMSIM=/bin/false PATH=/usr/bin:/bin bash "$submit" "$campaign" new/m.h5 1 2>&1); rc=$?
+[[ $rc -eq 2 ]] && grep -q "JAMSIM = '/bin/false' is not allowed: a jamsim executable" <<<"$msg" ||
+  { echo "$msg"; echo "FAIL: JAMSIM=/bin/false (exit $rc)"; exit 1; }
 # The script's own options after the positionals went to sbatch (--threads 4 ran one thread);
 # SHARDS beyond the replicas queued tasks for nothing (10^8 without a word for one replica).
 for option in --threads=4 --wait --retry-failed; do
