@@ -134,6 +134,10 @@ def _check_numbers(parser, a):
     for name in ("phi_min", "phi_max", "rate_max"):
         if has(name) and math.isnan(getattr(a, name)):
             refuse("--" + name.replace("_", "-"), "nan", "a number (the collapse window)")
+    for name in ("phi_min", "phi_max"):  # a window outside every packing fraction selected all or nothing
+        if has(name) and math.isfinite(getattr(a, name)) and not 0 < getattr(a, name) < 1:
+            refuse("--" + name.replace("_", "-"), getattr(a, name), "a packing fraction, 0 < phi < 1 (the collapse "
+                   "window)")
     if has("phi_min") and has("phi_max") and not a.phi_min < a.phi_max:
         refuse("--phi-min", a.phi_min, f"below --phi-max = {a.phi_max} (the collapse window)")
     if has("rate_max") and not a.rate_max > 0:

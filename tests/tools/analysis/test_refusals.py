@@ -138,6 +138,8 @@ def test_report_outdir_under_a_file(small_archive, tmp_path):
     (["--phi-min", "0.9", "--phi-max", "0.8"], "--phi-min = 0.9 is not allowed: below --phi-max"),
     (["--rate-max", "-1"], "--rate-max = -1.0 is not allowed"),
     (["--phi-min", "nan"], "--phi-min = nan is not allowed"),
+    (["--phi-min", "-5"], "--phi-min = -5.0 is not allowed: a packing fraction, 0 < phi < 1"),
+    (["--phi-max", "2"], "--phi-max = 2.0 is not allowed: a packing fraction, 0 < phi < 1"),
 ])
 def test_collapse_options_no_fit_can_use(args, words, small_archive, tmp_path):
     refused(run(ANALYZE, "collapse", small_archive, str(tmp_path / "c"), *args), words)
