@@ -3,6 +3,7 @@
 
 #include <exception>
 #include <iostream>
+#include <regex>
 #include <sstream>
 #include <thread>
 #include <chrono>
@@ -38,6 +39,22 @@ int exit_status(const CLI::App& app, const CLI::ParseError& e) {
     if (other_rank && status != 0) std::this_thread::sleep_for(std::chrono::seconds(2));
     if (e.get_name() == "RuntimeError" || status == 0) return status;
     return status >= static_cast<int>(CLI::ExitCodes::IncorrectConstruction) ? app::kExitRefused : status;
+}
+
+/// CLI11's own wording of two usage errors in jamsim's ("--output: At Most 1 required but
+/// received 2", "--progress: bogus not in {auto,lines,redraw}"); other text as it is.
+std::string in_jamsim_words(const std::string& text) {
+    static const std::regex repeated(R"(^(--[A-Za-z0-9-]+): At Most 1 required but received ([0-9]+)$)");
+    static const std::regex not_member(R"(^(--[A-Za-z0-9-]+): (.*) not in \{(.*)\}$)");
+    std::smatch m;
+    if (std::regex_match(text, m, repeated)) return m[1].str() + " is given " + m[2].str() + " times: give it once";
+    if (std::regex_match(text, m, not_member)) {
+        std::string choices = m[3].str();
+        for (std::size_t comma = choices.find(','); comma != std::string::npos; comma = choices.find(',', comma + 2))
+            choices.replace(comma, 1, ", ");
+        return m[1].str() + " = " + m[2].str() + " is not allowed: one of " + choices;
+    }
+    return text;
 }
 
 /// "" when the first argument is an option or one of the commands; else one message naming it
@@ -81,7 +98,7 @@ int main(int argc, char** argv) {
     // CLI11's own messages ("--strain: At Most 1 required but received 2", "archive is
     // required") named no command: prefixed as jamsim's own refusals are.
     app.failure_message([](const CLI::App* root, const CLI::Error& e) {
-        std::string text = e.what();
+        std::string text = jamsim::app::in_jamsim_words(e.what());
         const auto used = root->get_subcommands();
         const std::string command = used.empty() ? "jamsim" : "jamsim " + used.front()->get_name();
         if (!text.starts_with("jamsim")) text = command + ": " + text;
