@@ -217,7 +217,7 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
 /// The options that describe the run a dry run plans (`jamsim run --dry-run`).
 void add_dry_run_options(CLI::App& cmd, const std::shared_ptr<RunOptions>& opt) {
     cmd.add_option("--ranks", opt->plan.ranks, "--dry-run: ranks of the planned run")
-        ->check(count_at_least_one("ranks"))
+        ->check(count_from_one_to("ranks", 1 << 20))  // as plan's nodes x cores (1e9 was blamed on the campaign)
         ->default_str("1");
     cmd.add_option("--shards", opt->plan.shards, "--dry-run: Slurm array tasks of the planned run")
         ->check(count_at_least_one("shards"))
