@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <cstring>
 #include <fstream>
 #include <memory>
 #include <regex>
@@ -53,7 +54,9 @@ ReplicaSeconds seconds_from_listing(const std::string& path, const CampaignSpec&
     if (const std::string odd = not_a_regular_file(path); !odd.empty())
         throw PlanError("jamsim plan: --costs " + path + ": " + odd + " (the listing of a dry run)");
     std::ifstream in(path);
-    if (!in) throw PlanError("jamsim plan: --costs " + path + ": cannot be read");
+    if (!in)
+        throw PlanError("jamsim plan: --costs " + path + ": cannot be read (" + std::strerror(errno) +
+                        "; the listing of a dry run)");
     // id N phi rate seed samples cost est.s sampling
     static const std::regex row(R"(^\s*(\d+)\s+(\d+)\s+(\S+)\s+(\S+)\s+(\d+)\s+\d+\s+\S+\s+(\S+)\s+(\S+)\s*$)");
     std::vector<double> seconds(spec.replicas.size(), -1.0), serial(spec.replicas.size(), 0.0);

@@ -455,7 +455,18 @@ std::string not_a_regular_file(const std::string& path) {
 }
 
 std::string diagnose_initial_source(const std::string& path) {
-    if (std::error_code ec; !std::filesystem::exists(path, ec) && !ec) return quoted(path) + " does not exist";
+    namespace fs = std::filesystem;
+    if (std::error_code ec; !fs::exists(path, ec)) {
+        // A loop of links was called missing by a later reader, and the run failed (exit 1).
+        if (std::error_code link_ec; fs::is_symlink(fs::symlink_status(path, link_ec)))
+            return quoted(path) + " is a symbolic link that leads to no file (" +
+                   (ec.value() == ELOOP
+                        ? std::string("a loop of links")
+                        : "it names '" + fs::read_symlink(path, link_ec).string() + "', which does not exist") +
+                   ")";
+        if (!ec || ec.value() == ENOENT || ec.value() == ENOTDIR) return quoted(path) + " does not exist";
+        return quoted(path) + " cannot be examined: " + ec.message();
+    }
     if (std::string odd = not_a_regular_file(path); !odd.empty()) return odd;
     return is_hdf5_file(path) ? diagnose_archive_file(path) : "";
 }

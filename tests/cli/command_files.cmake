@@ -184,3 +184,10 @@ add_test(NAME cli.output_name_too_long
   COMMAND bash -c "cd \"$1\" && name=$(printf 'n%.0s' $(seq 300)) && for cmd in \"replica --N 16 --strain 0.01 -o $name.h5\" \"minimize --N 32 --phi 0.9 --lammps-data $name.data\"; do out=$(\"$0\" $cmd 2>&1); rc=$?; [ $rc -eq 2 ] || { echo \"exit $rc\"; exit 1; }; echo \"$out\" | grep -q 'is not allowed: a file name of at most [0-9]* bytes in that folder (this one has 30[0-9])' || { echo \"$out\"; exit 1; }; done"
     $<TARGET_FILE:jamsim> ${CMAKE_CURRENT_BINARY_DIR})
 set_tests_properties(cli.output_name_too_long PROPERTIES LABELS unit)
+
+# A loop of symbolic links as --initial: refused naming the option and the loop (it was called
+# missing by a later reader, exit 1).
+add_test(NAME cli.initial_link_loop
+  COMMAND bash -c "cd \"$1\" && rm -f loopA loopB && ln -s loopA loopB && ln -s loopB loopA && out=$(\"$0\" replica --N 16 --strain 0.01 --initial loopA -o q.h5 2>&1); rc=$?; [ $rc -eq 2 ] || { echo \"exit $rc: $out\"; exit 1; }; echo \"$out\" | grep -q \"^jamsim replica: --initial = loopA is not allowed: a jamsim campaign archive or a LAMMPS data file: 'loopA' is a symbolic link that leads to no file (a loop of links)\" || { echo \"$out\"; exit 1; }; test ! -e q.h5"
+    $<TARGET_FILE:jamsim> ${CMAKE_CURRENT_BINARY_DIR})
+set_tests_properties(cli.initial_link_loop PROPERTIES LABELS unit)
