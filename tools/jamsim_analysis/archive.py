@@ -135,6 +135,8 @@ def _open(path):
     except (OSError, TypeError) as e:
         if not os.path.exists(path):
             raise AnalysisError(f"'{path}': no such file") from None
+        if not h5py.is_hdf5(path):  # a campaign file given for the archive: h5py said "file signature not found"
+            raise AnalysisError(f"'{path}' is not an HDF5 file (no HDF5 signature), so not a jamsim archive") from None
         raise AnalysisError(f"cannot open '{path}' as HDF5: {e}") from None
 
 

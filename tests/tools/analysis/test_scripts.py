@@ -235,7 +235,7 @@ def test_tool_table_covers_every_python_script():
 @pytest.mark.parametrize("tool", sorted(TOOL_ARGS))
 def test_bad_input_gets_one_message_exit_2_no_traceback(tool, bad_files, rand_archive, small_archive, tmp_path):
     cases = [(bad_files / "missing.h5", "missing.h5': no such file"),
-             (bad_files / "text.h5", "cannot open '" + str(bad_files / "text.h5") + "' as HDF5"),
+             (bad_files / "text.h5", "'" + str(bad_files / "text.h5") + "' is not an HDF5 file (no HDF5 signature)"),
              (bad_files / "other.h5", "other.h5' is neither a jamsim campaign archive")]
     kind, message = WRONG_KIND[tool]
     if message:
