@@ -1,7 +1,9 @@
 // jamsim: sheared soft disks through the jamming transition.
 #include <CLI/CLI.hpp>
+#include <unistd.h>
 
 #include <exception>
+#include <filesystem>
 #include <iostream>
 #include <regex>
 #include <sstream>
@@ -55,6 +57,21 @@ std::string in_jamsim_words(const std::string& text) {
         return m[1].str() + " = " + m[2].str() + " is not allowed: one of " + choices;
     }
     return text;
+}
+
+/// "" unless TMPDIR names something other than a writable folder for a command that starts MPI
+/// (Open MPI keeps its session files there: a file there ended the run in Open MPI's words, "A
+/// call to mkdir was unable to create the desired directory").
+std::string temporary_folder_problem(int argc, char** argv) {
+    if (argc < 2) return "";
+    const std::string_view command = argv[1];
+    if (command != "run" && command != "status" && command != "merge" && command != "plan") return "";
+    const char* folder = std::getenv("TMPDIR");
+    if (!folder || !*folder) return "";
+    std::error_code ec;
+    if (std::filesystem::is_directory(folder, ec) && ::access(folder, W_OK | X_OK) == 0) return "";
+    return std::string("TMPDIR = '") + folder +
+           "' is not allowed: a writable folder (MPI keeps its session files there; unset, it is /tmp)";
 }
 
 /// "" when the first argument is an option or one of the commands; else one message naming it
@@ -114,6 +131,10 @@ int main(int argc, char** argv) {
     jamsim::app::add_parameters_command(app);
     jamsim::app::add_models_command(app);
     (void)jamsim::app::threads_from_environment();  // refused by the commands that run the kernel
+    if (const std::string problem = jamsim::app::temporary_folder_problem(argc, argv); !problem.empty()) {
+        std::cerr << "jamsim: " << problem << '\n';
+        return jamsim::app::kExitRefused;
+    }
     if (const std::string problem = jamsim::deadline_environment_problem(); !problem.empty()) {
         std::cerr << "jamsim: " << problem << '\n';
         return jamsim::app::kExitRefused;

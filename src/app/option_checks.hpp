@@ -128,7 +128,7 @@ inline CLI::Validator whole_number() {
             if (digits) (void)std::strtoll(v.c_str(), nullptr, 10);
             return digits && errno != ERANGE
                        ? ""
-                       : "value " + v + " is not allowed: a whole number from 0 to 9223372036854775807 in decimal";
+                       : "value '" + v + "' is not allowed: a whole number from 0 to 9223372036854775807 in decimal";
         },
         "INTEGER >= 0");
 }

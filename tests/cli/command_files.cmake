@@ -191,3 +191,10 @@ add_test(NAME cli.initial_link_loop
   COMMAND bash -c "cd \"$1\" && rm -f loopA loopB && ln -s loopA loopB && ln -s loopB loopA && out=$(\"$0\" replica --N 16 --strain 0.01 --initial loopA -o q.h5 2>&1); rc=$?; [ $rc -eq 2 ] || { echo \"exit $rc: $out\"; exit 1; }; echo \"$out\" | grep -q \"^jamsim replica: --initial = loopA is not allowed: a jamsim campaign archive or a LAMMPS data file: 'loopA' is a symbolic link that leads to no file (a loop of links)\" || { echo \"$out\"; exit 1; }; test ! -e q.h5"
     $<TARGET_FILE:jamsim> ${CMAKE_CURRENT_BINARY_DIR})
 set_tests_properties(cli.initial_link_loop PROPERTIES LABELS unit)
+
+# TMPDIR that is not a writable folder, for the commands that start MPI: refused in jamsim's
+# words (Open MPI's "A call to mkdir was unable to create the desired directory", exit 1).
+add_test(NAME cli.tmpdir_not_a_folder
+  COMMAND ${expect} "^jamsim: TMPDIR = '/etc/passwd' is not allowed: a writable folder" ${bad_dir}/none.h5
+    $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml -o ${bad_dir}/none.h5)
+set_tests_properties(cli.tmpdir_not_a_folder PROPERTIES LABELS unit ENVIRONMENT "EXPECT_STATUS=2;TMPDIR=/etc/passwd")
