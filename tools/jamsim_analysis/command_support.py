@@ -70,6 +70,10 @@ def prog_name(default):
 def output_directory(path, what="OUTDIR", create=True):
     """Create the output directory `path` (if needed; with create=False only check that it
     is not a file); refused with a message naming it."""
+    name = os.path.basename(os.path.normpath(path)) if path else ""
+    if not os.path.exists(path) and name != name.strip():  # 'rep ' made a folder no one sees for what it is
+        raise AnalysisError(f"{what} '{path}' is not allowed: a folder name that neither starts nor ends with white "
+                            "space")
     if os.path.exists(path) and not os.path.isdir(path):
         hint = " (the output directory comes after the archives)" if what == "OUTDIR" else ""
         raise AnalysisError(f"{what} '{path}' is an existing file, not a directory{hint}")

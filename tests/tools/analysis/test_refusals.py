@@ -270,6 +270,13 @@ def test_a_bad_read_deadline_is_refused(small_archive, monkeypatch, value):
             f'JAMSIM_READ_DEADLINE_SECONDS = "{value}" is not allowed: a number of seconds, at least 1 and below 1e9')
 
 
+def test_an_output_folder_named_with_spaces_is_refused(small_archive, tmp_path):
+    """The report made a folder 'rep ' (a trailing space) without a word."""
+    target = str(tmp_path / "rep ")
+    refused(run(REPORT, small_archive, target), f"OUTDIR '{target}' is not allowed: a folder name that neither")
+    assert not os.path.exists(target)
+
+
 def test_odd_paths_are_refused(small_archive, tmp_path):
     refused(run(ANALYZE, "summary", ""), "an empty path is not an archive")
     pipe = tmp_path / "pipe.h5"
