@@ -92,8 +92,8 @@ endforeach()
 # the option (each used to run: a seed of -1 as 2^64 - 1, a negative or NaN tolerance, an
 # unknown minimiser with status 1, phi = 1e-300 into the neighbour list's overflow).
 set(minimize_refusals
-  "seed_negative|--seed -1|--seed: value -1 is not allowed: a whole number"
-  "n_hex|--N 0x40|--N: value 0x40 is not allowed: a whole number"
+  "seed_negative|--seed -1|--seed: value '-1' is not allowed: a whole number"
+  "n_hex|--N 0x40|--N: value '0x40' is not allowed: a whole number"
   "energy_floor|--energy-floor nan|--energy-floor = nan is not allowed: a finite number, 0 < energy_floor < 0.01"
   "energy_floor_huge|--energy-floor 1e300|--energy-floor = 1e\\+300 is not allowed: 0 < energy_floor < 0.01"
   "force_tol|--force-tol -1|--force-tol = -1 is not allowed: 0 <= force_tol < 1"

@@ -34,6 +34,7 @@ def write_archive(path, rows):
         r["N"] = np.full(len(rows), 1024.0)
         r["phi"] = np.array([p for p, _ in rows])
         r["rate"] = np.array([g for _, g in rows])
+        r["seed"] = np.array([float(k % seeds + 1) for k in range(len(rows))])
         r["transient"] = np.full(len(rows), 0.5)
         r["n_samples"] = np.full(len(rows), 2.0)
         x = (r["phi"][...] - truth["phi_J"]) / r["rate"][...] ** (1 / truth["znu"])

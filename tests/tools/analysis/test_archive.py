@@ -140,5 +140,5 @@ def test_bad_input_is_refused(tmp_path):
         ja.open_archives(str(other))
     text = tmp_path / "text.h5"
     text.write_text("not hdf5")
-    with pytest.raises(ja.AnalysisError, match="cannot open"):
+    with pytest.raises(ja.AnalysisError, match="is not an HDF5 file"):
         ja.open_archives(str(text))
