@@ -98,8 +98,10 @@ inline std::pair<long, long> launcher_ranks() {
             if (const char* text = std::getenv(name); text && *text) return std::strtol(text, nullptr, 10);
         return -1;
     };
-    const long size = number({"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE", "SLURM_STEP_NUM_TASKS"});
-    const long rank = number({"OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK", "SLURM_PROCID"});
+    // Not Slurm's own SLURM_NTASKS and the like: a batch script or an allocation's shell has them
+    // without being one of many ranks.
+    const long size = number({"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE"});
+    const long rank = number({"OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK"});
     return {size > 1 ? size : 1, rank > 0 ? rank : 0};
 }
 
