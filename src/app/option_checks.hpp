@@ -3,7 +3,6 @@
 // made), a count >= 1.
 #include <unistd.h>
 
-#include <cctype>
 #include <cerrno>
 #include <cstdlib>
 #include <cstdio>
@@ -18,6 +17,7 @@
 #include <CLI/CLI.hpp>
 
 #include "jamsim/archive/archive_file_check.hpp"
+#include "jamsim/core/parse_number.hpp"
 
 namespace jamsim::app {
 
@@ -68,12 +68,10 @@ inline CLI::Validator count_from_one_to(const std::string& what, long long most)
 inline CLI::Validator decimal_number() {
     return CLI::Validator(
         [](std::string& v) -> std::string {
-            const std::size_t digits = v.find_first_not_of("+-");
-            const bool hexadecimal = digits != std::string::npos && v.size() > digits + 1 && v[digits] == '0' &&
-                                     (v[digits + 1] == 'x' || v[digits + 1] == 'X');
-            return v.empty() || std::isspace(static_cast<unsigned char>(v.front())) || hexadecimal
-                       ? "value '" + v + "' is not allowed: a number in decimal"
-                       : "";
+            std::string_view digits = v;
+            if (digits.starts_with('+') && digits.size() > 1 && digits[1] != '-') digits.remove_prefix(1);
+            double ignored = 0.0;
+            return parse_whole_text(digits, ignored) ? "" : "value '" + v + "' is not allowed: a number in decimal";
         },
         "NUMBER");
 }

@@ -2,7 +2,7 @@
 // check that a hand-edited or broken copy did not keep a campaign's name over other data.
 #include <cmath>
 #include <cstdio>
-#include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -30,35 +30,25 @@ H5T_class_t attribute_class(hid_t f, const std::string& name) {
 /// "" when the dataset `path` exists with class `want` and the shape `shape`; else what differs.
 std::string dataset_mismatch(hid_t f, const std::string& path, H5T_class_t want, const std::vector<hsize_t>& shape) {
     if (!h5::exists(f, path)) return "it has no " + path + ", which its campaign has";
-    const h5::Handle set(H5Dopen2(f, path.c_str(), H5P_DEFAULT), H5Dclose, "open dataset '" + path + "'");
-    const h5::Handle type(H5Dget_type(set.get()), H5Tclose, "type of '" + path + "'");
-    if (H5Tget_class(type.get()) != want)
+    const DatasetForm form = dataset_form(f, path);
+    if (form.type != want)
         return path + " is not " +
                (want == H5T_FLOAT     ? "floating-point numbers"
                 : want == H5T_INTEGER ? "integers"
                                       : "text") +
                " (jamsim writes it so)";
-    if (const std::vector<hsize_t> dims = h5::dataset_shape(f, path); dims != shape) {
-        std::string want_text, have_text;
-        for (const hsize_t d : shape) want_text += (want_text.empty() ? "" : " x ") + std::to_string(d);
-        for (const hsize_t d : dims) have_text += (have_text.empty() ? "" : " x ") + std::to_string(d);
-        return path + " is " + have_text + " where its campaign makes it " + want_text;
-    }
+    if (form.dims != shape)
+        return path + " is " + shape_text(form.dims) + " where its campaign makes it " + shape_text(shape);
     return "";
 }
 
 /// The stored campaign itself: it parses and is the campaign of the archive's fingerprint.
 std::string stored_campaign(hid_t f, CampaignSpec& spec) {
     if (attribute_class(f, "spec_text") != H5T_STRING) return "it has no stored campaign (attribute spec_text)";
-    const std::string spec_path = h5::read_string_attribute(f, "spec_path");
     try {
-        spec = parse_campaign(h5::read_string_attribute(f, "spec_text"), spec_path,
-                              std::numeric_limits<std::int64_t>::max());
-    } catch (const SpecError& e) {
-        std::string why = e.what();
-        if (why.rfind(spec_path + ":", 0) == 0) why = "line " + why.substr(spec_path.size() + 1);
-        return "its stored campaign (attribute spec_text, a copy of '" + spec_path + "') does not parse (" + why + ")";
-    }
+        spec =
+            parse_stored_campaign(h5::read_string_attribute(f, "spec_text"), h5::read_string_attribute(f, "spec_path"));
+    } catch (const SpecError& e) { return e.what(); }
     if (fingerprint(spec) != h5::read_string_attribute(f, "spec_fingerprint"))
         return "its stored campaign (attribute spec_text) is not the campaign of its spec_fingerprint";
     if (h5::read_int64_attribute(f, "n_replicas") != static_cast<std::int64_t>(spec.replicas.size()))
@@ -136,6 +126,17 @@ std::string datasets_mismatch(hid_t f, const CampaignSpec& spec) {
 }
 
 }  // namespace
+
+CampaignSpec parse_stored_campaign(const std::string& text, const std::string& spec_path) {
+    try {
+        return parse_campaign(text, spec_path, std::numeric_limits<std::int64_t>::max());
+    } catch (const SpecError& e) {
+        std::string why = e.what();
+        if (why.rfind(spec_path + ":", 0) == 0) why = "line " + why.substr(spec_path.size() + 1);
+        throw SpecError("its stored campaign (attribute spec_text, a copy of '" + spec_path + "') does not parse (" +
+                        why + ")");
+    }
+}
 
 std::string campaign_mismatch(hid_t f) {
     CampaignSpec spec;

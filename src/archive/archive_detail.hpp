@@ -22,6 +22,21 @@ struct Column {
     std::function<double(const ReplicaParams&)> value;
 };
 
+/// A dataset's shape and HDF5 type class (H5T_INTEGER, H5T_FLOAT, H5T_STRING, ...)
+/// (archive_file_check.cpp).
+struct DatasetForm {
+    std::vector<hsize_t> dims;
+    H5T_class_t type;
+};
+DatasetForm dataset_form(hid_t file, const std::string& path);
+/// "a scalar", "64 entries", "2 x 11".
+std::string shape_text(const std::vector<hsize_t>& dims);
+
+/// The campaign stored in an archive (its spec_text, a copy of `spec_path`), parsed; a
+/// SpecError "its stored campaign (attribute spec_text, a copy of '...') does not parse (line
+/// 3:6: ...)" when it does not: the archive is damaged, not the campaign file it names.
+CampaignSpec parse_stored_campaign(const std::string& text, const std::string& spec_path);
+
 /// The parameter columns of a campaign: every numeric parameter that its model uses for at
 /// least one replica (NaN for replicas that do not use it), then the derived figures
 /// (archive_create.cpp).

@@ -30,6 +30,35 @@
 
 namespace jamsim {
 
+namespace archive_detail {
+
+/// A dataset's shape and HDF5 type class (H5T_INTEGER, H5T_FLOAT, H5T_STRING, ...).
+DatasetForm dataset_form(hid_t file, const std::string& path) {
+    const h5::Handle set(H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose, "open " + path);
+    const h5::Handle space(H5Dget_space(set.get()), H5Sclose, "dataspace of " + path);
+    const int rank = H5Sget_simple_extent_ndims(space.get());
+    h5::check(rank, "rank of " + path);
+    DatasetForm form{std::vector<hsize_t>(static_cast<std::size_t>(rank)), H5T_NO_CLASS};
+    h5::check(H5Sget_simple_extent_dims(space.get(), form.dims.data(), nullptr), "shape of " + path);
+    const h5::Handle type(H5Dget_type(set.get()), H5Tclose, "type of " + path);
+    form.type = H5Tget_class(type.get());
+    if (form.type == H5T_NO_CLASS) throw h5::Error("HDF5: type class of " + path + " failed");
+    return form;
+}
+
+std::string shape_text(const std::vector<hsize_t>& dims) {
+    if (dims.empty()) return "a scalar";
+    std::string text;
+    for (std::size_t k = 0; k < dims.size(); ++k) text += (k ? " x " : "") + std::to_string(dims[k]);
+    if (dims.size() == 1) return text + (dims[0] == 1 ? " entry" : " entries");
+    return text;
+}
+
+}  // namespace archive_detail
+
+using archive_detail::dataset_form;
+using archive_detail::shape_text;
+
 namespace {
 
 constexpr std::array<unsigned char, 8> kSignature = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
@@ -111,32 +140,6 @@ std::vector<std::string> link_names(hid_t file, const std::string& group) {
         names.push_back(name);
     }
     return names;
-}
-
-/// A dataset's shape and HDF5 type class (H5T_INTEGER, H5T_FLOAT, H5T_STRING, ...).
-struct DatasetForm {
-    std::vector<hsize_t> dims;
-    H5T_class_t type;
-};
-DatasetForm dataset_form(hid_t file, const std::string& path) {
-    const h5::Handle set(H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose, "open " + path);
-    const h5::Handle space(H5Dget_space(set.get()), H5Sclose, "dataspace of " + path);
-    const int rank = H5Sget_simple_extent_ndims(space.get());
-    h5::check(rank, "rank of " + path);
-    DatasetForm form{std::vector<hsize_t>(static_cast<std::size_t>(rank)), H5T_NO_CLASS};
-    h5::check(H5Sget_simple_extent_dims(space.get(), form.dims.data(), nullptr), "shape of " + path);
-    const h5::Handle type(H5Dget_type(set.get()), H5Tclose, "type of " + path);
-    form.type = H5Tget_class(type.get());
-    if (form.type == H5T_NO_CLASS) throw h5::Error("HDF5: type class of " + path + " failed");
-    return form;
-}
-
-std::string shape_text(const std::vector<hsize_t>& dims) {
-    if (dims.empty()) return "a scalar";
-    std::string text;
-    for (std::size_t k = 0; k < dims.size(); ++k) text += (k ? " x " : "") + std::to_string(dims[k]);
-    if (dims.size() == 1) return text + (dims[0] == 1 ? " entry" : " entries");
-    return text;
 }
 
 /// The archive's datasets against its n_replicas: every /replicas column and /final/box_side,

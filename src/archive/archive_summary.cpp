@@ -16,16 +16,12 @@ StoredCampaign read_stored_campaign(const std::string& path) {
     const Handle file = h5::open_unlocked_readonly(path);
     const std::string text = h5::read_string_attribute(file.get(), "spec_text");
     if (text.empty()) throw h5::Error("'" + path + "' is not a jamsim campaign archive");
-    const std::string spec_path = h5::read_string_attribute(file.get(), "spec_path");
     StoredCampaign out;
     try {
-        out.spec = parse_campaign(text, spec_path, std::numeric_limits<std::int64_t>::max());
+        out.spec = archive_detail::parse_stored_campaign(text, h5::read_string_attribute(file.get(), "spec_path"));
     } catch (const SpecError& e) {  // the archive's copy is damaged, not the campaign file
-        std::string why = e.what();
-        if (why.rfind(spec_path + ":", 0) == 0) why = "line " + why.substr(spec_path.size() + 1);
-        throw SpecError("'" + path + "' is damaged: its stored campaign (attribute spec_text, a copy of '" + spec_path +
-                        "') does not parse (" + why +
-                        "); jamsim writes no such archive (a hand-edited or broken copy?)");
+        throw SpecError("'" + path + "' is damaged: " + e.what() +
+                        "; jamsim writes no such archive (a hand-edited or broken copy?)");
     }
     for (auto v : h5::read_all<std::int8_t>(file.get(), "/replicas/status", H5T_NATIVE_INT8))
         out.status.push_back(static_cast<ReplicaStatus>(v));
