@@ -19,6 +19,7 @@
 #include <fstream>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "jamsim/archive/archive.hpp"
@@ -259,6 +260,64 @@ std::string check_counts(hid_t f) {
     return "";
 }
 
+/// "2026-11-29T09:01:35Z", as utc_now writes it (digits where it has digits).
+bool is_utc_stamp(const std::string& text) {
+    static constexpr std::string_view kForm = "dddd-dd-ddTdd:dd:ddZ";
+    if (text.size() != kForm.size()) return false;
+    for (std::size_t i = 0; i < text.size(); ++i)
+        if (kForm[i] == 'd' ? !std::isdigit(static_cast<unsigned char>(text[i])) : text[i] != kForm[i]) return false;
+    return true;
+}
+
+/// The bookkeeping a run writes beside the data: each replica's rank (-1 before it runs),
+/// progress (0 to 1), force evaluations (from 0), threads and wall seconds, the root's
+/// n_ranks and its time stamps. jamsim computes nothing from them, but `status`, the
+/// reports and merge copy them on, so a hand-edited progress of 5 or rank of -3 reached
+/// users as fact. "" when each is in its range, else the first that is not.
+std::string check_bookkeeping(hid_t f) {
+    constexpr double kMostRanks = 1 << 20;  // as run --ranks
+    const auto column = [f](const char* name) { return h5::read_dataset(f, std::string("/replicas/") + name); };
+    const auto entry = [](const char* name, std::size_t r, double v, const char* allowed) {
+        return std::string("/replicas/") + name + "[" + std::to_string(r) + "] is " + number_text(v) + " (" + allowed +
+               ")";
+    };
+    struct Range {
+        const char* name;
+        double low, high;
+        bool nan_allowed, whole;
+        const char* allowed;
+    };
+    static constexpr Range kRanges[] = {
+        {"rank", -1, kMostRanks - 1, false, true, "the MPI rank that ran it, from 0, or -1 before it runs"},
+        {"progress", 0, 1, false, false, "the fraction of its steps done, from 0 to 1"},
+        {"force_evaluations", 0, 9e18, false, true, "a whole count from 0"},
+        {"threads", 0, kMostRanks, false, false, "its mean threads, from 0 (0: not recorded)"},
+        {"wall_seconds", 0, 1e12, true, false, "its wall time in seconds from 0, or nan before it runs"}};
+    for (const Range& range : kRanges) {
+        if (!h5::exists(f, std::string("/replicas/") + range.name)) continue;
+        const std::vector<double> values = column(range.name);
+        for (std::size_t r = 0; r < values.size(); ++r) {
+            const double v = values[r];
+            if (std::isnan(v) && range.nan_allowed) continue;
+            if (!(v >= range.low && v <= range.high) || (range.whole && v != std::floor(v)))
+                return entry(range.name, r, v, range.allowed);
+        }
+    }
+    if (has_attribute(f, "n_ranks"))
+        if (const std::int64_t ranks = h5::read_int64_attribute(f, "n_ranks");
+            ranks < 0 || static_cast<double>(ranks) > kMostRanks)
+            return "its attribute n_ranks is " + std::to_string(ranks) + " (the ranks of its last run, from 0 to 2^20)";
+    if (has_attribute(f, "created"))
+        if (const std::string created = h5::read_string_attribute(f, "created"); !is_utc_stamp(created))
+            return "its attribute created is '" + created + "' (a UTC time such as 2026-11-29T09:01:35Z)";
+    for (const char* stamp : archive_detail::kStampAttributes)
+        if (has_attribute(f, stamp))
+            if (const std::string text = h5::read_string_attribute(f, stamp); !text.empty() && !is_utc_stamp(text))
+                return std::string("its attribute ") + stamp + " is '" + text +
+                       "' (empty or a UTC time such as 2026-11-29T09:01:35Z)";
+    return "";
+}
+
 /// The fingerprint version ("jamsim campaign v7") at the start of a fingerprint.
 std::string fingerprint_version(const std::string& fingerprint) {
     const std::string prefix = "jamsim campaign v";
@@ -273,7 +332,8 @@ bool is_replica_root(hid_t f) { return has_attribute(f, "identity") && has_attri
 /// n_ranks of text made `status` fail with an HDF5 read error); "" when they are.
 std::string check_attribute_classes(hid_t f) {
     static constexpr const char* kText[] = {"campaign",     "spec_path",   "spec_text",    "spec_fingerprint",
-                                            "code_version", "run_started", "run_finished", "merged"};
+                                            "code_version", "run_started", "run_finished", "merged",
+                                            "extended",     "grown",       "created"};
     static constexpr const char* kInteger[] = {"layout_version", "n_replicas", "n_ranks"};
     const auto class_of = [f](const char* name) {
         const h5::Handle attr(H5Aopen(f, name, H5P_DEFAULT), H5Aclose, std::string("open attribute ") + name);
@@ -356,7 +416,7 @@ std::string check_contents(const std::string& path) {
                "archive)";
     if (!has_link(f, "/replicas") || !has_link(f, "/replicas/status"))
         return quoted(path) + " is damaged: a jamsim campaign archive without /replicas/status";
-    for (const auto& check : {check_layout, check_counts, archive_detail::campaign_mismatch})
+    for (const auto& check : {check_layout, check_counts, check_bookkeeping, archive_detail::campaign_mismatch})
         if (const std::string bad = check(f); !bad.empty())
             return quoted(path) + " is damaged: " + bad +
                    "; jamsim writes no such archive (a hand-edited or broken copy?)";

@@ -44,7 +44,13 @@ set(bad_kinds
   "model_edited|model_edited.h5|'model_edited.h5' is damaged: its attribute model is \"XYZ\" where its stored campaign says \"RD0\""
   "phi_edited|phi_edited.h5|'phi_edited.h5' is damaged: /replicas/phi\\[0\\] is 0.5 where its stored campaign says 0.8"
   "no_seed|no_seed.h5|'no_seed.h5' is damaged: it has no /replicas/seed, which its campaign has"
-  "box_side_text|box_side_text.h5|'box_side_text.h5' is damaged: /final/box_side is not floating-point numbers")
+  "box_side_text|box_side_text.h5|'box_side_text.h5' is damaged: /final/box_side is not floating-point numbers"
+  "progress_high|progress_high.h5|'progress_high.h5' is damaged: /replicas/progress\\[0\\] is 5 \\(the fraction of its steps done, from 0 to 1\\)"
+  "rank_negative|rank_negative.h5|'rank_negative.h5' is damaged: /replicas/rank\\[0\\] is -3 \\(the MPI rank that ran it, from 0, or -1 before it runs\\)"
+  "evaluations_negative|evaluations_negative.h5|'evaluations_negative.h5' is damaged: /replicas/force_evaluations\\[0\\] is -1 \\(a whole count from 0\\)"
+  "ranks_negative|ranks_negative.h5|'ranks_negative.h5' is damaged: its attribute n_ranks is -3 \\(the ranks of its last run, from 0 to 2\\^20\\)"
+  "created_text|created_text.h5|'created_text.h5' is damaged: its attribute created is 'not a date' \\(a UTC time such as 2026-11-29T09:01:35Z\\)"
+  "status_float|status_float.h5|'status_float.h5' is damaged: /replicas/status is not integers \\(jamsim writes it so\\)")
 foreach(kind IN LISTS bad_kinds)
   jamsim_row_fields("${kind}" name file regex)
   add_test(NAME archive_file.status_${name}

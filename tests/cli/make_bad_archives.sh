@@ -14,6 +14,8 @@
 # (particle_offset = 1e12), samples_many.h5 (n_samples = 1e9), rows_many.h5 (rows_written 1e9);
 # spec_text_bad.h5 (its stored campaign no TOML), spec_text_other.h5 (another campaign's),
 # model_edited.h5, phi_edited.h5, no_seed.h5, box_side_text.h5 (against its stored campaign);
+# progress_high.h5, rank_negative.h5, evaluations_negative.h5, ranks_negative.h5,
+# created_text.h5, status_float.h5 (bookkeeping out of its range or of another class);
 # heap_zeroed.h5 and heap_last.h5 (the objects of its first or last global heap zeroed, as a
 # crash can leave them: HDF5 1.10 loops for ever reading its attributes; the first holds the
 # root's text, the last the datasets' descriptions, which no command reads: the check reads
@@ -25,7 +27,8 @@ rm -rf good.h5 good.h5.checkpoints empty.h5 text.h5 truncated.h5 plain.h5 replic
   layout.h5 version.h5 missing.h5 a_directory status_rows.h5 status_value.h5 series_cut.h5 final_cut.h5 \
   no_series.h5 final_nan.h5 box_negative.h5 ranks_text.h5 heap_zeroed.h5 heap_last.h5 n_nan.h5 n_zero.h5 \
   n_huge.h5 offset_far.h5 samples_many.h5 rows_many.h5 spec_text_bad.h5 spec_text_other.h5 model_edited.h5 \
-  phi_edited.h5 no_seed.h5 box_side_text.h5
+  phi_edited.h5 no_seed.h5 box_side_text.h5 progress_high.h5 rank_negative.h5 evaluations_negative.h5 \
+  ranks_negative.h5 created_text.h5 status_float.h5
 "$jamsim" run "$spec" -o good.h5 >/dev/null 2>&1
 : > empty.h5
 echo "not an archive" > text.h5
@@ -68,6 +71,12 @@ damaged("model_edited.h5", lambda f: f.attrs.__setitem__("model", "XYZ"))
 damaged("phi_edited.h5", lambda f: f["replicas/phi"].__setitem__(0, 0.5))
 damaged("no_seed.h5", lambda f: f.__delitem__("replicas/seed"))
 damaged("box_side_text.h5", lambda f: replace(f, "final/box_side", [b"x"]))
+damaged("progress_high.h5", lambda f: f["replicas/progress"].__setitem__(0, 5.0))
+damaged("rank_negative.h5", lambda f: f["replicas/rank"].__setitem__(0, -3))
+damaged("evaluations_negative.h5", lambda f: f["replicas/force_evaluations"].__setitem__(0, -1))
+damaged("ranks_negative.h5", lambda f: f.attrs.__setitem__("n_ranks", -3))
+damaged("created_text.h5", lambda f: f.attrs.__setitem__("created", "not a date"))
+damaged("status_float.h5", lambda f: replace(f, "replicas/status", f["replicas/status"][:].astype("f8")))
 for name, last in (("heap_zeroed.h5", False), ("heap_last.h5", True)):
     shutil.copy("good.h5", name)
     with open(name, "r+b") as f:  # "GCOL", version, reserved, the collection's size, objects

@@ -115,7 +115,38 @@ def _check_campaign(path, f):
         r = int(np.flatnonzero(bad)[0])
         raise _damaged(path, f"/replicas/n_samples[{r}] = {samples[r]:g} for a done replica; 0 to the "
                              f"{width} samples of /timeseries")
+    _check_bookkeeping(path, f)
     return rows
+
+
+# The bookkeeping a run writes beside the data, as jamsim's own archive check allows it
+# (check_bookkeeping in src/archive/archive_file_check.cpp): column, lowest, highest, NaN
+# allowed, whole numbers only, what is allowed.
+_MOST_RANKS = 2 ** 20
+BOOKKEEPING_RANGES = (
+    ("rank", -1, _MOST_RANKS - 1, False, True, "the MPI rank that ran it, from 0, or -1 before it runs"),
+    ("progress", 0, 1, False, False, "the fraction of its steps done, from 0 to 1"),
+    ("force_evaluations", 0, 9e18, False, True, "a whole count from 0"),
+    ("threads", 0, _MOST_RANKS, False, False, "its mean threads, from 0 (0: not recorded)"),
+    ("wall_seconds", 0, 1e12, True, False, "its wall time in seconds from 0, or nan before it runs"))
+
+
+def _check_bookkeeping(path, f):
+    """Each replica's rank, progress, force evaluations, threads and wall seconds in their
+    ranges, and /replicas/status whole numbers: the summary printed a hand-edited progress of 5
+    or a rank of -3 as fact, and read a status of 2.7 as done."""
+    if f["replicas/status"].dtype.kind not in "iu":
+        raise _damaged(path, f"/replicas/status holds {f['replicas/status'].dtype}, not integers (jamsim writes it so)")
+    for name, low, high, nan_allowed, whole, allowed in BOOKKEEPING_RANGES:
+        if name not in f["replicas"]:
+            continue
+        values = f[f"replicas/{name}"][...].astype(float)
+        good = (values >= low) & (values <= high) & (~whole | (values == np.floor(values)))
+        if nan_allowed:
+            good |= np.isnan(values)
+        if not good.all():
+            r = int(np.flatnonzero(~good)[0])
+            raise _damaged(path, f"/replicas/{name}[{r}] is {values[r]:g} ({allowed})")
 
 
 def _check_replica_file(path, f):

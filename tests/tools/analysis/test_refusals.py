@@ -75,6 +75,15 @@ CAMPAIGN_DAMAGE = {
     "phi_zero": (_set("replicas/phi", 0, 0.0), "replica 0 is done with N = 64, phi = 0"),
     "rate_negative": (_set("replicas/rate", 0, -1e-3), "replica 0 is done with rate = -0.001 (rate >= 0)"),
     "transient_missing": (_delete("replicas/transient"), "/replicas/transient is missing"),
+    "progress_high": (_set("replicas/progress", 0, 5.0),
+                      "/replicas/progress[0] is 5 (the fraction of its steps done, from 0 to 1)"),
+    "progress_nan": (_set("replicas/progress", 0, np.nan), "/replicas/progress[0] is nan"),
+    "rank_negative": (_set("replicas/rank", 0, -3), "/replicas/rank[0] is -3 (the MPI rank that ran it"),
+    "evaluations_negative": (_set("replicas/force_evaluations", 0, -1),
+                             "/replicas/force_evaluations[0] is -1 (a whole count from 0)"),
+    "wall_negative": (_set("replicas/wall_seconds", 0, -2.0), "/replicas/wall_seconds[0] is -2"),
+    "status_float": (lambda f: _replace("replicas/status", f["replicas/status"][...].astype("f8"))(f),
+                     "/replicas/status holds float64, not integers"),
 }
 
 
