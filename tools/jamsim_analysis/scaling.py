@@ -205,10 +205,16 @@ def collapse_points(groups, observable, N=None, phi_range=(-np.inf, np.inf), rat
     n = sizes[-1] if N is None else N
     if n not in sizes:
         raise AnalysisError(f"N = {n} is not in the data (sizes: {', '.join(str(int(s)) for s in sizes)})")
-    g = g[(g["N"] == n) & (g["phi"] >= phi_range[0]) & (g["phi"] <= phi_range[1]) & (g["rate"] <= rate_max)]
-    g = g[g["seeds"] >= min_seeds]
+    sized = g[g["N"] == n]
+    in_window = sized[(sized["phi"] >= phi_range[0]) & (sized["phi"] <= phi_range[1]) & (sized["rate"] <= rate_max)]
+    g = in_window[in_window["seeds"] >= min_seeds]
     if g.empty:
-        raise AnalysisError(f"no (phi, rate) point of N = {int(n)} with at least {min_seeds} seeds in the window")
+        window = f"{phi_range[0]:g} <= phi <= {phi_range[1]:g}, rate <= {rate_max:g}"
+        found = (f"{len(in_window)} point(s) there, with at most {int(in_window['seeds'].max())} seed(s)"
+                 if len(in_window) else "the data of that N have phi " +
+                 f"{sized['phi'].min():g} to {sized['phi'].max():g} and rate {sized['rate'].min():g} to {sized['rate'].max():g}")
+        raise AnalysisError(f"no (phi, rate) point of N = {int(n)} with at least {min_seeds} seeds in the window "
+                            f"{window} ({found})")
     return pd.DataFrame({"phi": g["phi"], "rate": g["rate"], "value": g[observable],
                          "error": stats.fit_errors(g, observable), "seeds": g["seeds"],
                          "group": g["model"] if "model" in g else ""}).reset_index(drop=True)

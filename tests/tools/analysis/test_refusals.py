@@ -348,3 +348,10 @@ def test_a_closed_pipe_is_no_damaged_archive(small_archive):
     out = subprocess.run(f"'{PYTHON}' '{ANALYZE}' averages '{small_archive}' | head -c 1", shell=True,
                          capture_output=True, text=True, timeout=120)
     assert "damaged" not in out.stderr and "Traceback" not in out.stderr, out.stderr
+
+
+def test_an_empty_collapse_window_names_the_window_and_the_data(small_archive, tmp_path):
+    """The refusal named neither the window asked for nor where the data lie."""
+    out = run(ANALYZE, "collapse", small_archive, str(tmp_path / "out"), "--phi-min", "0.95", "--phi-max", "0.96")
+    refused(out, "in the window 0.95 <= phi <= 0.96, rate <= inf (the data of that N have phi ")
+    assert not os.path.exists(tmp_path / "out" / "collapse_pressure.csv")
