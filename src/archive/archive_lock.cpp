@@ -9,8 +9,11 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <string>
+#include <string_view>
 #include <utility>
+#include <vector>
 
 #include "jamsim/archive/archive.hpp"
 #include "jamsim/parallel/mpi.hpp"
@@ -99,6 +102,38 @@ static bool names(const std::string& path, int fd) {
 }
 
 std::string lock_path(const std::string& archive_path) { return archive_path + ".lock"; }
+
+std::vector<std::string> remove_stale_mpi_locks(const std::string& archive_path) {
+    namespace fs = std::filesystem;
+    const fs::path archive(archive_path);
+    const fs::path folder = archive.has_parent_path() ? archive.parent_path() : fs::path(".");
+    const std::string base = archive.filename().string();
+    // BASE[.extending|.growing]-DIGITS-DIGITS.lock
+    const auto is_mpi_lock = [&](const std::string& name) {
+        for (const char* suffix : {"", ".extending", ".growing"}) {
+            const std::string stem = base + suffix + "-";
+            if (!name.starts_with(stem) || !name.ends_with(".lock")) continue;
+            const std::string middle = name.substr(stem.size(), name.size() - stem.size() - 5);
+            const std::size_t dash = middle.find('-');
+            const auto digits = [](std::string_view t) {
+                return !t.empty() && t.find_first_not_of("0123456789") == std::string_view::npos;
+            };
+            if (dash != std::string::npos && digits(std::string_view(middle).substr(0, dash)) &&
+                digits(std::string_view(middle).substr(dash + 1)))
+                return true;
+        }
+        return false;
+    };
+    std::vector<std::string> removed;
+    std::error_code ec;
+    for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        std::error_code gone;
+        if (is_mpi_lock(name) && it->is_regular_file(gone) && fs::remove(it->path(), gone))
+            removed.push_back(it->path().string());
+    }
+    return removed;
+}
 
 ArchiveLock ArchiveLock::acquire(MPI_Comm comm, const std::string& archive_path, const std::string& command) {
     const std::string path = lock_path(archive_path);

@@ -102,11 +102,13 @@ std::string check_capacity(const CapacityEstimate& e, const CapacityLimits& limi
         return spec.path + ": the archive '" + output + "' would take " + show_bytes(e.archive_bytes) + " (" + shape +
                "), more than the cap of " + show_bytes(limits.max_archive_bytes) +
                ": check N, seeds, strain and sample_interval, or raise the cap with --max-archive-size";
-    const double needed = std::max(0.0, e.archive_bytes - e.archive_present) + e.checkpoint_bytes;
+    const double needed =
+        (e.beside_old ? e.archive_bytes : std::max(0.0, e.archive_bytes - e.archive_present)) + e.checkpoint_bytes;
     if (std::isfinite(e.free_bytes) && needed > (1.0 - kDiskMargin) * e.free_bytes)
         return spec.path + ": the archive '" + output + "' needs " + show_bytes(needed) + " more (" +
-               show_bytes(e.archive_bytes) + " of archive for " + shape + ", " + show_bytes(e.checkpoint_bytes) +
-               " of checkpoints), but its filesystem has " + show_bytes(e.free_bytes) +
+               show_bytes(e.archive_bytes) + " of archive for " + shape +
+               (e.beside_old ? ", written whole beside the old one before it replaces it" : "") + ", " +
+               show_bytes(e.checkpoint_bytes) + " of checkpoints), but its filesystem has " + show_bytes(e.free_bytes) +
                " free (jamsim leaves 10% of it free): write it to a larger filesystem (-o) or make the "
                "campaign smaller (fewer replicas or samples: a larger sample_interval)";
     if (std::isfinite(e.node_memory) && e.rank_memory * e.ranks_per_node > kMemoryMargin * e.node_memory)

@@ -45,6 +45,8 @@ void undo_interrupted_creation(const CampaignSpec& spec, RunDecision& d) {
             d.notes.push_back(done);
         if (const std::string done = Archive::remove_interrupted_extension(d.output); !done.empty())
             d.notes.push_back(done);
+        for (const std::string& left : remove_stale_mpi_locks(d.output))
+            d.notes.push_back("removed '" + left + "', an MPI lock file left by a run that was killed or aborted");
     } catch (const ArchiveBusy&) {
     } catch (const h5::Error& e) { throw SpecError(spec.path + ": " + e.what()); }
 }
@@ -104,16 +106,19 @@ void check_campaign(const RunRequest& request, const CampaignSpec& spec, RunDeci
         if (const std::string odd = not_a_regular_file(d.output); !odd.empty())
             throw SpecError(spec.path + ": [campaign] output = \"" + d.output +
                             "\" is not allowed: a regular file: " + odd);
+    // What a kill or a failed write left beside the archive goes first: its bytes are free
+    // for the size check (a failed extension's PATH.extending used to take them, and the
+    // rerun was refused for want of the space it held).
+    if (!request.dry_run) {
+        undo_interrupted_creation(spec, d);
+        finish_interrupted_growth(spec, d);
+    }
     // Size and memory before anything is created.
     d.capacity = estimate_capacity(spec, d.output, request.ranks, request.node_ranks);
     d.sized = true;
     if (std::string too_large = check_capacity(d.capacity, request.limits, spec, d.output); !too_large.empty()) {
         if (!request.dry_run) throw SpecError(too_large);
         d.dry_run_refusal = std::move(too_large);
-    }
-    if (!request.dry_run) {
-        undo_interrupted_creation(spec, d);
-        finish_interrupted_growth(spec, d);
     }
     // A dry run writes nothing, but an existing archive it names must fit the campaign (one
     // whose creation was interrupted is made anew).
@@ -124,6 +129,13 @@ void check_campaign(const RunRequest& request, const CampaignSpec& spec, RunDeci
     else
         d.error = check_output_folder(d.output, spec, false);  // what the run would refuse
     for (const std::int64_t from : d.grow_source) d.grow_kept += from >= 0;
+    if (d.error.empty() && d.dry_run_refusal.empty() && (d.mode == OutputMode::Extend || d.mode == OutputMode::Grow)) {
+        d.capacity.beside_old = true;  // checked again: the new archive is written whole first
+        if (std::string too_large = check_capacity(d.capacity, request.limits, spec, d.output); !too_large.empty()) {
+            if (!request.dry_run) throw SpecError(too_large);
+            d.dry_run_refusal = std::move(too_large);
+        }
+    }
     // The checkpoints beside the archive are keyed by its replica ids (before a growth, those
     // of the archive's campaign).
     if (d.error.empty())

@@ -74,3 +74,50 @@ grep -Eq "^jamsim replica: the replica file 'r.h5' needs about [0-9.]+ [kM]B \(N
 ! compgen -G "r.h5*" > /dev/null || { echo "FAIL: a replica file is left: $(ls r.h5*)"; exit 1; }
 rm filler
 echo "ok: replica -o on a full filesystem: refused before the run"
+
+# An extension to longer runs writes the new archive whole beside the old one before it
+# replaces it: with room for the growth but not for the whole new archive it is refused before
+# anything is written (it used to pass the size check and abort half-way through the new
+# copy), and the archive is unchanged.
+mount -o remount,size=12M "$work/small"
+sed 's/^strain = 2$/strain = 2.5/' big.toml > longer.toml
+dd if=/dev/zero of=filler bs=64k 2>/dev/null || true
+rc=0; "$jamsim" run longer.toml > "$work/longer.txt" 2>&1 || rc=$?
+rm filler
+[[ $rc -eq 2 ]] || { cat "$work/longer.txt"; echo "FAIL: exit $rc on a full filesystem, expected 2"; exit 1; }
+needed=$(/usr/bin/python3 - "$work/longer.txt" <<'PY'
+import re, sys
+m = re.search(r"needs ([0-9.]+) (kB|MB) more \(", open(sys.argv[1]).read())
+print(int(float(m.group(1)) * {"kB": 1e3, "MB": 1e6}[m.group(2)]))
+PY
+)
+# (that check took the growth alone: what the new archive needs beyond the old one's blocks)
+present=$(( $(stat -c '%b * %B' big.h5) ))
+free=$(df -B1 --output=avail . | tail -1)
+# Free space for the growth and half the old archive more, not for the whole new archive.
+leave=$(( (needed + present / 2) * 10 / 9 ))
+(( free > leave )) || { echo "FAIL: the test's filesystem is too small ($free bytes free, $leave wanted)"; exit 1; }
+dd if=/dev/zero of=filler bs=4096 count=$(( (free - leave) / 4096 )) 2>/dev/null
+before=$(sha256sum < big.h5)
+rc=0; "$jamsim" run longer.toml > "$work/longer.txt" 2>&1 || rc=$?
+cat "$work/longer.txt"
+[[ $rc -eq 2 ]] || { echo "FAIL: exit $rc with room for the growth only, expected 2"; exit 1; }
+grep -q "written whole beside the old one before it replaces it" "$work/longer.txt"
+[[ "$(sha256sum < big.h5)" == "$before" ]] || { echo "FAIL: the archive changed"; exit 1; }
+! compgen -G "big.h5.extending*" > /dev/null || { echo "FAIL: left beside it: $(ls big.h5.extending*)"; exit 1; }
+rm filler
+echo "ok: an extension that the filesystem cannot hold whole is refused before it writes"
+
+# What a failed extension left (its new copy, Open MPI's lock files of an aborted singleton)
+# is removed before the size check, which it used to fail with the space it held itself.
+free=$(df -B1 --output=avail . | tail -1)
+dd if=/dev/zero of=big.h5.extending bs=4096 count=$(( (free - (needed + present) * 10 / 9 / 2) / 4096 )) 2>/dev/null
+: > big.h5.extending-1-4242.lock
+: > big.h5-3-4243.lock
+: > big.h5-x-1.lock  # not Open MPI's name: kept
+"$jamsim" run longer.toml > "$work/longer.txt" 2>&1 || { cat "$work/longer.txt"; echo "FAIL: the extension after a failed one"; exit 1; }
+grep -q "removed 'big.h5.extending', left by an extension that a kill interrupted" "$work/longer.txt"
+grep -q "removed '.*big.h5.extending-1-4242.lock', an MPI lock file left by a run that was killed or aborted" "$work/longer.txt"
+[[ ! -e big.h5.extending-1-4242.lock && ! -e big.h5-3-4243.lock && -e big.h5-x-1.lock ]] || { ls; echo "FAIL: lock files"; exit 1; }
+"$jamsim" status big.h5 | grep -q "10/10 done"
+echo "ok: a failed extension's leftovers removed first, then extended"

@@ -12,6 +12,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace jamsim {
 
@@ -21,6 +22,13 @@ struct ArchiveBusy : std::runtime_error {
 };
 
 std::string lock_path(const std::string& archive_path);
+
+/// Removes the lock files that Open MPI's shared-file-pointer component `lockedfile` (a
+/// singleton's: jamsim leaves `sm` out there) makes beside a file it opens,
+/// PATH-<communicator>-<pid>.lock, for `archive_path` and its PATH.extending and PATH.growing.
+/// Open MPI removes them at close; a killed or aborted run left them for good. Call it only
+/// while no live run holds the archive (ArchiveLock::check_free); returns the names removed.
+std::vector<std::string> remove_stale_mpi_locks(const std::string& archive_path);
 
 class ArchiveLock {
   public:

@@ -12,10 +12,13 @@ namespace jamsim {
 
 /// Bytes; NaN where the machine does not say.
 struct CapacityEstimate {
-    double archive_bytes = 0;     ///< the archive once every replica is written
-    double frame_bytes = 0;       ///< of which configuration frames ([run] frame_interval)
-    double frames = 0;            ///< frames per replica (the most of any)
-    double archive_present = 0;   ///< what an existing archive already occupies on disk
+    double archive_bytes = 0;    ///< the archive once every replica is written
+    double frame_bytes = 0;      ///< of which configuration frames ([run] frame_interval)
+    double frames = 0;           ///< frames per replica (the most of any)
+    double archive_present = 0;  ///< what an existing archive already occupies on disk
+    /// An extension or growth writes the whole new archive beside the old one (PATH.extending,
+    /// PATH.growing) before it replaces it: then the new archive needs all its bytes.
+    bool beside_old = false;
     double checkpoint_bytes = 0;  ///< checkpoint files at their largest (running and final)
     double free_bytes = 0;        ///< free space on the output's filesystem (for this user)
     double rank_memory = 0;       ///< one rank: the libraries, the spec and its largest replica
