@@ -219,7 +219,8 @@ bool set_value(ReplicaParams& p, const ParamInfo& info, const ParamValue& value)
             if constexpr (std::is_same_v<T, std::string>) {
                 if (const auto* s = std::get_if<std::string>(&value)) return target = *s, true;
             } else if constexpr (std::is_same_v<T, double>) {
-                if (const auto* d = std::get_if<double>(&value)) return target = *d, true;
+                // -0 is 0: a rate of -0 was a replica of its own beside rate 0 (and stored as -0).
+                if (const auto* d = std::get_if<double>(&value)) return target = *d == 0.0 ? 0.0 : *d, true;
                 if (const auto* i = std::get_if<std::int64_t>(&value)) return target = static_cast<double>(*i), true;
             } else {  // integers
                 if (const auto* i = std::get_if<std::int64_t>(&value)) {

@@ -144,7 +144,8 @@ void make_replicas(const Reader& r, const std::vector<Point>& points, Seeds seed
                    std::int64_t max_replicas, int memory_ranks, CampaignSpec& spec) {
     std::vector<std::uint64_t>& seeds = seeds_read.listed;
     const std::int64_t seed_count = seeds_read.count;
-    if (points.empty()) r.fail("[sweep]", "{}", "N, phi and rate lists, or points = [...], or both");
+    if (points.empty())
+        throw SpecError(r.path() + ": [sweep] makes no replica: give it N, phi and rate lists, or points = [...], or both");
     // The sweep's size, before a replica is made: a typo (seeds = 10000000) must not fill
     // the memory of every rank.
     const double seeds_per_point = seed_count > 0 ? static_cast<double>(seed_count) : static_cast<double>(seeds.size());
@@ -177,7 +178,7 @@ void make_replicas(const Reader& r, const std::vector<Point>& points, Seeds seed
             ReplicaParams p = base;
             p.n = pt.n;
             p.phi = pt.phi;
-            p.rate = pt.rate;
+            p.rate = pt.rate == 0.0 ? 0.0 : pt.rate;  // -0 is 0 (it made a replica of its own)
             p.seed = seed;
             const auto errors = validate(p);
             if (!errors.empty()) {
@@ -204,12 +205,12 @@ void check_each_once(const Reader& r, const CampaignSpec& spec) {
             const ReplicaParams& p = spec.replicas[k];
             const auto [it, fresh] = seen.emplace(describe(p), k);
             if (fresh) continue;
-            r.fail("[sweep]",
-                   "N = " + std::to_string(p.n) + ", phi = " + show_value(p.phi) + ", rate = " + show_value(p.rate) +
-                       ", seed = " + std::to_string(p.seed),
-                   "each replica once: replicas " + std::to_string(it->second) + " and " + std::to_string(k) +
-                       " are the same (a seed, N, phi or rate listed twice, or a point that repeats the grid "
-                       "or another point); list each value once");
+            throw SpecError(r.path() + ": [sweep] makes the replica N = " + std::to_string(p.n) +
+                            ", phi = " + show_value(p.phi) + ", rate = " + show_value(p.rate) +
+                            ", seed = " + std::to_string(p.seed) + " twice (replicas " + std::to_string(it->second) +
+                            " and " + std::to_string(k) +
+                            "), which is not allowed: each replica once (a seed, N, phi or rate listed twice, or a "
+                            "point that repeats the grid or another point); list each value once");
         }
     }
 }

@@ -283,7 +283,7 @@ open_one_rank)  # one rank cannot open the archive: every rank refuses together,
 refusals)  # runs no job can finish, duplicates, misleading inputs: one clear message each
   run huge.log run "$here/huge_run.toml" --dry-run; expect_in 'would take about [0-9.e+]+ core-years' huge.log
   run dup.log run "$here/duplicate_seeds.toml"; expect_rc 2 dup.log
-  expect_in 'replicas 0 and 2 are the same' dup.log
+  expect_in 'twice \(replicas 0 and 2\), which is not allowed: each replica once' dup.log
   [[ ! -e dup.h5 ]] || fail "an archive was written"
   ;;
 *) fail "unknown case" ;;
