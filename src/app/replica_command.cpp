@@ -88,6 +88,13 @@ ReplicaParams params_of(const ReplicaOptions& opt) {
             usage_error(std::string(find_parameter(key)->flag.substr(2)), text, "not used by model " + params.model);
         }
     }
+    // A checkpoint interval the replica never reaches never checkpoints (as a campaign refuses it).
+    if (const auto given = opt.given.find("checkpoint_steps"); given != opt.given.end() &&
+                                                               uses_parameter(params, "checkpoint_steps") &&
+                                                               params.checkpoint_steps > checkpointed_steps(params))
+        usage_error("checkpoint-steps", given->second,
+                    "at most the replica's " + std::to_string(checkpointed_steps(params)) +
+                        " steps (a longer interval never checkpoints)");
     // Memory, as jamsim run checks a campaign's: a large N or a dilute box (the cell grid)
     // would otherwise run into std::bad_alloc, or the node's out-of-memory killer.
     if (const std::string too_large = check_replica_memory(params); !too_large.empty())
