@@ -105,6 +105,7 @@ void check_output(const std::string& path) {
     const fs::path p(path);
     const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
     std::error_code ec;
+    if (const std::string why = odd_file_name(path); !why.empty()) refuse("-o = '" + path + "' is not allowed: " + why);
     if (!fs::is_directory(dir, ec))
         refuse("-o = '" + path + "' is not allowed: a file in an existing directory ('" + dir.string() +
                "' does not exist)");

@@ -148,7 +148,7 @@ inline std::string writable_new_file(const std::string& path) {
     if (fs::is_symlink(fs::symlink_status(p, ec)))
         return "a file's own path, not a symbolic link ('" + path +
                "' is one: the output would replace the link, not write what it names)";
-    if (const std::string why = spaced_file_name(p.filename().string()); !why.empty()) return why;
+    if (const std::string why = odd_file_name(path); !why.empty()) return why;
     if (!fs::is_directory(dir, ec)) return "a file in an existing directory ('" + dir.string() + "' does not exist)";
     if (::access(dir.c_str(), W_OK) != 0)
         return "a file in a writable directory ('" + dir.string() + "' is not writable)";

@@ -8,6 +8,7 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
@@ -457,7 +458,11 @@ std::string diagnose_archive_file(const std::string& path) {
     }
 }
 
-std::string spaced_file_name(const std::string& name) {
+std::string odd_file_name(const std::string& path) {
+    if (std::any_of(path.begin(), path.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }))
+        return "a path without line breaks or control characters";
+    if (path == "-") return "a file name, not '-' (jamsim writes its files to disk, never to standard output)";
+    const std::string name = std::filesystem::path(path).filename().string();
     const auto blank = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
     if (name.empty() || (!blank(name.front()) && !blank(name.back()))) return "";
     return "a file name that neither starts nor ends with white space ('" + name +
@@ -477,7 +482,7 @@ std::string output_path_problem(const std::string& path) {
     const std::string name = p.filename().string();
     if (name.empty() || name == "." || name == "..")
         return "a file path, not a folder ('" + path + "' ends in '" + (name.empty() ? "/" : name) + "')";
-    if (const std::string why = spaced_file_name(name); !why.empty()) return why;
+    if (const std::string why = odd_file_name(path); !why.empty()) return why;
     struct stat st {};
     if (::stat(path.c_str(), &st) != 0) {
         const int stat_error = errno;

@@ -104,7 +104,7 @@ void check_campaign(const RunRequest& request, const CampaignSpec& spec, RunDeci
     // Before anything opens it: a FIFO blocked the first open() for good, deaf to SIGTERM.
     if (std::error_code ec; !std::filesystem::is_directory(d.output, ec))  // the folder checks say that
         if (const std::string odd = not_a_regular_file(d.output); !odd.empty())
-            throw SpecError(spec.path + ": [campaign] output = \"" + d.output +
+            throw SpecError(spec.path + (request.output.empty() ? ": [campaign] output = \"" : ": -o \"") + d.output +
                             "\" is not allowed: a regular file: " + odd);
     // What a kill or a failed write left beside the archive goes first: its bytes are free
     // for the size check (a failed extension's PATH.extending used to take them, and the
@@ -138,6 +138,10 @@ void check_campaign(const RunRequest& request, const CampaignSpec& spec, RunDeci
     }
     // The checkpoints beside the archive are keyed by its replica ids (before a growth, those
     // of the archive's campaign).
+    // An output given as -o is named so: "[campaign] output = ..." blamed the campaign file.
+    if (const std::string file_key = spec.path + ": [campaign] output = \"";
+        !request.output.empty() && d.error.starts_with(file_key))
+        d.error = spec.path + ": -o \"" + d.error.substr(file_key.size());
     if (d.error.empty())
         d.error = check_checkpoints(d.output, d.mode == OutputMode::Grow ? read_stored_campaign(d.output).spec : spec);
     if (d.error.empty()) d.error = check_petsc_options(spec);

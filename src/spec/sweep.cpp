@@ -145,7 +145,8 @@ void make_replicas(const Reader& r, const std::vector<Point>& points, Seeds seed
     std::vector<std::uint64_t>& seeds = seeds_read.listed;
     const std::int64_t seed_count = seeds_read.count;
     if (points.empty())
-        throw SpecError(r.path() + ": [sweep] makes no replica: give it N, phi and rate lists, or points = [...], or both");
+        throw SpecError(r.path() +
+                        ": [sweep] makes no replica: give it N, phi and rate lists, or points = [...], or both");
     // The sweep's size, before a replica is made: a typo (seeds = 10000000) must not fill
     // the memory of every rank.
     const double seeds_per_point = seed_count > 0 ? static_cast<double>(seed_count) : static_cast<double>(seeds.size());

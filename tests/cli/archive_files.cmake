@@ -97,19 +97,19 @@ endforeach()
 # An output named with white space at an end (-o ' ': HDF5's create failed without a reason,
 # and replica wrote a file named ' '), and one through a symbolic link into a folder that does
 # not exist (the same failure): refused before any work.
-jamsim_cli_error(run_output_blank "\\[campaign\\] output = \" \" is not allowed: a file name that neither starts nor ends with white space"
+jamsim_cli_error(run_output_blank "-o \" \" is not allowed: a file name that neither starts nor ends with white space"
   run ${campaigns}/other_campaign.toml -o " ")
 jamsim_cli_error(replica_output_spaced "--output =  x.h5 is not allowed: a file name that neither starts nor ends with white space"
   replica --N 16 -o " x.h5")
 add_test(NAME cli.run_output_dangling_link
   COMMAND bash -c "ln -sfn /nonexistent-jamsim-folder/x.h5 dangling.h5 && exec \"$0\" \"$@\"" ${expect}
-    "output = \"dangling.h5\" is not allowed: a file that can be made: 'dangling.h5' is a symbolic link to '/nonexistent-jamsim-folder/x.h5', whose folder '/nonexistent-jamsim-folder' does not exist"
+    "-o \"dangling.h5\" is not allowed: a file that can be made: 'dangling.h5' is a symbolic link to '/nonexistent-jamsim-folder/x.h5', whose folder '/nonexistent-jamsim-folder' does not exist"
     ${out} $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml -o dangling.h5
   WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
 set_tests_properties(cli.run_output_dangling_link PROPERTIES LABELS unit ENVIRONMENT "EXPECT_STATUS=2")
 # A run on a directory says so too (a file path is needed).
 add_test(NAME archive_file.run_directory
-  COMMAND ${expect} "output = \"a_directory\" is not allowed: a file path, not a directory" ${bad_dir}/none.h5 $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml -o a_directory
+  COMMAND ${expect} "-o \"a_directory\" is not allowed: a file path, not a directory" ${bad_dir}/none.h5 $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml -o a_directory
   WORKING_DIRECTORY ${bad_dir})
 # The good archive passes, and a finished one says it is complete.
 add_test(NAME archive_file.status_good
@@ -145,7 +145,7 @@ set_tests_properties(archive_file.interrupted_creation PROPERTIES LABELS unit)
 # read-only archive (written anyway by root, an HDF5 abort otherwise). Refused by run and
 # merge before any work, nothing left behind.
 add_test(NAME archive_file.output_not_a_file
-  COMMAND bash -c "set -e; rm -rf ro.h5 ro.h5.lock loop.h5 loop.h5.lock slash; $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml -o ro.h5 > /dev/null 2>&1; chmod 444 ro.h5; ln -s loop.h5 loop.h5; for o in slash/ slash/. loop.h5 ro.h5; do ! $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml -o $o 2> run.txt; cat run.txt; grep -q \"output = .$o. is not allowed: \" run.txt; ! $<TARGET_FILE:jamsim> merge $o good.h5 2> merge.txt; cat merge.txt; grep -q '^jamsim merge: refusing the output: ' merge.txt; done; grep -q 'read-only (mode 0444)' run.txt; test ! -e slash -a ! -e ro.h5.lock -a ! -e loop.h5.lock; ! grep -q MPI_ABORT run.txt merge.txt"
+  COMMAND bash -c "set -e; rm -rf ro.h5 ro.h5.lock loop.h5 loop.h5.lock slash; $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml -o ro.h5 > /dev/null 2>&1; chmod 444 ro.h5; ln -s loop.h5 loop.h5; for o in slash/ slash/. loop.h5 ro.h5; do ! $<TARGET_FILE:jamsim> run ${campaigns}/other_campaign.toml -o $o 2> run.txt; cat run.txt; grep -q -e \"-o .$o. is not allowed: \" run.txt; ! $<TARGET_FILE:jamsim> merge $o good.h5 2> merge.txt; cat merge.txt; grep -q '^jamsim merge: refusing the output: ' merge.txt; done; grep -q 'read-only (mode 0444)' run.txt; test ! -e slash -a ! -e ro.h5.lock -a ! -e loop.h5.lock; ! grep -q MPI_ABORT run.txt merge.txt"
   WORKING_DIRECTORY ${bad_dir})
 set_tests_properties(archive_file.output_not_a_file PROPERTIES LABELS unit FIXTURES_REQUIRED bad_archives
   RESOURCE_LOCK bad_archives)

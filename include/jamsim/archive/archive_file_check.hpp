@@ -30,9 +30,11 @@ std::string not_a_regular_file(const std::string& path);
 /// folder), one that cannot be examined (a loop of symbolic links), an existing file that is
 /// read-only (no write bit: kept even for root, who may write it anyway).
 std::string output_path_problem(const std::string& path);
-/// "" unless a file name starts or ends with white space (`-o ' '`: a quoting mistake, which
-/// HDF5 could not create), else what is allowed.
-std::string spaced_file_name(const std::string& name);
+/// "" unless a path names a file jamsim should not make, else what is allowed: a name that
+/// starts or ends with white space (`-o ' '`: a quoting mistake, which HDF5 could not create),
+/// a path with a line break or another control character (it split every log line that names
+/// it), or '-' (standard output to most tools; jamsim made a file named '-').
+std::string odd_file_name(const std::string& path);
 
 /// Whether `path` is a single-replica file of jamsim replica (an HDF5 file whose root has the
 /// identity and model attributes, and not a campaign archive's): the one kind of existing
