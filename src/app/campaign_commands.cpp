@@ -308,8 +308,9 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
         ->default_str("10")
         ->type_name("SECONDS");
     cmd->add_flag("--retry-failed", opt->retry_failed,
-                  "Run the failed replicas of an existing archive again (after a fix to the code "
-                  "or the machine; the campaign itself cannot change)");
+                  "Run the failed replicas of an existing archive again, besides the pending ones "
+                  "(after a fix to the code or the machine; their parameters are the campaign's, so a "
+                  "failure that they cause comes back; with a new archive there is nothing to retry)");
     cmd->add_option_function<std::string>(
            "--checkpoint-every",
            [opt](const std::string& v) {

@@ -61,7 +61,8 @@ set_tests_properties(cli.replica_phi_too_dilute cli.replica_memory PROPERTIES LA
 # A final state that jamsim cannot have written (a hand-edited archive): export writes no
 # LAMMPS file of it (it wrote nan positions or a negative box, exit 0), --initial starts no
 # replica from it.
-foreach(entry "final_nan|x = nan at disk 3" "box_negative|box_side = -1")
+foreach(entry "final_nan|x = nan at disk 3" "box_negative|box_side = -1"
+    "box_strain_far|box_strain = 7 \\(the box keeps it from -1/2 to 1/2\\)")
   jamsim_row_fields("${entry}" name words)
   add_test(NAME archive_file.export_${name}
     COMMAND ${expect} "^jamsim export: replica 0 of '${name}.h5' cannot be exported: its final state has ${words}; jamsim writes no such state"

@@ -9,7 +9,7 @@
 # status_value.h5 (a status of 9), series_cut.h5 (/timeseries/pressure cut to 2 samples),
 # final_cut.h5 (/final/x cut to 3 disks), no_series.h5 (no /timeseries); and two whose layout
 # is whole but whose final state jamsim cannot have written: final_nan.h5 (x = nan at disk 3),
-# box_negative.h5 (/final/box_side = -1); ranks_text.h5 (the n_ranks attribute as text);
+# box_negative.h5 (/final/box_side = -1), box_strain_far.h5 (/final/box_strain = 7); ranks_text.h5 (the n_ranks attribute as text);
 # n_nan.h5, n_zero.h5, n_huge.h5 (/replicas/N = nan, 0, 1e12), offset_far.h5
 # (particle_offset = 1e12), samples_many.h5 (n_samples = 1e9), rows_many.h5 (rows_written 1e9);
 # spec_text_bad.h5 (its stored campaign no TOML), spec_text_other.h5 (another campaign's),
@@ -28,7 +28,7 @@ rm -rf good.h5 good.h5.checkpoints empty.h5 text.h5 truncated.h5 plain.h5 replic
   no_series.h5 final_nan.h5 box_negative.h5 ranks_text.h5 heap_zeroed.h5 heap_last.h5 n_nan.h5 n_zero.h5 \
   n_huge.h5 offset_far.h5 samples_many.h5 rows_many.h5 spec_text_bad.h5 spec_text_other.h5 model_edited.h5 \
   phi_edited.h5 no_seed.h5 box_side_text.h5 progress_high.h5 rank_negative.h5 evaluations_negative.h5 \
-  ranks_negative.h5 created_text.h5 status_float.h5
+  ranks_negative.h5 created_text.h5 status_float.h5 box_strain_far.h5
 "$jamsim" run "$spec" -o good.h5 >/dev/null 2>&1
 : > empty.h5
 echo "not an archive" > text.h5
@@ -58,6 +58,7 @@ damaged("final_cut.h5", lambda f: replace(f, "final/x", f["final/x"][:3]))
 damaged("no_series.h5", lambda f: f.__delitem__("timeseries"))
 damaged("final_nan.h5", lambda f: f["final/x"].__setitem__(3, float("nan")))
 damaged("box_negative.h5", lambda f: f["final/box_side"].__setitem__(0, -1.0))
+damaged("box_strain_far.h5", lambda f: f["final/box_strain"].__setitem__(0, 7.0))
 damaged("ranks_text.h5", lambda f: f.attrs.__setitem__("n_ranks", "two"))
 damaged("n_nan.h5", lambda f: f["replicas/N"].__setitem__(0, float("nan")))
 damaged("n_zero.h5", lambda f: f["replicas/N"].__setitem__(0, 0.0))
