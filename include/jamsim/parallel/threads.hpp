@@ -11,8 +11,13 @@
 
 namespace jamsim {
 
-/// Threads a kernel loop may use (OpenMP's nthreads-var; 1 when OpenMP says so).
-inline int kernel_threads() { return omp_get_max_threads(); }
+/// Threads a kernel loop may use: OpenMP's nthreads-var, within its thread-limit-var
+/// (OMP_THREAD_LIMIT=1 with OMP_NUM_THREADS=2 runs one thread, which the log called 2).
+inline int kernel_threads() {
+    const int limit = omp_get_thread_limit();
+    const int wanted = omp_get_max_threads();
+    return limit > 0 && limit < wanted ? limit : wanted;
+}
 
 /// Set the threads of every later kernel loop on this process (>= 1).
 inline void set_kernel_threads(int threads) { omp_set_num_threads(threads); }
