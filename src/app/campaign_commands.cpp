@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <cstdlib>
 #include <memory>
 #include <sstream>
@@ -207,6 +208,12 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
                          "failed (%s); the replicas finished before are safe in it (jamsim status "
                          "%s): free space and run the same command again to continue\n",
                          rank, decision.output.c_str(), e.what(), decision.output.c_str());
+        else if (dynamic_cast<const std::filesystem::filesystem_error*>(&e))
+            std::fprintf(stderr,
+                         "jamsim run (rank %d): the filesystem refused a checkpoint beside the archive (%s); the "
+                         "replicas finished before and the checkpoints are kept: mend the filesystem (space, "
+                         "quota, permissions) and run the same command again to continue\n",
+                         rank, e.what());
         else
             std::fprintf(stderr, "jamsim run (rank %d): error: %s\n", rank, e.what());
         MPI_Abort(comm, 1);

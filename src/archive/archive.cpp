@@ -3,6 +3,7 @@
 #include "archive_detail.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -114,6 +115,30 @@ Archive::Fit Archive::check_existing(const std::string& path, const CampaignSpec
     } catch (const h5::Error& e) { return refused("'" + path + "' cannot be read as a campaign archive: " + e.what()); }
 }
 
+Archive::Archive(h5::Handle file, MPI_Comm comm, ArchiveLayout layout)
+    : file_(std::move(file)), comm_(comm), layout_(std::move(layout)) {
+    struct stat st {};
+    if (::stat(path_of(file_.get()).c_str(), &st) == 0) {
+        device_ = static_cast<std::uint64_t>(st.st_dev);
+        inode_ = static_cast<std::uint64_t>(st.st_ino);
+    }
+}
+
+void Archive::check_same_file(const char* when, int descriptor) const {
+    const std::string path = path_of(file_.get());
+    struct stat st {};
+    const bool found = descriptor >= 0 ? ::fstat(descriptor, &st) == 0 : ::stat(path.c_str(), &st) == 0;
+    if (found && static_cast<std::uint64_t>(st.st_dev) == device_ && static_cast<std::uint64_t>(st.st_ino) == inode_)
+        return;
+    throw h5::Error("'" + path + "' is no longer the archive this run writes (it was replaced, moved or removed " +
+                    "while the run wrote it), found " + when +
+                    ": this run's results since it started went into the file that was there; nothing more is "
+                    "written to '" +
+                    path +
+                    "'. Put the campaign's archive back and run the same command again (finished replicas continue "
+                    "from their checkpoints)");
+}
+
 void Archive::clear_rows(std::int64_t replica) {
     const std::vector<double> none(layout_.samples, kNaN);
     for (const auto& c : kSampleColumns)
@@ -128,6 +153,9 @@ void Archive::clear_rows(std::int64_t replica) {
 }
 
 void Archive::write_frame(std::int64_t replica, std::int64_t index, double strain, const FinalConfiguration& frame) {
+    const WriteDeadline deadline(path_of(file_.get()),
+                                 "replica " + std::to_string(replica) + "'s frame " + std::to_string(index),
+                                 mpi::rank(comm_), write_deadline_seconds());
     const auto r = static_cast<hsize_t>(replica);
     const auto k = static_cast<hsize_t>(index);
     if (k >= layout_.frames)
@@ -143,6 +171,8 @@ void Archive::write_frame(std::int64_t replica, std::int64_t index, double strai
 }
 
 void Archive::mark_running(std::int64_t replica, int rank, bool keep_rows) {
+    const WriteDeadline deadline(path_of(file_.get()), "replica " + std::to_string(replica) + "'s start",
+                                 mpi::rank(comm_), write_deadline_seconds());
     const auto r = static_cast<hsize_t>(replica);
     const std::int32_t who = rank;
     write_block(file_.get(), "/replicas/rank", H5T_NATIVE_INT32, {r}, {1}, &who);
@@ -163,6 +193,8 @@ void Archive::mark_running(std::int64_t replica, int rank, bool keep_rows) {
 }
 
 void Archive::write_done(std::int64_t replica, const ReplicaResult& result, int rank, double threads) {
+    const WriteDeadline deadline(path_of(file_.get()), "replica " + std::to_string(replica) + "'s results",
+                                 mpi::rank(comm_), write_deadline_seconds());
     const hid_t f = file_.get();
     const auto r = static_cast<hsize_t>(replica);
     const auto rows = static_cast<hsize_t>(result.series.size());
@@ -206,6 +238,8 @@ void Archive::write_done(std::int64_t replica, const ReplicaResult& result, int 
 }
 
 void Archive::write_progress(std::int64_t replica, const TimeSeries& series, std::size_t from_row, double progress) {
+    const WriteDeadline deadline(path_of(file_.get()), "replica " + std::to_string(replica) + "'s rows so far",
+                                 mpi::rank(comm_), write_deadline_seconds());
     const hid_t f = file_.get();
     const auto r = static_cast<hsize_t>(replica);
     const auto rows = static_cast<hsize_t>(series.size());
@@ -222,6 +256,8 @@ void Archive::write_progress(std::int64_t replica, const TimeSeries& series, std
 }
 
 void Archive::write_failed(std::int64_t replica, const std::string& reason, double wall_seconds, int rank) {
+    const WriteDeadline deadline(path_of(file_.get()), "replica " + std::to_string(replica) + "'s failure",
+                                 mpi::rank(comm_), write_deadline_seconds());
     const hid_t f = file_.get();
     const auto r = static_cast<hsize_t>(replica);
     // Its rows: NaN (the datasets are not filled, and a reader may ignore the status).
@@ -350,6 +386,7 @@ void Archive::stamp(const std::string& attribute) {
     // Collective: a write that fails on one rank leaves the others waiting (read_deadline.hpp).
     const WriteDeadline deadline(path_of(file_.get()), "the stamp '" + attribute + "'", mpi::rank(comm_),
                                  write_deadline_seconds());
+    check_same_file("at the stamp");
     std::string now = utc_now();
     mpi::broadcast(now, 0, comm_);
     // Metadata changes are collective, and HDF5 needs every rank's metadata cache to take
@@ -377,8 +414,14 @@ void Archive::sync_data() const {
     // fdatasync through any descriptor writes back the file's pages that this node holds.
     const bool synced = descriptor >= 0 && ::fdatasync(descriptor) == 0;
     const int error = errno;
-    if (descriptor >= 0) ::close(descriptor);
+    struct Closer {
+        int fd;
+        ~Closer() {
+            if (fd >= 0) ::close(fd);
+        }
+    } const closer{descriptor};
     if (!synced) throw h5::Error("writing '" + path + "' to its disk (fdatasync) failed: " + std::strerror(error));
+    check_same_file("at a replica's write", descriptor);  // a file at the path, but another one
 }
 
 void Archive::close() {

@@ -188,7 +188,9 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, A
         if (options.initial_states && !resume) timed([&] { initial = options.initial_states->load(params, id); });
         if (before >= 0 && !resume)  // a rate ladder: start where the predecessor ended
             initial = ladder_start(spec, before, params, id, archive, options, between, stop);
-    } catch (const h5::Error&) { throw; } catch (const ReplicaInterrupted&) {
+    } catch (const h5::Error&) { throw; } catch (const std::filesystem::filesystem_error&) {
+        throw;  // the storage failed, not the replica (see below)
+    } catch (const ReplicaInterrupted&) {
         return counted(Outcome::Interrupted);  // still pending
     } catch (const std::exception& e) {
         timed([&] { archive.write_failed(id, e.what(), seconds_since(t0), rank); });
@@ -253,6 +255,12 @@ Outcome run_one(const CampaignSpec& spec, std::int64_t id, bool has_successor, A
             fs::remove(end_state_path(options.archive_path, before), ignored);
     } catch (const h5::Error&) {
         throw;  // the archive itself is broken: stop
+    } catch (const std::filesystem::filesystem_error&) {
+        // A checkpoint, end state or note that the filesystem refused (a failed rename or
+        // mkdir: a read-only filesystem, a quota) is the storage's failure, not the replica's:
+        // stop with its checkpoint kept, as a failed write of the archive does. It used to mark
+        // the replica failed for good and remove its last good checkpoint.
+        throw;
     } catch (const ReplicaInterrupted&) {
         outcome = Outcome::Interrupted;  // its state is saved; status stays "running"
     } catch (const std::exception& e) {

@@ -5,7 +5,10 @@
  * FAIL_OPEN_AFTER such opens (default 0) succeed: a failure at a later stage of the run.
  * For the fault case archive_changed_before_lock, in any process: an open() that creates a
  * path ending in HOLD_CREATE_SUFFIX (O_CREAT) first makes the file HOLD_CREATE_UNTIL.waiting
- * and waits until HOLD_CREATE_UNTIL exists (at most 120 s): the test acts in between. */
+ * and waits until HOLD_CREATE_UNTIL exists (at most 120 s): the test acts in between.
+ * For the fault case rename_fails_at_checkpoint, in any process: rename() onto a path ending in
+ * FAIL_RENAME_SUFFIX fails with EIO once FAIL_RENAME_AFTER such renames (default 0) have
+ * succeeded (a filesystem that stops taking a checkpoint's last step). */
 #define _GNU_SOURCE
 #include <dlfcn.h>
 #include <errno.h>
@@ -86,3 +89,18 @@ WRAP_OPEN(open)
 WRAP_OPEN(open64)
 WRAP_OPENAT(openat)
 WRAP_OPENAT(openat64)
+
+int rename(const char* from, const char* to) {
+    const char* suffix = getenv("FAIL_RENAME_SUFFIX");
+    if (suffix && to) {
+        const size_t n = strlen(to), m = strlen(suffix);
+        static int passed = 0; /* matching renames let through so far */
+        const char* after = getenv("FAIL_RENAME_AFTER");
+        if (n >= m && strcmp(to + n - m, suffix) == 0 && passed++ >= (after ? atoi(after) : 0)) {
+            errno = EIO;
+            return -1;
+        }
+    }
+    int (*real)(const char*, const char*) = (int (*)(const char*, const char*))dlsym(RTLD_NEXT, "rename");
+    return real(from, to);
+}

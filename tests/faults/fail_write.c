@@ -1,7 +1,9 @@
 /* LD_PRELOAD library for the fault case write_one_rank: pwrite(), pwrite64(), pwritev() and
  * write() to a file whose path ends in FAIL_WRITE_SUFFIX fail with ENOSPC in the process whose
  * OMPI_COMM_WORLD_RANK is FAIL_WRITE_RANK, after FAIL_WRITE_AFTER such writes that succeed
- * (default 0): one rank's share of a collective write meets a full disk or quota. */
+ * (default 0): one rank's share of a collective write meets a full disk or quota. With
+ * FAIL_WRITE_HANG_SECONDS set, such a write instead waits that long and then goes through (the
+ * fault case write_stalls_one_rank: a filesystem that stops answering one node). */
 #define _GNU_SOURCE
 #include <dlfcn.h>
 #include <errno.h>
@@ -27,6 +29,11 @@ static int should_fail(int fd) {
     static int passed = 0; /* matching writes let through so far */
     const char* after = getenv("FAIL_WRITE_AFTER");
     if (passed++ < (after ? atoi(after) : 0)) return 0;
+    const char* hang = getenv("FAIL_WRITE_HANG_SECONDS");
+    if (hang) {
+        sleep((unsigned)atoi(hang));
+        return 0;
+    }
     errno = ENOSPC;
     return 1;
 }

@@ -224,6 +224,22 @@ write_one_rank)  # one rank's share of a collective archive write fails (ENOSPC)
   expect_in "removed 'w.h5', an archive whose creation was interrupted" again.log
   "$jamsim" status w.h5 | grep -q " 0 failed" || fail "replicas failed after the creation was made anew"
   ;;
+write_stalls_one_rank)  # one rank's write of a replica's data never returns (a filesystem that
+  # stops answering one node): the write deadline ends the job (it held every rank for as long
+  # as the write did: only the archive's creation, stamps and close had a deadline)
+  [[ -n ${FAIL_WRITE_LIB:-} ]] || fail "FAIL_WRITE_LIB is not set"
+  last=$((ranks - 1))
+  timeout -k 10 "$limit" "$mpirun" -n "$ranks" -x LD_PRELOAD="$FAIL_WRITE_LIB" -x FAIL_WRITE_SUFFIX=/s.h5 \
+    -x FAIL_WRITE_RANK=$last -x FAIL_WRITE_AFTER=200 -x FAIL_WRITE_HANG_SECONDS=1000 \
+    -x JAMSIM_WRITE_DEADLINE_SECONDS=5 "$jamsim" run "$here/checkpointed.toml" -o s.h5 > stall.log 2>&1
+  rc=$?
+  if [[ $rc -eq 124 || $rc -eq 137 ]]; then cat stall.log; fail "a stalled write on rank $last hung the run"; fi
+  [[ $rc -ne 0 ]] || { cat stall.log; fail "exit 0 with a stalled write"; }
+  expect_in "jamsim: writing 's\.h5' \(replica [0-9]+'s [a-z ]+\) did not finish within 5 s on rank $last" stall.log
+  # The same command then finishes the campaign.
+  run again.log run "$here/checkpointed.toml" -o s.h5; expect_rc 0 again.log
+  "$jamsim" status s.h5 | grep -q "6/6 done" || fail "the campaign did not finish after the stall"
+  ;;
 archive_changed_before_lock)  # another campaign's archive made between a run's checks and its lock
   # The run's checks find no archive; before it takes the lock (held there by an LD_PRELOAD
   # wrapper), another campaign runs to the same path. The run used to open that archive and
@@ -285,6 +301,37 @@ refusals)  # runs no job can finish, duplicates, misleading inputs: one clear me
   run dup.log run "$here/duplicate_seeds.toml"; expect_rc 2 dup.log
   expect_in 'twice \(replicas 0 and 2\), which is not allowed: each replica once' dup.log
   [[ ! -e dup.h5 ]] || fail "an archive was written"
+  ;;
+archive_replaced)  # the archive replaced by another campaign's while the run writes: the run
+  # stops non-zero and writes nothing into the other archive (it used to exit 0 "finished",
+  # its results lost in the unlinked file, and stamp the other campaign's archive)
+  run src.log run "$here/source.toml"; expect_rc 0 src.log
+  other=$(sha256sum < src.h5)
+  timeout -k 10 "$limit" "$mpirun" -n "$ranks" "$jamsim" run "$here/checkpointed.toml" -o d.h5 > d.log 2>&1 &
+  leader=$!
+  "$here/../wait_for_ranks.sh" "$leader" "$ranks" "^$jamsim run $here/checkpointed.toml -o d.h5" &&
+    sleep 1 && mv src.h5 d.h5
+  rc=0; wait "$leader" || rc=$?
+  [[ $rc -ne 0 && $rc -ne 124 && $rc -ne 137 ]] || { cat d.log; fail "exit status $rc after the archive was replaced"; }
+  expect_in "'d.h5' is no longer the archive this run writes \(it was replaced, moved or removed while the run wrote it\)" d.log
+  [[ "$(sha256sum < d.h5)" == "$other" ]] || fail "the other campaign's archive was changed"
+  ;;
+rename_fails_at_checkpoint)  # the filesystem refuses a checkpoint's rename: the run stops, keeps the
+  # replica's last good checkpoint and fails no replica (it marked the replica failed for good
+  # and removed that checkpoint); the same command then finishes bitwise equal
+  [[ -n ${FAIL_OPEN_LIB:-} ]] || fail "FAIL_OPEN_LIB is not set"
+  run ref.log run "$here/checkpointed.toml" -o ref.h5; expect_rc 0 ref.log
+  timeout -k 10 "$limit" "$mpirun" -n "$ranks" -x LD_PRELOAD="$FAIL_OPEN_LIB" -x FAIL_RENAME_SUFFIX=/replica_0.h5 \
+    -x FAIL_RENAME_AFTER=2 "$jamsim" run "$here/checkpointed.toml" -o cp.h5 --checkpoint-every 0 > cp.log 2>&1
+  rc=$?
+  [[ $rc -eq 1 ]] || { cat cp.log; fail "exit status $rc, expected 1"; }
+  expect_in "the filesystem refused a checkpoint beside the archive \(.*replica_0.h5" cp.log
+  [[ -f cp.h5.checkpoints/replica_0.h5 ]] || fail "the last good checkpoint of replica 0 was removed"
+  "$jamsim" status cp.h5 > status.log 2>&1
+  expect_in ", 0 failed," status.log
+  run again.log run "$here/checkpointed.toml" -o cp.h5; expect_rc 0 again.log
+  expect_in "1 continued from checkpoints|[1-9][0-9]* continued from checkpoints" again.log
+  $compare ref.h5 cp.h5 || fail "the resumed archive differs from the undisturbed run"
   ;;
 *) fail "unknown case" ;;
 esac

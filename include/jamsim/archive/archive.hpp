@@ -169,13 +169,18 @@ class Archive {
     void sync_data() const;
 
   private:
-    Archive(h5::Handle file, MPI_Comm comm, ArchiveLayout layout)
-        : file_(std::move(file)), comm_(comm), layout_(std::move(layout)) {}
+    Archive(h5::Handle file, MPI_Comm comm, ArchiveLayout layout);
     /// The replica's rows set to NaN (the bulk datasets are not filled).
     void clear_rows(std::int64_t replica);
+    /// Throws h5::Error unless the archive's path still names the file this object opened
+    /// (`descriptor`: one open on it, else the path is looked up): an archive replaced, moved
+    /// or removed while a run wrote it lost the run's results into the old file, and the
+    /// stamps, which reopen the path, went into the new one (another campaign's archive).
+    void check_same_file(const char* when, int descriptor = -1) const;
     h5::Handle file_;
     MPI_Comm comm_ = MPI_COMM_NULL;
     ArchiveLayout layout_;
+    std::uint64_t device_ = 0, inode_ = 0;  ///< of the file opened (stat), for check_same_file
 };
 
 /// /replicas/initial_source and /replicas/initial_state of an archive (serial, read-only;
