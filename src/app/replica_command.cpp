@@ -108,6 +108,10 @@ void run(const ReplicaOptions& opt) {
     if (const std::string no_room = check_replica_disk(params, opt.output); !no_room.empty())
         throw CLI::ValidationError("jamsim replica: " + no_room);
     const linalg::PetscScope petsc;  // CD0 initialises PETSc on first use; finalise it here
+    // CD0 solver options from PETSc's own sources, which the file would not record.
+    if (uses_parameter(params, "petsc_options"))
+        if (const std::string why = linalg::petsc_environment_problem(); !why.empty())
+            throw CLI::ValidationError("jamsim replica: " + why);
     // PETSc options that PETSc does not recognise or the CD0 solver does not use.
     if (!params.petsc_options.empty() && uses_parameter(params, "petsc_options"))
         if (const std::string why = linalg::petsc_options_problem(params.petsc_options); !why.empty())

@@ -169,7 +169,12 @@ std::string mpi_io_path(const std::string& spec_path, const std::string& path) {
 /// refused those no PETSc solver would see).
 std::string check_petsc_options(const CampaignSpec& spec) {
     for (const ReplicaParams& p : spec.replicas) {
-        if (p.petsc_options.empty() || !uses_parameter(p, "petsc_options")) continue;
+        if (!uses_parameter(p, "petsc_options")) continue;
+        try {
+            if (const std::string why = linalg::petsc_environment_problem(); !why.empty())
+                return spec.path + ": " + why;
+        } catch (const std::exception& e) { return spec.path + ": PETSc's options could not be checked: " + e.what(); }
+        if (p.petsc_options.empty()) return "";
         try {
             if (const std::string why = linalg::petsc_options_problem(p.petsc_options); !why.empty())
                 return spec.path + ": [model] petsc_options = \"" + p.petsc_options + "\" is not allowed: " + why;

@@ -116,6 +116,24 @@ std::string petsc_options_problem(const std::string& options) {
     return "";
 }
 
+std::string petsc_environment_problem() {
+    petsc::ensure_initialized();
+    char* all = nullptr;  // "-name value -name value ...", PETSc's copy
+    check(PetscOptionsGetAll(nullptr, &all), "PetscOptionsGetAll");
+    const std::string options = all ? all : "";
+    PetscFree(all);
+    std::string prefix(1, '-');  // appended, not '+': GCC 12's -Wrestrict misfires on that
+    prefix.append(kPetscPrefix);
+    for (const std::string& name : petsc_option_names(options))
+        if (name.starts_with(prefix))
+            return "PETSc's options (the PETSC_OPTIONS environment variable, or an options file PETSc reads) set " +
+                   name +
+                   ", an option of the CD0 solver, which changes CD0's results while the archive records "
+                   "none of it: give the solver's options as [model] petsc_options (jamsim replica "
+                   "--petsc-options), which the archive keeps, and leave them out of PETSc's own options";
+    return "";
+}
+
 PetscScope::~PetscScope() {
     PetscBool up = PETSC_FALSE, down = PETSC_FALSE;
     PetscInitialized(&up);

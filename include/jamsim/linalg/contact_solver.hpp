@@ -89,6 +89,13 @@ std::vector<std::string> petsc_option_names(const std::string& options);
 /// was. Initialises PETSc when needed (PetscScope finalises it).
 std::string petsc_options_problem(const std::string& options);
 
+/// "" unless PETSc's own sources of options (the PETSC_OPTIONS environment variable, an
+/// options file it reads) set an option of the CD0 solver (prefix -cd0_), else one sentence
+/// naming it: such an option changes CD0's results (iterations, tolerances) while the archive
+/// records none, and a resume or a shard without it mixed two solvers in one archive.
+/// Initialises PETSc when needed (PetscScope finalises it).
+std::string petsc_environment_problem();
+
 /// The backend for `n` disks: "auto", "cholmod", "petsc" or "eigen" (the `solver` parameter;
 /// also "cholmod-amd", CHOLMOD with AMD ordering, for benchmarks); `petsc_options` go to the
 /// PETSc backend. Throws std::invalid_argument for another name.
