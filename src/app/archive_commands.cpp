@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 
 #include "jamsim/archive/archive.hpp"
@@ -87,7 +88,11 @@ int merge(const std::string& output, const std::vector<std::string>& inputs, int
         return kExitRefused;
     } catch (const MergeFailed& e) {
         std::fprintf(stderr, "jamsim merge: %s\n", e.what());
-        return 1;
+        // Ended here, without MPI_Finalize: a failed write leaves HDF5 a file it cannot close,
+        // and its own close of it at MPI_Finalize crashed the process (a segfault, exit 139,
+        // after the message above). The output is already removed or whole (merge_archives).
+        std::fflush(nullptr);
+        std::_Exit(1);
     }
     std::printf("merged %lld %s from %zu %s into %s", static_cast<long long>(merged.copied),
                 merged.copied == 1 ? "replica" : "replicas", inputs.size(), inputs.size() == 1 ? "archive" : "archives",

@@ -242,16 +242,19 @@ MergeOutcome merge_archives(const std::string& output, const std::vector<std::st
                                   folder.string() + "' " +
                                   (std::filesystem::exists(folder, ec) ? "is not a folder" : "does not exist") + ")");
     }
-    try {  // an output whose creation a kill interrupted is made anew
-        if (std::filesystem::exists(Archive::creation_marker(output))) {
-            ArchiveLock::check_free(output);
-            (void)Archive::undo_interrupted_creation(output);
-        }
+    try {  // an output whose creation a kill interrupted is made anew; Open MPI's lock files
+        // that a killed merge or run left beside it go
+        ArchiveLock::check_free(output);
+        if (std::filesystem::exists(Archive::creation_marker(output))) (void)Archive::undo_interrupted_creation(output);
+        (void)remove_stale_mpi_locks(output);
     } catch (const ArchiveBusy& e) { throw CampaignRefused(e.what()); }
     bool exists = std::filesystem::exists(output);
-    if (const std::string too_large = check_capacity(estimate_capacity(spec, output, 1, 1), {}, spec, output);
-        !too_large.empty())
+    if (std::string too_large = check_capacity(estimate_capacity(spec, output, 1, 1), {}, spec, output);
+        !too_large.empty()) {
+        // Said of the output, not of the campaign file the archives were once run from.
+        if (too_large.starts_with(spec.path + ": ")) too_large.erase(0, spec.path.size() + 2);
         throw CampaignRefused(too_large);
+    }
     // A refused output is refused before its lock file is made (which a refusal would leave
     // behind); checked again under the lock, as the file may change in between.
     if (exists) check_existing_output(output, inputs, spec);

@@ -64,6 +64,13 @@ rc=0; "$jamsim" minimize --N 64 --lammps-data start.data > "$work/minimize.txt" 
 grep -q "writing LAMMPS data file 'start.data' failed" "$work/minimize.txt" || { cat "$work/minimize.txt"; exit 1; }
 ! compgen -G "start.data*" > /dev/null || { echo "FAIL: a partial data file is left: $(ls start.data*)"; exit 1; }
 echo "ok: minimize --lammps-data on a full filesystem: refused, nothing left"
+# jamsim merge into the full filesystem: refused before it writes, in words about its output
+# (it named the campaign file the archive was once run from).
+rc=0; "$jamsim" merge m.h5 "$work/ref.h5" > "$work/merge.txt" 2>&1 || rc=$?
+[[ $rc -eq 2 ]] || { cat "$work/merge.txt"; echo "FAIL: merge exit $rc, expected 2"; exit 1; }
+grep -q "^jamsim merge: the archive 'm.h5' needs [0-9.]* [kM]B more" "$work/merge.txt" || { cat "$work/merge.txt"; exit 1; }
+! compgen -G "m.h5*" > /dev/null || { echo "FAIL: left by the refused merge: $(ls m.h5*)"; exit 1; }
+echo "ok: merge into a full filesystem: refused before it writes"
 # jamsim replica -o on the full filesystem: refused before the run, which it used to run to the
 # end and then lose in the write.
 rc=0; "$jamsim" replica --N 64 --strain 0.5 -o r.h5 > "$work/replica.txt" 2>&1 || rc=$?

@@ -240,6 +240,29 @@ write_stalls_one_rank)  # one rank's write of a replica's data never returns (a 
   run again.log run "$here/checkpointed.toml" -o s.h5; expect_rc 0 again.log
   "$jamsim" status s.h5 | grep -q "6/6 done" || fail "the campaign did not finish after the stall"
   ;;
+merge_write_fails)  # a merge whose writes fail (a full disk): exit 1 with its message, no crash
+  # (HDF5's own close of the failed output at MPI_Finalize segfaulted, exit 139), and the same
+  # merge then completes, equal to a merge that did not fail
+  [[ -n ${FAIL_WRITE_LIB:-} ]] || fail "FAIL_WRITE_LIB is not set"
+  for k in 0 1; do run shard$k.log run "$here/checkpointed.toml" -o s$k.h5 --shard $k/2; expect_rc 0 shard$k.log; done
+  "$jamsim" merge ref.h5 s0.h5 s1.h5 > ref.log 2>&1 || { cat ref.log; fail "the reference merge"; }
+  failing_merge() {  # LOG OUTPUT AFTER INPUTS...
+    local log=$1 output=$2 after=$3; shift 3
+    timeout -k 10 "$limit" "$mpirun" -n 1 -x LD_PRELOAD="$FAIL_WRITE_LIB" -x FAIL_WRITE_SUFFIX="/$output" \
+      -x FAIL_WRITE_RANK=0 -x FAIL_WRITE_AFTER="$after" "$jamsim" merge "$output" "$@" > "$log" 2>&1
+    rc=$?
+    expect_rc 1 "$log"; no_crash "$log"
+    ! grep -q "signal 11" "$log" || { cat "$log"; fail "a crash in $log"; }
+  }
+  failing_merge new.log m.h5 20 s0.h5 s1.h5  # into a new output: it is removed
+  expect_in "merging into 'm.h5' failed: .*; the new 'm.h5' was removed" new.log
+  [[ ! -e m.h5 ]] || fail "the failed new output is left"
+  "$jamsim" merge m.h5 s0.h5 > first.log 2>&1 || { cat first.log; fail "merge of the first shard"; }
+  failing_merge existing.log m.h5 40 s1.h5  # into an existing output: it keeps what it held
+  expect_in "merging into 'm.h5' failed: .*'m.h5' keeps what it held" existing.log
+  "$jamsim" merge m.h5 s1.h5 > again.log 2>&1 || { cat again.log; fail "the merge run again"; }
+  $compare ref.h5 m.h5 || fail "the merge completed after a failure differs from the reference merge"
+  ;;
 archive_changed_before_lock)  # another campaign's archive made between a run's checks and its lock
   # The run's checks find no archive; before it takes the lock (held there by an LD_PRELOAD
   # wrapper), another campaign runs to the same path. The run used to open that archive and
