@@ -1,5 +1,8 @@
 #include "run_one.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -26,7 +29,23 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 /// warning naming the file and why, and the replica starts again from its start.
 std::optional<ReplicaState> usable_checkpoint(const std::string& path, const ReplicaParams& params, std::int64_t id) {
     try {
-        return read_checkpoint(path, params);
+        try {
+            return read_checkpoint(path, params);
+        } catch (const CheckpointError&) {
+            // The storage's failure is not the file's: one the system cannot open or read (no
+            // descriptors left, an I/O error, a stale mount) stops the run with the file kept
+            // (run_one), and a read that failed once is tried again before the file is taken
+            // for damaged. It used to be removed, and the replica to start again from its start.
+            char head[8];
+            const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+            const bool readable = fd >= 0 && ::read(fd, head, sizeof head) >= 0;
+            const int error = errno;
+            if (fd >= 0) ::close(fd);
+            if (!readable)
+                throw std::filesystem::filesystem_error("cannot read the checkpoint", path,
+                                                        std::error_code(error, std::generic_category()));
+            return read_checkpoint(path, params);
+        }
     } catch (const CheckpointError& e) {
         std::fprintf(stderr, "jamsim run: warning: %s; replica %lld starts again from its start\n", e.what(),
                      static_cast<long long>(id));

@@ -240,6 +240,26 @@ write_stalls_one_rank)  # one rank's write of a replica's data never returns (a 
   run again.log run "$here/checkpointed.toml" -o s.h5; expect_rc 0 again.log
   "$jamsim" status s.h5 | grep -q "6/6 done" || fail "the campaign did not finish after the stall"
   ;;
+resume_checkpoint_unopenable)  # an interrupted run resumed while the system cannot open one of its
+  # checkpoints (no descriptors left): the run stops with the checkpoint kept, and the same
+  # command then finishes bitwise equal (the checkpoint was taken for damaged and removed, and
+  # its replica started again from its start)
+  [[ -n ${FAIL_OPEN_LIB:-} ]] || fail "FAIL_OPEN_LIB is not set"
+  interrupted_campaign
+  # (an interrupted replica's: finished ones keep theirs for an extension, unread by a resume)
+  kept=replica_$("$jamsim" status cp.h5 | sed -n 's/^interrupted replica \([0-9]*\):.*/\1/p' | head -1).h5
+  [[ -f cp.h5.checkpoints/$kept ]] || fail "no checkpoint of an interrupted replica ($kept)"
+  sum=$(sha256sum < "cp.h5.checkpoints/$kept")
+  timeout -k 10 "$limit" "$mpirun" -n 1 -x LD_PRELOAD="$FAIL_OPEN_LIB" -x FAIL_OPEN_SUFFIX="/$kept" -x FAIL_OPEN_RANK=0 \
+    -x FAIL_OPEN_ERRNO=24 "$jamsim" run "$here/checkpointed.toml" -o cp.h5 > unopenable.log 2>&1
+  rc=$?
+  [[ $rc -eq 1 ]] || { cat unopenable.log; fail "exit status $rc, expected 1"; }
+  expect_in "the filesystem refused a checkpoint beside the archive \(filesystem error: cannot read the checkpoint: Too many open files" unopenable.log
+  [[ "$(sha256sum < "cp.h5.checkpoints/$kept")" == "$sum" ]] || fail "the checkpoint $kept was removed or changed"
+  run again.log run "$here/checkpointed.toml" -o cp.h5; expect_rc 0 again.log
+  ! grep -q "starts again from its start" again.log || { cat again.log; fail "a checkpoint was taken for damaged"; }
+  $compare ref.h5 cp.h5 || fail "the resumed archive differs from the undisturbed run"
+  ;;
 merge_write_fails)  # a merge whose writes fail (a full disk): exit 1 with its message, no crash
   # (HDF5's own close of the failed output at MPI_Finalize segfaulted, exit 139), and the same
   # merge then completes, equal to a merge that did not fail
