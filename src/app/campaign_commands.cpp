@@ -131,6 +131,14 @@ int print_outcome(const CampaignSpec& spec, const RunDecision& d, const RunOutco
     std::printf("%s ran in this run, %lld finished before were kept\n",
                 counted(static_cast<long long>(o.ran), "replica").c_str(), static_cast<long long>(o.skipped));
     std::printf("inspect with: jamsim status %s\n", d.output.c_str());
+    // Failures of earlier runs too: a rerun that skipped a failed replica said "0 failed".
+    try {
+        if (const ArchiveSummary held = summarize_archive(d.output); held.failed > 0)
+            std::fprintf(stderr,
+                         "jamsim run: warning: %s of the archive failed (jamsim status %s gives the reasons); "
+                         "after a fix, --retry-failed runs them again\n",
+                         counted(held.failed, "replica").c_str(), d.output.c_str());
+    } catch (const std::exception&) {}  // only a note: the run itself is done
     return 0;
 }
 

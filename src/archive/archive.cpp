@@ -139,6 +139,19 @@ void Archive::check_same_file(const char* when, int descriptor) const {
                     "from their checkpoints)");
 }
 
+namespace {
+/// `reason` in at most `bytes` bytes: a longer one is cut at a word's end and marked " ..."
+/// (it was cut mid-word, "... or use a prec"), never inside a UTF-8 character.
+std::string reason_to_fit(const std::string& reason, std::size_t bytes) {
+    if (reason.size() <= bytes) return reason;
+    const std::string mark = " ...";
+    std::size_t end = bytes - mark.size();
+    while (end > 0 && (static_cast<unsigned char>(reason[end]) & 0xC0) == 0x80) --end;  // a character's start
+    if (const std::size_t space = reason.rfind(' ', end); space != std::string::npos && space > end / 2) end = space;
+    return reason.substr(0, end) + mark;
+}
+}  // namespace
+
 void Archive::clear_rows(std::int64_t replica) {
     const std::vector<double> none(layout_.samples, kNaN);
     for (const auto& c : kSampleColumns)
@@ -263,7 +276,7 @@ void Archive::write_failed(std::int64_t replica, const std::string& reason, doub
     // Its rows: NaN (the datasets are not filled, and a reader may ignore the status).
     clear_rows(replica);
     char text[kReasonLength] = {};
-    reason.copy(text, kReasonLength - 1);
+    reason_to_fit(reason, kReasonLength - 1).copy(text, kReasonLength - 1);
     const Handle rt = h5::fixed_string_type(kReasonLength);
     write_block(f, "/replicas/failure_reason", rt.get(), {r}, {1}, text);
     write_block(f, "/replicas/wall_seconds", H5T_NATIVE_DOUBLE, {r}, {1}, &wall_seconds);

@@ -102,6 +102,32 @@ TEST(Archive, WriteReadBackFailAndImport) {
 // size. (A variable-length stamp took a new global heap collection at the end of the file;
 // when writing it failed on one rank, the file was left shorter than its superblock says and
 // HDF5 refused it for good, "run the same command again" included.)
+// A failure's reason longer than its 200 bytes is cut at a word's end and marked (it was cut
+// mid-word), never inside a UTF-8 character.
+TEST(Archive, LongFailureReasonEndsAtAWord) {
+    const CampaignSpec spec = parse_campaign(kSpec, "inline.toml");
+    const std::string path = "archive_reason.h5";
+    std::filesystem::remove(path);
+    std::string reason = "KSP did not converge:";
+    for (int k = 0; reason.size() < 400; ++k)
+        reason += k % 7 == 3 ? " \u03c6\u03c6\u03c6" : " iterations" + std::to_string(k);
+    {
+        auto archive = Archive::create(MPI_COMM_SELF, path, spec);
+        archive.write_failed(0, reason, 0.5, 0);
+        archive.close();
+    }
+    const ArchiveSummary summary = summarize_archive(path);
+    ASSERT_EQ(summary.failures.size(), 1u);
+    const std::string prefix = "replica 0: ";
+    const std::string stored = summary.failures[0].substr(prefix.size());
+    ASSERT_GE(stored.size(), 150u);
+    EXPECT_LE(stored.size(), 199u);
+    ASSERT_TRUE(stored.ends_with(" ...")) << stored;
+    const std::string kept = stored.substr(0, stored.size() - 4);
+    EXPECT_TRUE(reason.starts_with(kept + " ")) << stored;  // whole words of the reason
+    std::filesystem::remove(path);
+}
+
 TEST(Archive, StampsAllocateNothing) {
     const CampaignSpec spec = parse_campaign(kSpec, "inline.toml");
     const std::string path = "archive_stamps.h5";
