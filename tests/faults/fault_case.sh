@@ -65,6 +65,10 @@ initial_state_damaged)  # one source state unusable: its replicas fail with the 
   expect_in '6/8 done, 0 running, 2 failed' status.txt
   expect_in 'failed replica 0: \[run\] initial = "src.h5": replica 0 has disk 3 of diameter 1.2' status.txt
   expect_in 'failed replica 4: ' status.txt
+  expect_in 'warning: 2 replicas of the archive failed \(jamsim status dep.h5 gives the reasons\); after a fix, --retry-failed' dep.log
+  # A rerun without --retry-failed runs nothing, and still says so (it said "0 failed replicas").
+  run again.log run "$here/dependent.toml"; expect_rc 0 again.log
+  expect_in 'warning: 2 replicas of the archive failed' again.log
   cp good-src.h5 src.h5
   run retry.log run "$here/dependent.toml" --retry-failed; expect_rc 0 retry.log
   $compare ref.h5 dep.h5 || fail "the retried campaign differs from the undisturbed one"
