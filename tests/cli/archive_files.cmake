@@ -50,6 +50,7 @@ set(bad_kinds
   "evaluations_negative|evaluations_negative.h5|'evaluations_negative.h5' is damaged: /replicas/force_evaluations\\[0\\] is -1 \\(a whole count from 0\\)"
   "ranks_negative|ranks_negative.h5|'ranks_negative.h5' is damaged: its attribute n_ranks is -3 \\(the ranks of its last run, from 0 to 2\\^20\\)"
   "created_text|created_text.h5|'created_text.h5' is damaged: its attribute created is 'not a date' \\(a UTC time such as 2026-11-29T09:01:35Z\\)"
+  "no_cost|no_cost.h5|'no_cost.h5' is damaged: it has no /replicas/estimated_cost"
   "status_float|status_float.h5|'status_float.h5' is damaged: /replicas/status is not integers \\(jamsim writes it so\\)")
 foreach(kind IN LISTS bad_kinds)
   jamsim_row_fields("${kind}" name file regex)

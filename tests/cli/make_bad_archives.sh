@@ -16,6 +16,7 @@
 # model_edited.h5, phi_edited.h5, no_seed.h5, box_side_text.h5 (against its stored campaign);
 # progress_high.h5, rank_negative.h5, evaluations_negative.h5, ranks_negative.h5,
 # created_text.h5, status_float.h5 (bookkeeping out of its range or of another class);
+# no_cost.h5 (no /replicas/estimated_cost);
 # heap_zeroed.h5 and heap_last.h5 (the objects of its first or last global heap zeroed, as a
 # crash can leave them: HDF5 1.10 loops for ever reading its attributes; the first holds the
 # root's text, the last the datasets' descriptions, which no command reads: the check reads
@@ -28,7 +29,7 @@ rm -rf good.h5 good.h5.checkpoints empty.h5 text.h5 truncated.h5 plain.h5 replic
   no_series.h5 final_nan.h5 box_negative.h5 ranks_text.h5 heap_zeroed.h5 heap_last.h5 n_nan.h5 n_zero.h5 \
   n_huge.h5 offset_far.h5 samples_many.h5 rows_many.h5 spec_text_bad.h5 spec_text_other.h5 model_edited.h5 \
   phi_edited.h5 no_seed.h5 box_side_text.h5 progress_high.h5 rank_negative.h5 evaluations_negative.h5 \
-  ranks_negative.h5 created_text.h5 status_float.h5 box_strain_far.h5
+  ranks_negative.h5 created_text.h5 status_float.h5 box_strain_far.h5 no_cost.h5
 "$jamsim" run "$spec" -o good.h5 >/dev/null 2>&1
 : > empty.h5
 echo "not an archive" > text.h5
@@ -58,6 +59,7 @@ damaged("final_cut.h5", lambda f: replace(f, "final/x", f["final/x"][:3]))
 damaged("no_series.h5", lambda f: f.__delitem__("timeseries"))
 damaged("final_nan.h5", lambda f: f["final/x"].__setitem__(3, float("nan")))
 damaged("box_negative.h5", lambda f: f["final/box_side"].__setitem__(0, -1.0))
+damaged("no_cost.h5", lambda f: f.__delitem__("replicas/estimated_cost"))
 damaged("box_strain_far.h5", lambda f: f["final/box_strain"].__setitem__(0, 7.0))
 damaged("ranks_text.h5", lambda f: f.attrs.__setitem__("n_ranks", "two"))
 damaged("n_nan.h5", lambda f: f["replicas/N"].__setitem__(0, float("nan")))
