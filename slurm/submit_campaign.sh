@@ -63,8 +63,8 @@ if ! [[ $shards =~ ^[1-9][0-9]*$ ]]; then
   echo "submit_campaign.sh: SHARDS = '$shards' is not allowed: a positive integer" >&2
   exit 2
 fi
-if [[ -n $throttle && ! $throttle =~ ^[1-9][0-9]*$ ]]; then
-  echo "submit_campaign.sh: --throttle = '$throttle' is not allowed: a positive integer" >&2
+if [[ -n $throttle && ! $throttle =~ ^[1-9][0-9]{0,6}$ ]]; then
+  echo "submit_campaign.sh: --throttle = '$throttle' is not allowed: a whole number of tasks from 1 to 9999999" >&2
   exit 2
 fi
 if ! [[ $threads =~ ^[1-9][0-9]*$ ]] || [[ ${#threads} -gt 4 ]] || [[ $threads -gt 4096 ]]; then
@@ -85,6 +85,10 @@ for ((i = 0; i < ${#args[@]}; i++)); do
     exit 2
   fi
 done
+if [[ -d $campaign ]]; then
+  echo "submit_campaign.sh: campaign file '$campaign' is not allowed: a campaign file, not a folder" >&2
+  exit 2
+fi
 [[ -f $campaign ]] || { echo "submit_campaign.sh: campaign file '$campaign' does not exist" >&2; exit 2; }
 # The variables the tasks read, checked before anything is made or queued (a task would fail
 # at its start, or at its first requeue hours in).
@@ -93,6 +97,45 @@ if [[ ! $lead =~ ^[1-9][0-9]{0,4}$ ]] || (( lead > 65535 )); then
   echo "submit_campaign.sh: JAMSIM_SIGNAL_LEAD = '$lead' is not allowed: seconds, a whole number from 1 to 65535 (sbatch --signal)" >&2
   exit 2
 fi
+# sbatch options that would undo what the array job needs: its tasks (--array), the warning
+# that lets a task save and requeue (--signal, --requeue), or a limit no task can work in.
+slurm_seconds() {  # Slurm's time formats: M, M:S, H:M:S, D-H, D-H:M, D-H:M:S; "" when not one
+  local t=$1 days=0 h=0 m=0 sec=0
+  if [[ $t =~ ^([0-9]+)-([0-9]+)(:([0-9]+)(:([0-9]+))?)?$ ]]; then
+    days=${BASH_REMATCH[1]} h=${BASH_REMATCH[2]} m=${BASH_REMATCH[4]:-0} sec=${BASH_REMATCH[6]:-0}
+  elif [[ $t =~ ^([0-9]+):([0-9]+):([0-9]+)$ ]]; then
+    h=${BASH_REMATCH[1]} m=${BASH_REMATCH[2]} sec=${BASH_REMATCH[3]}
+  elif [[ $t =~ ^([0-9]+)(:([0-9]+))?$ ]]; then
+    m=${BASH_REMATCH[1]} sec=${BASH_REMATCH[3]:-0}
+  else
+    return 0
+  fi
+  echo $(( ((10#$days * 24 + 10#$h) * 60 + 10#$m) * 60 + 10#$sec ))
+}
+for ((i = 0; i < ${#args[@]}; i++)); do
+  option=${args[i]}
+  value=""
+  case $option in
+    --array | --array=* | -a | -a*)
+      echo "submit_campaign.sh: sbatch option '$option' is not allowed: the script makes the array itself (--array=0-(SHARDS-1), with --throttle K as %K); give the task count as SHARDS" >&2
+      exit 2 ;;
+    --signal | --signal=* | --no-requeue)
+      echo "submit_campaign.sh: sbatch option '$option' is not allowed: the tasks need the script's --signal=B:USR1@LEAD and --requeue to save their replicas and continue after a time limit (JAMSIM_SIGNAL_LEAD sets LEAD)" >&2
+      exit 2 ;;
+    --cpus-per-task | -c)
+      [[ $((i + 1)) -lt ${#args[@]} ]] || { echo "submit_campaign.sh: sbatch option '$option' is not allowed without a value: give the threads per task as --threads T" >&2; exit 2; } ;;
+    --time=*) value=${option#--time=} ;;
+    --time | -t) value=${args[i + 1]:-} ;;
+    -t*) value=${option#-t} ;;
+  esac
+  if [[ ($option == --time || $option == --time=* || $option == -t*) && ! $value =~ ^(UNLIMITED|unlimited|INFINITE|infinite)$ ]]; then
+    seconds=$(slurm_seconds "$value")
+    if [[ -z $seconds ]] || (( seconds <= ${JAMSIM_SIGNAL_LEAD:-300} )); then
+      echo "submit_campaign.sh: sbatch option --time = '$value' is not allowed: a time limit longer than the ${JAMSIM_SIGNAL_LEAD:-300} s before it at which a task saves its replicas (JAMSIM_SIGNAL_LEAD), in Slurm's form (minutes, H:M:S, D-H:M:S)" >&2
+      exit 2
+    fi
+  fi
+done
 case ${JAMSIM_LAUNCHER:-mpirun} in
   mpirun | srun) ;;
   *) echo "submit_campaign.sh: JAMSIM_LAUNCHER = '$JAMSIM_LAUNCHER' is not allowed: mpirun or srun" >&2; exit 2 ;;

@@ -48,4 +48,18 @@ done
 # A rate ladder's chain stays in one task: 24 replicas in 8 chains make at most 8 shards.
 check "SHARDS = 9 is not allowed for .*ladder.toml: at most its 8 rate-ladder chains \\(of 24 replicas" \
   bash "$submit" "$(dirname "$campaign")/ladder.toml" new/m.h5 9
+# sbatch options that undo what the array job needs were passed on (no task could work in a
+# limit shorter than the signal's lead; --array gave tasks shards beyond SHARDS; --signal
+# stopped the requeue), and a throttle of 20 digits went to sbatch as it was.
+for time in --time=00:05:00 --time=1 -t4 --time=abc; do
+  check "sbatch option --time = '.*' is not allowed: a time limit longer than the 300 s before it" bash "$submit" "$campaign" new/m.h5 1 "$time"
+done
+check "sbatch option '--array=0-99' is not allowed: the script makes the array itself" bash "$submit" "$campaign" new/m.h5 1 --array=0-99
+check "sbatch option '--signal=USR2@10' is not allowed: the tasks need the script's --signal=B:USR1@LEAD" \
+  bash "$submit" "$campaign" new/m.h5 1 --signal=USR2@10
+check "sbatch option '--no-requeue' is not allowed" bash "$submit" "$campaign" new/m.h5 1 --no-requeue
+check "sbatch option '--cpus-per-task' is not allowed without a value" bash "$submit" "$campaign" new/m.h5 1 --cpus-per-task
+check "--throttle = '99999999999999999999' is not allowed: a whole number of tasks" \
+  bash "$submit" --throttle 99999999999999999999 "$campaign" new/m.h5 1
+check "campaign file '.' is not allowed: a campaign file, not a folder" bash "$submit" . new/m.h5 1
 echo "ok: refused before any folder or job"
