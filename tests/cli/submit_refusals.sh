@@ -62,4 +62,10 @@ check "sbatch option '--cpus-per-task' is not allowed without a value" bash "$su
 check "--throttle = '99999999999999999999' is not allowed: a whole number of tasks" \
   bash "$submit" --throttle 99999999999999999999 "$campaign" new/m.h5 1
 check "campaign file '.' is not allowed: a campaign file, not a folder" bash "$submit" . new/m.h5 1
+# The array script itself, run by hand or with a bad count: one message, no shard folder (it
+# made the folder, then ended in bash's "unbound variable").
+sbatch_script=$(dirname "$submit")/campaign_array.sbatch
+check "S = 'abc' is not allowed: the number of shards" bash "$sbatch_script" "$campaign" shards abc
+check "SLURM_ARRAY_TASK_ID = '' is not allowed: a task of an array 0-1" env -u SLURM_ARRAY_TASK_ID bash "$sbatch_script" "$campaign" shards 2
+check "SLURM_ARRAY_TASK_ID = '5' is not allowed: a task of an array 0-1" env SLURM_ARRAY_TASK_ID=5 bash "$sbatch_script" "$campaign" shards 2
 echo "ok: refused before any folder or job"
