@@ -91,9 +91,7 @@ void print_capacity(const CapacityEstimate& e, const std::string& output) {
 }
 
 /// Rank 0's findings, as the dry run or the run reports them before any work.
-void print_decision(const RunDecision& d, bool dry_run) {
-    if (dry_run && d.sized) print_capacity(d.capacity, d.output);
-    if (!d.dry_run_refusal.empty()) std::printf("the run would be refused: %s\n", d.dry_run_refusal.c_str());
+void print_decision(const RunDecision& d) {
     for (const std::string& note : d.notes) std::printf("jamsim run: %s\n", note.c_str());
     for (const std::string& warning : d.warnings) std::fprintf(stderr, "jamsim run: warning: %s\n", warning.c_str());
 }
@@ -172,7 +170,9 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
                               .node_ranks = node_ranks,
                               .max_replicas = opt.max_replicas,
                               .limits = opt.limits});
-        print_decision(decision, opt.dry_run);
+        // A dry run's plan, sizes included, only once nothing refuses it (a refused --shards
+        // came after the archive's line).
+        if (!opt.dry_run || decision.error.empty()) print_decision(decision);
     }
     broadcast(decision, comm);
     if (!decision.error.empty()) {
@@ -193,7 +193,12 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
                                  : counted(static_cast<long long>(chains), "replica").c_str());
             return kExitRefused;
         }
-        if (rank == 0) print_dry_run_of(spec, decision, opt.plan);
+        if (rank == 0) {
+            if (decision.sized) print_capacity(decision.capacity, decision.output);
+            if (!decision.dry_run_refusal.empty())
+                std::printf("the run would be refused: %s\n", decision.dry_run_refusal.c_str());
+            print_dry_run_of(spec, decision, opt.plan);
+        }
         return 0;
     }
     const RunSettings settings{.spec_path = opt.spec_path,

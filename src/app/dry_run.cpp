@@ -111,9 +111,12 @@ void print_dry_run(const CampaignSpec& spec, const std::string& output, const Dr
                     "cost(p-evals)", "est. s", "sampling");
         for (std::size_t id = 0; id < spec.replicas.size(); ++id) {
             const ReplicaParams& p = spec.replicas[id];
-            std::printf("%6zu %7lld %8.4g %10.3g %6llu %9lld %14.4g %10.1f %9.1f\n", id, static_cast<long long>(p.n),
-                        p.phi, p.rate, static_cast<unsigned long long>(p.seed), static_cast<long long>(sample_count(p)),
-                        estimated_cost(p), estimate.seconds[id], estimate.serial[id]);
+            // phi and rate as the campaign gives them (show_value: the shortest text that reads
+            // back the same; %.4g showed 0.8401 and 0.84012 alike)
+            std::printf("%6zu %7lld %8s %10s %6llu %9lld %14.4g %10.1f %9.1f\n", id, static_cast<long long>(p.n),
+                        show_value(p.phi).c_str(), show_value(p.rate).c_str(), static_cast<unsigned long long>(p.seed),
+                        static_cast<long long>(sample_count(p)), estimated_cost(p), estimate.seconds[id],
+                        estimate.serial[id]);
         }
     }
     std::printf("total: %.3g core-hours, %.3g core-seconds on one thread (%s; the longest replica: %s)\n",
