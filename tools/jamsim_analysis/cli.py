@@ -81,6 +81,11 @@ def cmd_averages(a):
         if os.path.splitext(a.output)[1].lower() not in (".tsv", ".txt"):
             raise AnalysisError(f"--output '{a.output}': a file name ending in .tsv or .txt (a table of "
                                 "tab-separated values)")
+    clocks = [o for o in a.observable if o in ("time", "strain")]
+    if clocks:  # they grow through every run: no steady window ("no finished replica left to average")
+        raise AnalysisError(f"--observable {clocks[0]} is not allowed: a quantity of the steady state, such as "
+                            "pressure, shear_stress, energy_per_particle or contact_number (time and strain are "
+                            "the series' clock)")
     table, groups = _averages(run, a.observable)
     cols = ["replica", "model", "N", "phi", "rate", "seed", "window_start", "samples", "drift_z", "left_out"]
     for o in a.observable:
@@ -159,6 +164,7 @@ def cmd_collapse(a):
     import numpy as np
     import pandas as pd
     from . import figures, scaling
+    output_directory(a.outdir, create=False)  # before the fit (a file there was refused after it)
     table, groups = _averages(_flow_archive(a.archives, a.model), [a.observable])
     if a.auto_window:
         every = scaling.collapse_points(groups, a.observable, a.N, model=a.model)
@@ -203,6 +209,7 @@ def cmd_sizes(a):
     import numpy as np
     import pandas as pd
     from . import figures, scaling, trends
+    output_directory(a.outdir, create=False)  # before the fits
     table, groups = _averages(_flow_archive(a.archives, a.model), [a.observable])
     window = (a.phi_min, a.phi_max, a.rate_max)
     if not any(np.isfinite(window)):
@@ -313,6 +320,7 @@ def _compare_collapses(a):
 
 def _divergence_command(a, power):
     from . import figures, rheology
+    output_directory(a.outdir, create=False)  # before the fit
     _, groups = _averages(_flow_archive(a.archives, a.model), [a.observable])
     func = rheology.newtonian_divergence if power == 1 else rheology.bagnold_analysis
     plateau, fit = func(groups, a.observable, phi_j=a.phi_j, correction=a.correction, N=a.N, model=a.model,
@@ -547,7 +555,10 @@ def analyze_main(argv=None):
 
 
 def report_main(argv=None):
+    # The usage said so explicitly: argparse's own made it "ARCHIVE... OUTDIR [ARCHIVE... OUTDIR ...]",
+    # which promised several report folders.
     ap = argparse.ArgumentParser(prog=prog_name("jamsim_report.py"), description=_module_text("report").__doc__,
+                                 usage="%(prog)s [options] ARCHIVE [ARCHIVE ...] OUTDIR",
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("paths", nargs="+", metavar="ARCHIVE... OUTDIR",
                     help="campaign archives, shards or replica files, then the report directory")

@@ -355,3 +355,32 @@ def test_an_empty_collapse_window_names_the_window_and_the_data(small_archive, t
     out = run(ANALYZE, "collapse", small_archive, str(tmp_path / "out"), "--phi-min", "0.95", "--phi-max", "0.96")
     refused(out, "in the window 0.95 <= phi <= 0.96, rate <= inf (the data of that N have phi ")
     assert not os.path.exists(tmp_path / "out" / "collapse_pressure.csv")
+
+
+def test_collapse_refuses_a_file_as_outdir_before_the_fit(small_archive, tmp_path):
+    """The whole fit ran and printed its results before the output folder was refused."""
+    outdir = tmp_path / "a_file"
+    outdir.write_text("x")
+    out = run(ANALYZE, "collapse", small_archive, str(outdir))
+    refused(out, f"OUTDIR '{outdir}' is an existing file, not a directory")
+    assert out.stdout == "", out.stdout
+
+
+def test_transient_length_refusal_comes_alone(small_archive):
+    """The table's header was printed before the refusal."""
+    out = run(os.path.join(TOOLS, "transient_length.py"), small_archive, "--settled-from", "50")
+    refused(out, "--settled-from = 50 is not allowed")
+    assert out.stdout == "", out.stdout
+
+
+@pytest.mark.parametrize("clock", ["time", "strain"])
+def test_averages_of_a_clock_are_refused_in_words(small_archive, clock):
+    """It said "no finished replica left to average", which blamed the replicas."""
+    refused(run(ANALYZE, "averages", small_archive, "--observable", clock),
+            f"--observable {clock} is not allowed: a quantity of the steady state")
+
+
+def test_report_usage_names_one_outdir():
+    out = run(os.path.join(TOOLS, "jamsim_report.py"), "--help")
+    assert out.returncode == 0, out.stderr
+    assert "ARCHIVE [ARCHIVE ...] OUTDIR" in out.stdout and "OUTDIR [ARCHIVE" not in out.stdout, out.stdout

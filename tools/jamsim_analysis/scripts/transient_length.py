@@ -52,8 +52,10 @@ def transient(a):
     run = open_archives(a.archives)
     groups = groups_of(run, a.rate)
     models = {k[0] for k in groups}
-    print(("model  " if len(models) > 1 else "") +
-          f"{'N':>6} {'phi':>6} {'rate':>8} {'seeds':>5} {'steady p':>11} {'error':>9} {'band':>9} {'transient strain':>16}")
+    # Printed once every group is computed: a refusal comes alone (the header came before it).
+    lines = [("model  " if len(models) > 1 else "") +
+             f"{'N':>6} {'phi':>6} {'rate':>8} {'seeds':>5} {'steady p':>11} {'error':>9} {'band':>9} "
+             f"{'transient strain':>16}"]
     for (model, n, phi, rate), ks in sorted(groups.items()):
         p_rows = [run.series(k, "pressure") for k in ks]
         m = min(len(v) for v in p_rows)
@@ -81,8 +83,10 @@ def transient(a):
         band = 2 * np.std(inside_steady, ddof=1) if len(inside_steady) > 1 else float("nan")
         inside = centres[np.abs(smooth - steady) <= band]
         length = strain[inside[0] - width // 2] if len(inside) else float("nan")
-        print((f"{model:<6} " if len(models) > 1 else "") +
-              f"{n:>6} {phi:>6.3f} {rate:>8.1e} {len(ks):>5} {steady:>11.4e} {error:>9.2e} {band:>9.2e} {length:>16.2f}")
+        lines.append((f"{model:<6} " if len(models) > 1 else "") +
+                     f"{n:>6} {phi:>6.3f} {rate:>8.1e} {len(ks):>5} {steady:>11.4e} {error:>9.2e} {band:>9.2e} "
+                     f"{length:>16.2f}")
+    print("\n".join(lines))
 
 
 def main(argv=None):
