@@ -71,7 +71,9 @@ inline CLI::Validator decimal_number() {
             std::string_view digits = v;
             if (digits.starts_with('+') && digits.size() > 1 && digits[1] != '-') digits.remove_prefix(1);
             double ignored = 0.0;
-            return parse_whole_text(digits, ignored) ? "" : "value '" + v + "' is not allowed: a number in decimal";
+            if (parse_whole_text(digits, ignored)) return "";
+            return "value '" + v + "' is not allowed: " +
+                   (decimal_beyond_double(v) ? std::string(kDoubleRangeWords) : std::string("a number in decimal"));
         },
         "NUMBER");
 }

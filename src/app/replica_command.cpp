@@ -15,6 +15,7 @@
 #include <optional>
 #include <string>
 
+#include "jamsim/core/parse_number.hpp"
 #include "jamsim/archive/archive_file_check.hpp"
 #include "jamsim/archive/capacity.hpp"
 #include "jamsim/run/model_registry.hpp"
@@ -64,7 +65,9 @@ ReplicaParams params_of(const ReplicaOptions& opt) {
         const ParamInfo& info = *find_parameter(key);
         ParamValue value;
         if (!parse_value(info, text, value) || !set_value(params, info, value))
-            usage_error(std::string(info.flag.substr(2)), text, value_kind(info));
+            usage_error(std::string(info.flag.substr(2)), text,
+                        value_kind(info) == "a number" && decimal_beyond_double(text) ? kDoubleRangeWords
+                                                                                      : value_kind(info));
     }
     for (const auto& e : validate(params)) {
         const ParamInfo* info = find_parameter(e.key);
