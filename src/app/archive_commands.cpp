@@ -1,6 +1,7 @@
 #include "campaign_commands.hpp"
 #include "option_checks.hpp"
 #include "exit_status.hpp"
+#include "wall_time.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -11,6 +12,7 @@
 #include "jamsim/archive/archive_file_check.hpp"
 #include "jamsim/archive/archive_lock.hpp"
 #include "jamsim/campaign/lifecycle.hpp"
+#include "jamsim/campaign/wall_time.hpp"
 #include "jamsim/parallel/mpi.hpp"
 
 // `jamsim status` and `jamsim merge`: the commands that read (and merge) finished or running
@@ -53,8 +55,9 @@ int status(const std::string& path) {
     if (s.cost_done > 0 && s.cost_left > 0) {
         const double per_cost = s.wall_seconds_done / s.cost_done;
         const double ranks = s.ranks > 0 ? static_cast<double>(s.ranks) : 1.0;
-        std::printf("remaining: about %.0f s on %lld ranks (%.0f core-seconds)\n", per_cost * s.cost_left / ranks,
-                    static_cast<long long>(ranks), per_cost * s.cost_left);
+        const double left = per_cost * s.cost_left;
+        std::printf("remaining: about %s on %s (%.0f core-seconds)\n", duration(left / ranks).c_str(),
+                    counted(static_cast<long long>(ranks), "rank").c_str(), left);
     }
     for (const auto& r : s.in_progress) {
         const auto id = static_cast<long long>(r.replica);
