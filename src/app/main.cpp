@@ -139,6 +139,11 @@ int main(int argc, char** argv) {
         std::cerr << "jamsim: " << problem << '\n';
         return jamsim::app::kExitRefused;
     }
+    // --version prints the version and ends: anything beside it was ignored without a word.
+    if (argc > 2 && std::string_view(argv[1]) == "--version") {
+        std::cerr << "jamsim: '" << argv[2] << "' is not allowed after --version: it takes nothing else\n";
+        return jamsim::app::kExitRefused;
+    }
     if (const std::string unknown = jamsim::app::unknown_command(app, argc, argv); !unknown.empty()) {
         std::cerr << unknown << '\n';
         return jamsim::app::kExitRefused;

@@ -32,3 +32,5 @@ add_test(NAME cli.status_remaining_in_words
   COMMAND bash -c "rm -f rem.h5 && $<TARGET_FILE:jamsim> run ${campaigns}/small.toml --shard 0/2 -o rem.h5 > /dev/null && $<TARGET_FILE:jamsim> status rem.h5 > rem.txt; cat rem.txt; grep -Eq '^remaining: about [0-9.]+ (s|min|h) on 1 rank [(]' rem.txt"
   WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
 set_tests_properties(cli.status_remaining_in_words PROPERTIES LABELS unit)
+# --version with anything after it (ignored without a word before).
+jamsim_cli_error(version_with_extra "^jamsim: 'extra' is not allowed after --version: it takes nothing else" --version extra)
