@@ -273,6 +273,7 @@ def cmd_compare(a):
             t.insert(0, "file", name)
             tables.append(t)
         table = pd.concat(tables, ignore_index=True)
+        comparison.refuse_shared_replicas(table)
         keys = ("file",) + stats.KEYS
     else:
         table = stats.replica_averages(open_archives(a.archives), a.observable)

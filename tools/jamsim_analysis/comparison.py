@@ -197,3 +197,17 @@ def write_tables(comparison, outdir, stem="compare"):
     comparison.averages.to_csv(a, sep="\t", index=False)
     comparison.differences.to_csv(d, sep="\t", index=False)
     return a, d
+
+
+def refuse_shared_replicas(table):
+    """AnalysisError when two files of a `--by file` table (column `file`) hold the same replica
+    (identity and seed: one trajectory), as a shard and its archive do: their difference was
+    reported "not significant" as if the data were independent."""
+    if not {"identity", "seed", "file"} <= set(table.columns):
+        return
+    shared = table[table.duplicated(["identity", "seed"], keep=False)]
+    if shared["file"].nunique() > 1:
+        r = shared.iloc[0]
+        raise AnalysisError(f"--by file: {' and '.join(sorted(shared['file'].unique()))} hold the same replicas "
+                            f"(N = {int(r['N'])}, phi = {r['phi']:g}, seed {int(r['seed'])}, ...): a shard and its "
+                            "archive, or one run copied; compare independent archives")

@@ -32,17 +32,19 @@ def pull_bounds(k, level=0.001):
 
 
 def write_flow_archive(path, model, means, rng, seeds=4, samples=200, noise=0.05, campaign=None,
-                       shear_ratio=0.3, rho=0.0):
+                       shear_ratio=0.3, rho=0.0, first_seed=0):
     """A campaign archive in jamsim's layout (/replicas, /timeseries) of `model` with
     `seeds` replicas per state point: means = {(N, phi, rate): mean pressure}. Each replica's
     pressure series is mean * (1 + noise * AR(1) of correlation rho and unit variance) over
     `samples` samples after strain 0 (transient 0); shear_stress = shear_ratio * pressure.
-    Replicas are done, without final configurations or correlations. Returns the path."""
+    Replicas are done, without final configurations or correlations; seeds from `first_seed`,
+    identities a hash of (model, N, phi, rate) as jamsim's are of the parameters (two archives
+    of one state point with the same seeds hold "the same replicas"). Returns the path."""
     import h5py
     import zlib
 
     points = sorted(means)
-    rows = [(n, phi, rate, s) for (n, phi, rate) in points for s in range(seeds)]
+    rows = [(n, phi, rate, s) for (n, phi, rate) in points for s in range(first_seed, first_seed + seeds)]
     p = np.empty((len(rows), samples))
     for k, (n, phi, rate, _) in enumerate(rows):
         e = rng.normal(size=samples)
@@ -63,7 +65,7 @@ def write_flow_archive(path, model, means, rng, seeds=4, samples=200, noise=0.05
         r["status"] = np.full(len(rows), 2, np.int32)
         r["n_samples"] = np.full(len(rows), samples, np.int64)
         r["rows_written"] = np.full(len(rows), samples, np.int64)
-        r["identity"] = np.zeros(len(rows), np.uint64)
+        r["identity"] = np.asarray([zlib.crc32(f"{model} {a[0]} {a[1]!r} {a[2]!r}".encode()) for a in rows], np.uint64)
         r["transient"] = np.zeros(len(rows))
         r["strain"] = np.full(len(rows), 1.0)
         t = f.create_group("timeseries")

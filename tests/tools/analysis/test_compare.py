@@ -109,19 +109,22 @@ def test_known_offset_between_two_models_at_one_rate(tmp_path, seed):
 
 
 def test_equal_means_of_two_archives_by_file(tmp_path):
-    """Two archives of one model (the same campaign run twice): --by file compares them;
+    """Two archives of one model (the same campaign with other seeds): --by file compares them;
     equal means are not significant in 17 of 20 pairs at least (binomial, 5 % each: P(more
     than 3 alarms) < 0.02), a 5 % offset is significant."""
     rng = np.random.default_rng(7)
     alarms = 0
     for k in range(20):
         a = write_flow_archive(tmp_path / f"a{k}.h5", "RD0", {POINT: 1e-3}, rng, seeds=3, samples=100)
-        b = write_flow_archive(tmp_path / f"b{k}.h5", "RD0", {POINT: 1e-3}, rng, seeds=3, samples=100)
+        b = write_flow_archive(tmp_path / f"b{k}.h5", "RD0", {POINT: 1e-3}, rng, seeds=3, samples=100, first_seed=3)
         run = call(ANALYZE, "compare", a, b, "--by", "file", "--observable", "pressure")
         assert run.returncode == 0, run.stderr
         alarms += "1 of 1 differences significant" in run.stdout
     assert alarms <= 3, alarms
-    c = write_flow_archive(tmp_path / "c.h5", "RD0", {POINT: 1.05e-3}, rng, seeds=3, samples=100)
+    c = write_flow_archive(tmp_path / "c.h5", "RD0", {POINT: 1.05e-3}, rng, seeds=3, samples=100, first_seed=3)
+    shared = write_flow_archive(tmp_path / "shared.h5", "RD0", {POINT: 1e-3}, rng, seeds=3, samples=100)
+    run = call(ANALYZE, "compare", a, shared, "--by", "file", "--observable", "pressure")
+    assert run.returncode == 2 and "a19 and shared hold the same replicas" in run.stderr, run.stderr
     run = call(ANALYZE, "compare", a, c, "--by", "file", "--observable", "pressure")
     assert run.returncode == 0 and "1 of 1 differences significant" in run.stdout, run.stdout
     assert "a19 - c = " in run.stdout or "c - a19 = " in run.stdout, run.stdout
