@@ -66,8 +66,9 @@ ReplicaParams params_of(const ReplicaOptions& opt) {
         ParamValue value;
         if (!parse_value(info, text, value) || !set_value(params, info, value))
             usage_error(std::string(info.flag.substr(2)), text,
-                        value_kind(info) == "a number" && decimal_beyond_double(text) ? kDoubleRangeWords
-                                                                                      : value_kind(info));
+                        std::holds_alternative<double ReplicaParams::*>(info.field) && decimal_beyond_double(text)
+                            ? kDoubleRangeWords
+                            : value_kind(info));
     }
     for (const auto& e : validate(params)) {
         const ParamInfo* info = find_parameter(e.key);

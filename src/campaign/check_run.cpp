@@ -136,12 +136,12 @@ void check_campaign(const RunRequest& request, const CampaignSpec& spec, RunDeci
             d.dry_run_refusal = std::move(too_large);
         }
     }
-    // The checkpoints beside the archive are keyed by its replica ids (before a growth, those
-    // of the archive's campaign).
     // An output given as -o is named so: "[campaign] output = ..." blamed the campaign file.
     if (const std::string file_key = spec.path + ": [campaign] output = \"";
         !request.output.empty() && d.error.starts_with(file_key))
         d.error = spec.path + ": -o \"" + d.error.substr(file_key.size());
+    // The checkpoints beside the archive are keyed by its replica ids (before a growth, those
+    // of the archive's campaign).
     if (d.error.empty())
         d.error = check_checkpoints(d.output, d.mode == OutputMode::Grow ? read_stored_campaign(d.output).spec : spec);
     if (d.error.empty()) d.error = check_petsc_options(spec);
