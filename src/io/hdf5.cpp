@@ -15,6 +15,43 @@ namespace jamsim::h5 {
 
 void quiet_errors() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
 
+namespace {
+
+/// The part of an HDF5 error description that says why: the system's errno and message of
+/// the sec2 driver's long "file write failed: time = ..., errno = 28, error message = '...'",
+/// the MPI error string of the MPI-IO driver's "... failed: MPI error string is '...'".
+std::string why_in(std::string text) {
+    if (const auto at = text.find("errno = "); at != std::string::npos) {
+        const auto end = text.find(", error message = '", at);
+        const auto close = end == std::string::npos ? end : text.find('\'', end + 19);
+        if (close != std::string::npos)
+            return "errno " + text.substr(at + 8, end - at - 8) + ", " + text.substr(end + 19, close - end - 19);
+    }
+    if (const auto at = text.find(": MPI error string is '"); at != std::string::npos) {
+        const auto close = text.find('\'', at + 23);
+        return text.substr(0, at) + ": " + text.substr(at + 23, close - at - 23);
+    }
+    return text;
+}
+
+}  // namespace
+
+std::string error_cause() {
+    std::string cause;
+    const auto innermost = [](unsigned, const H5E_error2_t* e, void* out) -> herr_t {
+        if (e->desc == nullptr || *e->desc == '\0') return 0;
+        *static_cast<std::string*>(out) = e->desc;
+        return 1;  // stop: the innermost description is the cause
+    };
+    if (H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, innermost, &cause) < 0) return "";
+    return cause.empty() ? "" : why_in(cause);
+}
+
+void fail(const std::string& what) {
+    const std::string cause = error_cause();
+    throw Error("HDF5: " + what + " failed" + (cause.empty() ? "" : " (" + cause + ")"));
+}
+
 FileInMemory::FileInMemory(std::string path) : path_(std::move(path)) {
     // Semi close degree: H5Fclose fails (instead of silently deferring) if any object in
     // the file is still open, so a successful close means the file is complete.

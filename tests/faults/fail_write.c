@@ -3,7 +3,8 @@
  * OMPI_COMM_WORLD_RANK is FAIL_WRITE_RANK, after FAIL_WRITE_AFTER such writes that succeed
  * (default 0): one rank's share of a collective write meets a full disk or quota. With
  * FAIL_WRITE_HANG_SECONDS set, such a write instead waits that long and then goes through (the
- * fault case write_stalls_one_rank: a filesystem that stops answering one node). */
+ * fault case write_stalls_one_rank: a filesystem that stops answering one node). FAIL_WRITE_ERRNO
+ * names another error: EDQUOT (a quota) or EIO (a failing disk). */
 #define _GNU_SOURCE
 #include <dlfcn.h>
 #include <errno.h>
@@ -34,7 +35,11 @@ static int should_fail(int fd) {
         sleep((unsigned)atoi(hang));
         return 0;
     }
-    errno = ENOSPC;
+    const char* name = getenv("FAIL_WRITE_ERRNO");
+    errno = !name                        ? ENOSPC
+            : strcmp(name, "EDQUOT") == 0 ? EDQUOT
+            : strcmp(name, "EIO") == 0    ? EIO
+                                          : ENOSPC;
     return 1;
 }
 

@@ -28,11 +28,18 @@ no_crash() {
   ! grep -Eq -- "HDF5-DIAG|terminate called|Segmentation|buffer overflow|malloc\(\)" "$1" || { cat "$1"; fail "a crash in $1"; }
 }
 
-# A checkpointed campaign interrupted by SIGUSR1 while replicas run: cp.h5 and its
-# checkpoints, and ref.h5 run without interruption.
-interrupted_campaign() {
-  run ref.log run "$here/checkpointed.toml" -o ref.h5
-  expect_rc 0 ref.log
+# Two fixtures, made once by their own cases (faults.reference.np2 and faults.interrupted.npN,
+# CTest's FIXTURES_SETUP) beside this case's WORKDIR, and copied by the cases that use them;
+# a case run without them makes its own.
+shared=$(dirname "$work")
+# ref.h5: the checkpointed campaign run without interruption (its bits do not depend on ranks).
+reference() {
+  if [[ -s $shared/reference.np2/ref.h5 ]]; then cp "$shared/reference.np2/ref.h5" ref.h5 || fail "copying the reference"
+  else run ref.log run "$here/checkpointed.toml" -o ref.h5; expect_rc 0 ref.log; fi
+}
+# cp.h5 and its checkpoints: the checkpointed campaign interrupted by SIGUSR1 while replicas
+# run, on $ranks ranks.
+interrupt_campaign() {
   # SIGUSR1 (what a batch system's time-limit warning sends) to mpiexec 2 s after the ranks
   # started, while the long replicas run (about 5 s on 2 ranks). A signal before the ranks
   # start is lost (tests/wait_for_ranks.sh).
@@ -47,8 +54,21 @@ interrupted_campaign() {
   expect_in '[1-9][0-9]* interrupted \(saved\)' cp.log
   ls cp.h5.checkpoints/replica_*.h5 > /dev/null 2>&1 || fail "the interrupted run left no checkpoint"
 }
+# Both of the above, for a case that damages or resumes the interrupted run.
+interrupted_campaign() {
+  reference
+  local made=$shared/interrupted.np$ranks
+  if [[ -s $made/cp.h5 ]]; then cp -a "$made/cp.h5" "$made/cp.h5.checkpoints" "$made/cp.log" . || fail "copying $made"
+  else interrupt_campaign; fi
+}
 
 case $case in
+reference)  # the fixture ref.h5 (above)
+  run ref.log run "$here/checkpointed.toml" -o ref.h5; expect_rc 0 ref.log
+  ;;
+interrupted)  # the fixture cp.h5 with its checkpoints (above)
+  interrupt_campaign
+  ;;
 initial_other_mixture)  # another size_ratio than the source's: refused before any work
   run src.log run "$here/source.toml"; expect_rc 0 src.log
   run dep.log run "$here/dependent_other_mixture.toml"; expect_rc 2 dep.log
@@ -103,7 +123,7 @@ initial_source_changed)  # the source extended between two runs of the dependent
   [[ "$(sha256sum dep.h5)" == "$sum" ]] || fail "dep.h5 was modified"
   ;;
 lock_symlink | lock_removed)  # a second writer through a symlink, or after the lock file is removed
-  run ref.log run "$here/checkpointed.toml" -o ref.h5; expect_rc 0 ref.log
+  reference
   timeout -k 10 "$limit" "$mpirun" -n "$ranks" "$jamsim" run "$here/checkpointed.toml" -o cp.h5 > first.log 2>&1 &
   leader=$!
   for _ in $(seq 200); do [[ -e cp.h5 ]] && break; sleep 0.05; done
@@ -146,7 +166,7 @@ long_path)  # an archive path longer than MPI-IO takes: shortened, or refused in
   expect_in 'is not allowed: an archive path of at most 234 characters' edge240.log
   ;;
 signals)  # SIGHUP to a rank saves and exits 75; a closed pipe does not kill the run
-  run ref.log run "$here/checkpointed.toml" -o ref.h5; expect_rc 0 ref.log
+  reference
   timeout -k 10 "$limit" "$mpirun" -n "$ranks" "$jamsim" run "$here/checkpointed.toml" -o hup.h5 > hup.log 2>&1 &
   leader=$!
   for _ in $(seq 200); do [[ -e hup.h5 ]] && break; sleep 0.05; done
@@ -367,7 +387,7 @@ rename_fails_at_checkpoint)  # the filesystem refuses a checkpoint's rename: the
   # replica's last good checkpoint and fails no replica (it marked the replica failed for good
   # and removed that checkpoint); the same command then finishes bitwise equal
   [[ -n ${FAIL_OPEN_LIB:-} ]] || fail "FAIL_OPEN_LIB is not set"
-  run ref.log run "$here/checkpointed.toml" -o ref.h5; expect_rc 0 ref.log
+  reference
   timeout -k 10 "$limit" "$mpirun" -n "$ranks" -x LD_PRELOAD="$FAIL_OPEN_LIB" -x FAIL_RENAME_SUFFIX=/replica_0.h5 \
     -x FAIL_RENAME_AFTER=2 "$jamsim" run "$here/checkpointed.toml" -o cp.h5 --checkpoint-every 0 > cp.log 2>&1
   rc=$?

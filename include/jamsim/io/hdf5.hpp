@@ -22,9 +22,17 @@ struct OpenRefused : Error {
     using Error::Error;
 };
 
+/// The cause HDF5's error stack gives for the call that just failed, in words: the innermost
+/// entry, where a driver or the system said why ("MPI_File_write_at_all: MPI_ERR_NO_SPACE ...",
+/// "errno 28, No space left on device"); "" when the stack holds none.
+std::string error_cause();
+
+/// Throws Error "HDF5: WHAT failed" with the cause from HDF5's error stack, when there is one.
+[[noreturn]] void fail(const std::string& what);
+
 /// Check an HDF5 return value (negative = failure).
 inline hid_t check(hid_t id, const std::string& what) {
-    if (id < 0) throw Error("HDF5: " + what + " failed");
+    if (id < 0) fail(what);
     return id;
 }
 
