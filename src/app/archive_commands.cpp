@@ -90,12 +90,11 @@ int merge(const std::string& output, const std::vector<std::string>& inputs, int
         std::fprintf(stderr, "jamsim merge: %s\n", e.what());
         return kExitRefused;
     } catch (const MergeFailed& e) {
+        // A failed write leaves HDF5 a file it cannot close: the process ends at MPI_Finalize,
+        // before HDF5's own close of it (h5::file_close_failed). The output is already removed
+        // or whole (merge_archives).
         std::fprintf(stderr, "jamsim merge: %s\n", e.what());
-        // Ended here, without MPI_Finalize: a failed write leaves HDF5 a file it cannot close,
-        // and its own close of it at MPI_Finalize crashed the process (a segfault, exit 139,
-        // after the message above). The output is already removed or whole (merge_archives).
-        std::fflush(nullptr);
-        std::_Exit(1);
+        return 1;
     }
     std::printf("merged %lld %s from %zu %s into %s", static_cast<long long>(merged.copied),
                 merged.copied == 1 ? "replica" : "replicas", inputs.size(), inputs.size() == 1 ? "archive" : "archives",

@@ -215,12 +215,15 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
                                                              : kExitRefused;
     } catch (const std::exception& e) {
         // One rank cannot leave the others waiting in a collective call: abort the job.
-        if (dynamic_cast<const h5::Error*>(&e) && disk_full(decision.output))
+        // A refused write (a full disk, a quota, a failing device) in the system's words.
+        const std::string refused = dynamic_cast<const h5::Error*>(&e) ? write_refused(decision.output) : "";
+        if (!refused.empty())
             std::fprintf(stderr,
-                         "jamsim run (rank %d): no space left on device: writing the archive '%s' "
-                         "failed (%s); the replicas finished before are safe in it (jamsim status "
-                         "%s): free space and run the same command again to continue\n",
-                         rank, decision.output.c_str(), e.what(), decision.output.c_str());
+                         "jamsim run (rank %d): %s: writing the archive '%s' failed (%s); the replicas "
+                         "finished before are safe in it (jamsim status %s): %s and run the same command "
+                         "again to continue\n",
+                         rank, refused.c_str(), decision.output.c_str(), e.what(), decision.output.c_str(),
+                         refused == "no space left on device" ? "free space" : "mend the filesystem");
         else if (dynamic_cast<const std::filesystem::filesystem_error*>(&e))
             std::fprintf(stderr,
                          "jamsim run (rank %d): the filesystem refused a checkpoint beside the archive (%s); the "

@@ -1,16 +1,22 @@
 #include "jamsim/archive/capacity.hpp"
 
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <sys/statvfs.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <sstream>
+#include <vector>
 
 #include "jamsim/archive/archive.hpp"
 #include "jamsim/core/memory.hpp"
@@ -46,6 +52,31 @@ double free_bytes(const std::string& output) {
 bool disk_full(const std::string& path) {
     const double free = free_bytes(path);
     return std::isfinite(free) && free < 1e6;
+}
+
+std::string write_refused(const std::string& path) {
+    if (disk_full(path)) return "no space left on device";
+    // Named per process, so that ranks that test at once do not meet; its suffix lets a test
+    // library fail it (tests/faults/fail_write.c).
+    const std::string probe = path + "." + std::to_string(::getpid()) + ".write-test";
+    int error = 0;
+    const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+    if (fd < 0) {
+        error = errno;
+    } else {
+        const std::vector<char> block(std::size_t{1} << 16, '\0');
+        const ssize_t written = ::write(fd, block.data(), block.size());
+        if (written != static_cast<ssize_t>(block.size()))
+            error = written < 0 ? errno : ENOSPC;  // a short write: the device is full
+        else if (::fsync(fd) != 0)
+            error = errno;
+        ::close(fd);
+        ::unlink(probe.c_str());
+    }
+    if (error == 0) return "";
+    std::string why = std::strerror(error);
+    if (!why.empty()) why[0] = static_cast<char>(std::tolower(static_cast<unsigned char>(why[0])));
+    return why;
 }
 
 namespace {

@@ -63,9 +63,9 @@ std::string create_archive(MPI_Comm comm, const CampaignSpec& spec, const std::s
         std::filesystem::remove(output, ignored);
         std::filesystem::remove(Archive::creation_marker(output), ignored);
     }
-    return spec.path + ": creating the archive '" + output + "' failed" +
-           (disk_full(output) ? ": no space left on device" : "") + "; nothing was kept (" +
-           (why.empty() ? "on another rank" : why) + ")";
+    const std::string refused = write_refused(output);
+    return spec.path + ": creating the archive '" + output + "' failed" + (refused.empty() ? "" : ": " + refused) +
+           "; nothing was kept (" + (why.empty() ? "on another rank" : why) + ")";
 }
 
 /// "" when the archive is still as check_run found it, now that this run holds its lock (on

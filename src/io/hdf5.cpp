@@ -6,6 +6,8 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <functional>
 #include <optional>
@@ -45,6 +47,32 @@ std::string error_cause() {
     };
     if (H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, innermost, &cause) < 0) return "";
     return cause.empty() ? "" : why_in(cause);
+}
+
+namespace {
+
+[[noreturn]] void end_before_hdf5_closes() {
+    std::fflush(nullptr);
+    std::_Exit(1);
+}
+
+}  // namespace
+
+void file_close_failed() noexcept {
+    static bool guarded = false;  // process-wide: one guard for the library's one exit
+    if (guarded) return;
+    guarded = true;
+    int initialised = 0, finalised = 0;
+    MPI_Initialized(&initialised);
+    MPI_Finalized(&finalised);
+    if (initialised && !finalised) {
+        int key = MPI_KEYVAL_INVALID;
+        const auto on_delete = [](MPI_Comm, int, void*, void*) -> int { end_before_hdf5_closes(); };
+        if (MPI_Comm_create_keyval(MPI_COMM_NULL_COPY_FN, on_delete, &key, nullptr) == MPI_SUCCESS &&
+            MPI_Comm_set_attr(MPI_COMM_SELF, key, nullptr) == MPI_SUCCESS)
+            return;
+    }
+    std::atexit([] { end_before_hdf5_closes(); });
 }
 
 void fail(const std::string& what) {

@@ -1,10 +1,11 @@
-/* LD_PRELOAD library for the fault case write_one_rank: pwrite(), pwrite64(), pwritev() and
- * write() to a file whose path ends in FAIL_WRITE_SUFFIX fail with ENOSPC in the process whose
- * OMPI_COMM_WORLD_RANK is FAIL_WRITE_RANK, after FAIL_WRITE_AFTER such writes that succeed
- * (default 0): one rank's share of a collective write meets a full disk or quota. With
- * FAIL_WRITE_HANG_SECONDS set, such a write instead waits that long and then goes through (the
- * fault case write_stalls_one_rank: a filesystem that stops answering one node). FAIL_WRITE_ERRNO
- * names another error: EDQUOT (a quota) or EIO (a failing disk). */
+/* LD_PRELOAD library for the fault cases write_one_rank, write_stalls_one_rank and
+ * write_refused: pwrite(), pwrite64(), pwritev() and write() to a file whose path ends in
+ * FAIL_WRITE_SUFFIX (or in one of its ':'-separated suffixes) fail with ENOSPC in the process
+ * whose OMPI_COMM_WORLD_RANK is FAIL_WRITE_RANK ("any": every process), after FAIL_WRITE_AFTER
+ * such writes that succeed (default 0): one rank's share of a collective write meets a full
+ * disk or quota. With FAIL_WRITE_HANG_SECONDS set, such a write instead waits that long and
+ * then goes through (a filesystem that stops answering one node). FAIL_WRITE_ERRNO names
+ * another error: EDQUOT (a quota) or EIO (a failing disk). */
 #define _GNU_SOURCE
 #include <dlfcn.h>
 #include <errno.h>
@@ -19,14 +20,20 @@ static int should_fail(int fd) {
     const char* suffix = getenv("FAIL_WRITE_SUFFIX");
     const char* rank = getenv("OMPI_COMM_WORLD_RANK");
     const char* wanted = getenv("FAIL_WRITE_RANK");
-    if (!suffix || !rank || !wanted || strcmp(rank, wanted) != 0) return 0;
+    if (!suffix || !wanted || (strcmp(wanted, "any") != 0 && (!rank || strcmp(rank, wanted) != 0))) return 0;
     char link[64], path[4096];
     snprintf(link, sizeof link, "/proc/self/fd/%d", fd);
     const ssize_t n = readlink(link, path, sizeof path - 1);
     if (n < 0) return 0;
     path[n] = '\0';
-    const size_t m = strlen(suffix);
-    if ((size_t)n < m || strcmp(path + n - m, suffix) != 0) return 0;
+    int matches = 0;
+    for (const char* from = suffix; *from && !matches;) {
+        const char* colon = strchr(from, ':');
+        const size_t m = colon ? (size_t)(colon - from) : strlen(from);
+        matches = m > 0 && (size_t)n >= m && strncmp(path + n - m, from, m) == 0;
+        from += colon ? m + 1 : m;
+    }
+    if (!matches) return 0;
     static int passed = 0; /* matching writes let through so far */
     const char* after = getenv("FAIL_WRITE_AFTER");
     if (passed++ < (after ? atoi(after) : 0)) return 0;

@@ -248,6 +248,28 @@ write_one_rank)  # one rank's share of a collective archive write fails (ENOSPC)
   expect_in "removed 'w.h5', an archive whose creation was interrupted" again.log
   "$jamsim" status w.h5 | grep -q " 0 failed" || fail "replicas failed after the creation was made anew"
   ;;
+write_refused)  # every write to the archive refused, with a quota's or a failing disk's errno: the
+  # message names it (MPI-IO passes HDF5 no errno: "file write failed"), and no crash (HDF5
+  # closed the half-written file again at MPI_Finalize: a segfault, exit 139)
+  [[ -n ${FAIL_WRITE_LIB:-} ]] || fail "FAIL_WRITE_LIB is not set"
+  run ref.log run "$here/source.toml" -o ref.h5; expect_rc 0 ref.log
+  refused() {  # ERRNO AFTER LOG: the run with writes to w.h5 and its test writes refused
+    timeout -k 10 "$limit" "$mpirun" -n "$ranks" -x LD_PRELOAD="$FAIL_WRITE_LIB" -x FAIL_WRITE_SUFFIX=/w.h5:.write-test \
+      -x FAIL_WRITE_RANK=any -x FAIL_WRITE_ERRNO="$1" -x FAIL_WRITE_AFTER="$2" -x JAMSIM_WRITE_DEADLINE_SECONDS=10 \
+      "$jamsim" run "$here/source.toml" -o w.h5 > "$3" 2>&1
+    rc=$?
+    if [[ $rc -eq 124 || $rc -eq 137 ]]; then cat "$3"; fail "a refused write hung the run"; fi
+    expect_rc 1 "$3"; no_crash "$3"
+  }
+  refused EDQUOT 0 create.log  # the archive's creation
+  expect_in "creating the archive 'w\.h5' failed: disk quota exceeded; nothing was kept \(HDF5: .* failed \(file write failed\)\)" create.log
+  [[ ! -e w.h5 ]] || fail "the failed creation left w.h5"
+  refused EIO 300 run.log  # a replica's results, mid-run
+  expect_in "input/output error: writing the archive 'w\.h5' failed \(HDF5: .*\); the replicas finished before are safe in it \(jamsim status w\.h5\): mend the filesystem and run the same command again to continue" run.log
+  ls *.write-test > /dev/null 2>&1 && fail "a test write was left"
+  run again.log run "$here/source.toml" -o w.h5; expect_rc 0 again.log
+  $compare ref.h5 w.h5 || fail "the campaign finished after the refused writes differs"
+  ;;
 write_stalls_one_rank)  # one rank's write of a replica's data never returns (a filesystem that
   # stops answering one node): the write deadline ends the job (it held every rank for as long
   # as the write did: only the archive's creation, stamps and close had a deadline)

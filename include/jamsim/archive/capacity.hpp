@@ -52,6 +52,12 @@ double free_bytes(const std::string& path);
 /// The filesystem of `path` has (almost) no space left (under 1 MB): a failed write there is
 /// a full disk.
 bool disk_full(const std::string& path);
+/// Why the filesystem of `path` refuses writes, in the system's words ("no space left on
+/// device", "disk quota exceeded", "input/output error", "read-only file system"), from its
+/// free space and a small test write beside `path` (64 kB, synced, removed); "" when it takes
+/// them. For the message of a failed archive write: MPI-IO reports a refused write to HDF5
+/// without its errno, so HDF5's error says only "file write failed".
+std::string write_refused(const std::string& path);
 
 /// "10G", "1.5T", "500M", "2e12" in bytes; negative when it does not parse.
 double parse_bytes(const std::string& text);

@@ -36,6 +36,17 @@ inline hid_t check(hid_t id, const std::string& what) {
     return id;
 }
 
+/// Called when H5Fclose failed (a write the filesystem refused while HDF5 flushed the file).
+/// HDF5 1.10 keeps such a file half closed, and its own close of it when the library ends
+/// (at MPI_Finalize, or at exit) dereferences freed state: the process crashed with a
+/// segfault after its error message (exit 139). So from the first such failure on, the
+/// process ends just before that close, with exit status 1, its output flushed: through an
+/// attribute on MPI_COMM_SELF set after HDF5's own (MPI_Finalize deletes them last set, first
+/// called), or an exit handler registered after HDF5's where MPI is not running. A command
+/// that fails so has already said why; whatever it wrote is made whole or removed by its own
+/// rules before this point.
+void file_close_failed() noexcept;
+
 /// Move-only owner of an hid_t, closed with the matching H5*close on destruction.
 class Handle {
   public:
@@ -60,6 +71,7 @@ class Handle {
     void close(const std::string& what) {
         if (id_ >= 0) {
             const herr_t rc = close_(std::exchange(id_, H5I_INVALID_HID));
+            if (rc < 0 && close_ == &H5Fclose) file_close_failed();
             check(rc, "close " + what);
         }
     }
@@ -71,7 +83,7 @@ class Handle {
 
   private:
     void reset() noexcept {
-        if (id_ >= 0) close_(std::exchange(id_, H5I_INVALID_HID));
+        if (id_ >= 0 && close_(std::exchange(id_, H5I_INVALID_HID)) < 0 && close_ == &H5Fclose) file_close_failed();
     }
     hid_t id_ = H5I_INVALID_HID;
     Closer close_ = nullptr;
