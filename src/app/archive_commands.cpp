@@ -89,6 +89,9 @@ int merge(const std::string& output, const std::vector<std::string>& inputs, int
     } catch (const CampaignRefused& e) {
         std::fprintf(stderr, "jamsim merge: %s\n", e.what());
         return kExitRefused;
+    } catch (const MergeStopped& e) {  // Ctrl-C or SIGTERM between two replicas (main.cpp)
+        std::fprintf(stderr, "jamsim merge: %s\n", e.what());
+        return kExitInterrupted;
     } catch (const MergeFailed& e) {
         // A failed write leaves HDF5 a file it cannot close: the process ends at MPI_Finalize,
         // before HDF5's own close of it (h5::file_close_failed). The output is already removed

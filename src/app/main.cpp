@@ -90,12 +90,17 @@ std::string unknown_command(const CLI::App& app, int argc, char** argv) {
 }  // namespace jamsim::app
 
 namespace {
-/// `jamsim run` takes a stop signal as a request to stop with its state saved (exit 75, which
+/// `jamsim merge` takes the first stop signal as a request to stop before its next replica (a
+/// second ends it at once); `jamsim run` takes a stop signal as a request to stop with its state saved (exit 75, which
 /// a batch script requeues) from before the shared libraries' initialisers and MPI's start
 /// (together about 0.1 s) on; a signal before the command's own code ran ended the process
 /// with 143. Only the dynamic loader's mapping of the libraries (PETSc and its solvers are
 /// about 100) comes before.
 void stop_signals_early(int argc, char** argv, char**) {
+    if (argc >= 2 && std::string_view(argv[1]) == "merge") {  // stops between two replicas
+        jamsim::StopRequest::install(/*second_ends=*/true);
+        return;
+    }
     if (argc < 2 || std::string_view(argv[1]) != "run") return;
     for (int k = 2; k < argc; ++k)
         if (std::string_view(argv[k]) == "--dry-run") {  // it saves nothing: Ctrl-C ends it

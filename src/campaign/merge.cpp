@@ -11,6 +11,7 @@
 #include "jamsim/archive/archive_file_check.hpp"
 #include "jamsim/archive/archive_lock.hpp"
 #include "jamsim/campaign/lifecycle.hpp"
+#include "jamsim/campaign/stop_request.hpp"
 #include "jamsim/io/checkpoint_file.hpp"
 #include "jamsim/params/parameters.hpp"
 
@@ -201,6 +202,7 @@ void fill(Archive& out, const std::string& output, const std::vector<std::string
             const bool finished = s == ReplicaStatus::Done || s == ReplicaStatus::Failed;
             if (!finished || have[t] == ReplicaStatus::Done) continue;
             if (have[t] == ReplicaStatus::Failed && s == ReplicaStatus::Failed) continue;
+            if (StopRequest::requested()) throw MergeStopped("stopped by a signal");
             out.import_replica(inputs[k], static_cast<std::int64_t>(r), static_cast<std::int64_t>(t));
             have[t] = s;
             ++result.copied;
@@ -278,7 +280,9 @@ MergeOutcome merge_archives(const std::string& output, const std::vector<std::st
         // A failed read or write (an input that cannot be opened, a full disk) leaves no lock
         // and no half-made output: a new output goes, an existing one keeps the replicas copied
         // whole (a replica's status is written last), which the same merge run again completes.
-        std::string what = "merging into '" + output + "' failed: " + e.what();
+        const bool stopped = dynamic_cast<const MergeStopped*>(&e) != nullptr;
+        std::string what =
+            "merging into '" + output + (stopped ? "' was stopped by a signal" : "' failed: " + std::string(e.what()));
         if (!exists) {
             std::filesystem::remove(output, ec);
             std::filesystem::remove(Archive::creation_marker(output), ec);
@@ -286,10 +290,11 @@ MergeOutcome merge_archives(const std::string& output, const std::vector<std::st
             what += "; the new '" + output + "' was removed";
         } else {
             what += "; '" + output + "' keeps what it held and the " + std::to_string(result.copied) +
-                    (result.copied == 1 ? " replica" : " replicas") +
-                    " this merge copied whole before the failure: run the same merge again to copy the rest";
+                    (result.copied == 1 ? " replica" : " replicas") + " this merge copied whole before " +
+                    (stopped ? "it stopped" : "the failure") + ": run the same merge again to copy the rest";
         }
         lock->release();
+        if (stopped) throw MergeStopped(what);
         throw MergeFailed(what);
     }
     lock->release();

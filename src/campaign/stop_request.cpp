@@ -11,11 +11,11 @@ namespace {
 extern "C" void on_stop_signal(int) { StopRequest::request(); }
 }  // namespace
 
-void StopRequest::install() {
+void StopRequest::install(bool second_ends) {
     struct sigaction action {};
     action.sa_handler = on_stop_signal;
     sigemptyset(&action.sa_mask);
-    action.sa_flags = SA_RESTART;
+    action.sa_flags = SA_RESTART | (second_ends ? SA_RESETHAND : 0);
     // SIGHUP: a closed terminal or a batch system's hangup stops the run as TERM does, with
     // its state saved.
     for (int sig : {SIGTERM, SIGINT, SIGUSR1, SIGHUP}) sigaction(sig, &action, nullptr);

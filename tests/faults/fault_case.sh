@@ -306,7 +306,7 @@ resume_checkpoint_unopenable)  # an interrupted run resumed while the system can
   ! grep -q "starts again from its start" again.log || { cat again.log; fail "a checkpoint was taken for damaged"; }
   $compare ref.h5 cp.h5 || fail "the resumed archive differs from the undisturbed run"
   ;;
-merge_write_fails)  # a merge whose writes fail (a full disk): exit 1 with its message, no crash
+merge_write_fails)  # a merge whose writes fail (a full disk), or stopped by Ctrl-C: its message, no crash
   # (HDF5's own close of the failed output at MPI_Finalize segfaulted, exit 139), and the same
   # merge then completes, equal to a merge that did not fail
   [[ -n ${FAIL_WRITE_LIB:-} ]] || fail "FAIL_WRITE_LIB is not set"
@@ -328,6 +328,26 @@ merge_write_fails)  # a merge whose writes fail (a full disk): exit 1 with its m
   expect_in "merging into 'm.h5' failed: .*'m.h5' keeps what it held" existing.log
   "$jamsim" merge m.h5 s1.h5 > again.log 2>&1 || { cat again.log; fail "the merge run again"; }
   $compare ref.h5 m.h5 || fail "the merge completed after a failure differs from the reference merge"
+  # Ctrl-C to a merge (held at a write 3 s, the signal sent at 1 s): it stops before its next
+  # replica with exit 75, its new output removed, an existing one whole. It used to die at
+  # once with 130 and no word, its new output left half made.
+  interrupted_merge() {  # LOG OUTPUT AFTER INPUTS...
+    local log=$1 output=$2 after=$3; shift 3
+    LD_PRELOAD="$FAIL_WRITE_LIB" FAIL_WRITE_SUFFIX="/$output" FAIL_WRITE_RANK=any FAIL_WRITE_AFTER="$after" \
+      FAIL_WRITE_HANG_SECONDS=3 timeout -k 10 "$limit" "$jamsim" merge "$output" "$@" > "$log" 2>&1 &
+    local leader=$!
+    sleep 1 && pkill -INT -P "$leader"
+    rc=0; wait "$leader" || rc=$?
+    expect_rc 75 "$log"; no_crash "$log"
+  }
+  interrupted_merge stop_new.log n.h5 20 s0.h5 s1.h5
+  expect_in "^jamsim merge: merging into 'n\.h5' was stopped by a signal; the new 'n\.h5' was removed" stop_new.log
+  [[ ! -e n.h5 ]] || fail "the interrupted merge left its new output"
+  "$jamsim" merge n.h5 s0.h5 > n_first.log 2>&1 || { cat n_first.log; fail "merge of the first shard"; }
+  interrupted_merge stop_existing.log n.h5 5 s1.h5
+  expect_in "merging into 'n\.h5' was stopped by a signal; 'n\.h5' keeps what it held and the [0-9]+ replicas? this merge copied whole before it stopped: run the same merge again" stop_existing.log
+  "$jamsim" merge n.h5 s1.h5 > n_again.log 2>&1 || { cat n_again.log; fail "the interrupted merge run again"; }
+  $compare ref.h5 n.h5 || fail "the merge completed after an interruption differs from the reference merge"
   ;;
 archive_changed_before_lock)  # another campaign's archive made between a run's checks and its lock
   # The run's checks find no archive; before it takes the lock (held there by an LD_PRELOAD

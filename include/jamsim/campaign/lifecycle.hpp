@@ -91,6 +91,10 @@ RunOutcome run_campaign(MPI_Comm comm, const CampaignSpec& spec, const RunDecisi
 struct MergeFailed : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
+/// A merge stopped by a signal (Ctrl-C, SIGTERM) between two replicas: says what was kept.
+struct MergeStopped : MergeFailed {
+    using MergeFailed::MergeFailed;
+};
 
 /// What merge_archives did.
 struct MergeOutcome {

@@ -9,8 +9,10 @@ namespace jamsim {
 
 class StopRequest {
   public:
-    /// Install the handlers (after MPI_Init and with PETSc's own handler off).
-    static void install();
+    /// Install the handlers (after MPI_Init and with PETSc's own handler off). With
+    /// `second_ends`, a second signal ends the process as if no handler were installed (for
+    /// `jamsim merge`, which has no checkpoint to wait for: a second Ctrl-C is not ignored).
+    static void install(bool second_ends = false);
     static bool requested() { return flag_ != 0; }
     static void request() { flag_ = 1; }
 
