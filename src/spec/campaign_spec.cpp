@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "jamsim/core/parse_number.hpp"
 #include "jamsim/run/model_registry.hpp"
 #include "sweep.hpp"
 
@@ -37,6 +38,30 @@ std::string line_of(const std::string& text, std::size_t number) {
     if (begin == std::string::npos || begin >= text.size()) return "";
     const std::size_t end = text.find_first_of("\r\n", begin);
     return text.substr(begin, end == std::string::npos ? std::string::npos : end - begin);
+}
+
+/// The text of the value at line:column of `text` (up to a separator): what the file wrote.
+std::string token_at(const std::string& text, const toml::source_position& at) {
+    const std::string line = line_of(text, at.line);
+    if (at.column == 0 || at.column > line.size()) return "";
+    const std::size_t begin = at.column - 1, end = line.find_first_of(" \t,]}#", begin);
+    return line.substr(begin, end == std::string::npos ? std::string::npos : end - begin);
+}
+
+/// Refuses a float the file writes as non-zero that parsed to 0 (1e-400: toml++ takes it as
+/// 0 without a word, where the command line refuses it). `where` names the key ("[sweep] phi").
+void refuse_underflow(const Reader& r, const std::string& text, const toml::node& node, const std::string& where) {
+    if (const auto* value = node.as_floating_point(); value && value->get() == 0.0) {
+        const std::string written = token_at(text, node.source().begin);
+        const std::string mantissa = written.substr(0, written.find_first_of("eE"));
+        if (mantissa.find_first_of("123456789") != std::string::npos) r.fail(where, written, kDoubleRangeWords);
+    } else if (const auto* array = node.as_array()) {
+        for (const toml::node& item : *array) refuse_underflow(r, text, item, where);
+    } else if (const auto* table = node.as_table()) {
+        for (const auto& [key, item] : *table)
+            refuse_underflow(r, text, item, where.empty() ? "[" + std::string(key.str()) + "]"
+                                                         : where + " " + printable(std::string(key.str())));
+    }
 }
 
 /// Named potentials of [potential] name: presets of the exponent alpha.
@@ -100,13 +125,24 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
         std::ostringstream os;
         std::string description(e.description());
         // toml++ names a quoted duplicate key garbled ('"N"N"'): quote the line instead.
+        std::string line = printable(line_of(text, e.source().begin.line));
+        if (line.size() > 160) {  // one line of a long array: its start names the key
+            std::size_t cut = 160;
+            while (cut > 0 && (static_cast<unsigned char>(line[cut]) & 0xC0) == 0x80) --cut;  // whole UTF-8
+            line = line.substr(0, cut) + " ...";
+        }
         if (description.find("cannot redefine existing") != std::string::npos)
-            description = "a key or table defined a second time (TOML allows each once): '" +
-                          printable(line_of(text, e.source().begin.line)) + "'";
+            description = "a key or table defined a second time (TOML allows each once): '" + line + "'";
+        else if (description.find("floating-point") != std::string::npos &&
+                 description.find("could not be interpreted") != std::string::npos)
+            description += " (in '" + line + "': " + kDoubleRangeWords + " is allowed)";
+        else if (!line.empty())  // toml++ names no key: the line does
+            description += " (in '" + line + "')";
         os << path << ":" << e.source().begin.line << ":" << e.source().begin.column
            << ": malformed TOML: " << description;
         throw SpecError(os.str());
     }
+    refuse_underflow(r, text, root, "");
     const std::set<std::string> tables{"campaign", "model", "potential", "system", "run", "sweep"};
     r.only_keys(root, "", tables);
     const auto* campaign = r.table(root, "campaign");

@@ -34,3 +34,7 @@ add_test(NAME cli.status_remaining_in_words
 set_tests_properties(cli.status_remaining_in_words PROPERTIES LABELS unit)
 # --version with anything after it (ignored without a word before).
 jamsim_cli_error(version_with_extra "^jamsim: 'extra' is not allowed after --version: it takes nothing else" --version extra)
+# A number in a campaign file beyond a double's range: 1e400 got toml++'s words alone (no key),
+# 4.2e-400 was taken as 0 without a word.
+jamsim_campaign_error(float_overflow "float_overflow.toml:14:[0-9]+: malformed TOML: .*'1e400' .*\\(in 'points = \\[\\{N = 64, phi = 0.9, rate = 1e400\\}\\]': a number within a double's range")
+jamsim_campaign_error(float_underflow "float_underflow.toml: \\[sweep\\] points rate = 4.2e-400 is not allowed: a number within a double's range")
