@@ -40,6 +40,32 @@ std::string line_of(const std::string& text, std::size_t number) {
     return text.substr(begin, end == std::string::npos ? std::string::npos : end - begin);
 }
 
+/// "U+200B" when `text` (UTF-8) holds a character that prints as nothing: C1 controls, the
+/// soft hyphen, zero-width spaces and joiners, direction marks and embeddings, the byte-order
+/// mark; else "".
+std::string invisible_character(const std::string& text) {
+    for (std::size_t k = 0; k < text.size();) {
+        const auto byte = static_cast<unsigned char>(text[k]);
+        const std::size_t length = byte < 0x80 ? 1 : byte >= 0xF0 ? 4 : byte >= 0xE0 ? 3 : byte >= 0xC0 ? 2 : 1;
+        if (length == 1 || k + length > text.size()) {
+            ++k;
+            continue;
+        }
+        char32_t code = byte & (0xFF >> (length + 1));
+        for (std::size_t b = 1; b < length; ++b) code = (code << 6) | (static_cast<unsigned char>(text[k + b]) & 0x3F);
+        k += length;
+        const bool invisible = (code >= 0x80 && code <= 0x9F) || code == 0xAD || code == 0x61C || code == 0x180E ||
+                               (code >= 0x200B && code <= 0x200F) || (code >= 0x202A && code <= 0x202E) ||
+                               (code >= 0x2060 && code <= 0x206F) || code == 0xFEFF;
+        if (invisible) {
+            char name[16];
+            std::snprintf(name, sizeof name, "U+%04X", static_cast<unsigned>(code));
+            return name;
+        }
+    }
+    return "";
+}
+
 /// The text of the value at line:column of `text` (up to a separator): what the file wrote.
 std::string token_at(const std::string& text, const toml::source_position& at) {
     const std::string line = line_of(text, at.line);
@@ -59,8 +85,9 @@ void refuse_underflow(const Reader& r, const std::string& text, const toml::node
         for (const toml::node& item : *array) refuse_underflow(r, text, item, where);
     } else if (const auto* table = node.as_table()) {
         for (const auto& [key, item] : *table)
-            refuse_underflow(r, text, item, where.empty() ? "[" + std::string(key.str()) + "]"
-                                                         : where + " " + printable(std::string(key.str())));
+            refuse_underflow(r, text, item,
+                             where.empty() ? "[" + std::string(key.str()) + "]"
+                                           : where + " " + printable(std::string(key.str())));
     }
 }
 
@@ -173,6 +200,13 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
                "a name of at most " + std::to_string(most) + " bytes");
     if (has_control(spec.output))
         r.fail("[campaign] output", show(*campaign->get("output")), "a path without line breaks or control characters");
+    // An invisible character (a zero-width space, a direction mark) makes two names or paths
+    // that read the same in every log, status line and listing differ.
+    for (const auto& [key, value] : {std::pair{"name", &spec.name}, std::pair{"output", &spec.output}})
+        if (const std::string code = invisible_character(*value); !code.empty())
+            r.fail(std::string("[campaign] ") + key, show(*campaign->get(key)),
+                   std::string("a ") + (key == std::string("name") ? "name" : "path") +
+                       " without invisible characters (it holds " + code + ")");
     spec.run_table = r.table(root, "run") != nullptr;
 
     // Every key of every table must be a parameter of that table (so a typo is never

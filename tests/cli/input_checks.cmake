@@ -38,3 +38,6 @@ jamsim_cli_error(version_with_extra "^jamsim: 'extra' is not allowed after --ver
 # 4.2e-400 was taken as 0 without a word.
 jamsim_campaign_error(float_overflow "float_overflow.toml:14:[0-9]+: malformed TOML: .*'1e400' .*\\(in 'points = \\[\\{N = 64, phi = 0.9, rate = 1e400\\}\\]': a number within a double's range")
 jamsim_campaign_error(float_underflow "float_underflow.toml: \\[sweep\\] points rate = 4.2e-400 is not allowed: a number within a double's range")
+# An invisible character in a campaign's name (a zero-width space) was taken: two names that read
+# the same in every log and listing.
+jamsim_campaign_error(invisible_name "invisible_name.toml: \\[campaign\\] name = .* is not allowed: a name without invisible characters \\(it holds U\\+200B\\)")
