@@ -13,18 +13,6 @@ namespace jamsim {
 
 namespace {
 
-/// The archive path the run writes: -o or [campaign] output, through a symlink to the file
-/// it names (its lock, checkpoints and growth files are that file's, whichever path a run was
-/// given), as MPI-IO is given it.
-std::string archive_path(const CampaignSpec& spec, const std::string& override_output) {
-    std::string output = override_output.empty() ? spec.output : override_output;
-    if (std::error_code ec; std::filesystem::is_symlink(output, ec)) {
-        const auto target = std::filesystem::weakly_canonical(output, ec);
-        if (!ec) output = target.string();
-    }
-    return mpi_io_path(spec.path, output);
-}
-
 /// A growth that a kill interrupted is completed (after its rename) or undone (before it),
 /// unless another live run holds the archive (refused later for that reason).
 void finish_interrupted_growth(const CampaignSpec& spec, RunDecision& d) {
@@ -104,8 +92,7 @@ void check_campaign(const RunRequest& request, const CampaignSpec& spec, RunDeci
     // Before anything opens it: a FIFO blocked the first open() for good, deaf to SIGTERM.
     if (std::error_code ec; !std::filesystem::is_directory(d.output, ec))  // the folder checks say that
         if (const std::string odd = not_a_regular_file(d.output); !odd.empty())
-            throw SpecError(spec.path + (request.output.empty() ? ": [campaign] output = \"" : ": -o \"") + d.output +
-                            "\" is not allowed: a regular file: " + odd);
+            throw SpecError(output_named(spec, d.output) + " is not allowed: a regular file: " + odd);
     // What a kill or a failed write left beside the archive goes first: its bytes are free
     // for the size check (a failed extension's PATH.extending used to take them, and the
     // rerun was refused for want of the space it held).
@@ -136,10 +123,6 @@ void check_campaign(const RunRequest& request, const CampaignSpec& spec, RunDeci
             d.dry_run_refusal = std::move(too_large);
         }
     }
-    // An output given as -o is named so: "[campaign] output = ..." blamed the campaign file.
-    if (const std::string file_key = spec.path + ": [campaign] output = \"";
-        !request.output.empty() && d.error.starts_with(file_key))
-        d.error = spec.path + ": -o \"" + d.error.substr(file_key.size());
     // The checkpoints beside the archive are keyed by its replica ids (before a growth, those
     // of the archive's campaign).
     if (d.error.empty())

@@ -16,6 +16,26 @@
 
 namespace jamsim {
 
+/// The archive path the run writes: -o or [campaign] output, through a symlink to the file
+/// it names (its lock, checkpoints and growth files are that file's, whichever path a run was
+/// given), as MPI-IO is given it.
+std::string archive_path(const CampaignSpec& spec, const std::string& override_output) {
+    std::string output = override_output.empty() ? spec.output : override_output;
+    if (std::error_code ec; std::filesystem::is_symlink(output, ec)) {
+        const auto target = std::filesystem::weakly_canonical(output, ec);
+        if (!ec) output = target.string();
+    }
+    return mpi_io_path(spec.path, output);
+}
+
+std::string output_named(const CampaignSpec& spec, const std::string& path) {
+    bool own = false;  // the campaign file's own output (else -o gave it)
+    try {
+        own = path == archive_path(spec, "");
+    } catch (const SpecError&) {}  // its own is too long for MPI-IO: this one came from -o
+    return spec.path + (own ? ": [campaign] output = \"" : ": -o \"") + path + "\"";
+}
+
 /// "" when the run may write `path`; `mode` says how (a new or resumed archive, one extended
 /// to longer runs, one grown by more replicas: then `source` maps spec's replicas to the
 /// archive's, Archive::check_growth).
@@ -24,10 +44,10 @@ std::string check_output(const std::string& path, const CampaignSpec& spec, Outp
     namespace fs = std::filesystem;
     std::error_code ec;
     if (const std::string why = output_path_problem(path); !why.empty())
-        return spec.path + ": [campaign] output = \"" + path + "\" is not allowed: " + why;
+        return output_named(spec, path) + " is not allowed: " + why;
     if (fs::exists(path, ec)) {
         if (fs::is_directory(path, ec))
-            return spec.path + ": [campaign] output = \"" + path + "\" is not allowed: a file path, not a directory";
+            return output_named(spec, path) + " is not allowed: a file path, not a directory";
         if (const std::string bad = diagnose_archive_file(path); !bad.empty())
             return spec.path + ": refusing to use the archive: " + bad +
                    " (choose another [campaign] output or -o, or remove the file)";
@@ -66,7 +86,7 @@ std::string check_output_folder(const std::string& path, const CampaignSpec& spe
     namespace fs = std::filesystem;
     std::error_code ec;
     if (const std::string why = output_path_problem(path); !why.empty())
-        return spec.path + ": [campaign] output = \"" + path + "\" is not allowed: " + why;
+        return output_named(spec, path) + " is not allowed: " + why;
     const fs::path p(path);
     const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
     const auto quoted = [](const fs::path& f) {  // appended, not '+': GCC 12's -Wrestrict misfires on that here
@@ -75,9 +95,8 @@ std::string check_output_folder(const std::string& path, const CampaignSpec& spe
         return out;
     };
     const auto refuse = [&](const std::string& why) {
-        std::string out = spec.path;
-        out.append(": [campaign] output = \"").append(path);
-        out.append("\" is not allowed: a file in a writable directory, or one that can be made (").append(why);
+        std::string out = output_named(spec, path);
+        out.append(" is not allowed: a file in a writable directory, or one that can be made (").append(why);
         return out.append(")");
     };
     if (fs::is_directory(dir, ec))

@@ -13,6 +13,14 @@ namespace jamsim {
 /// What a run does with an existing archive of its campaign.
 enum class OutputMode : int { Fresh = 0, Extend = 1, Grow = 2 };
 
+/// The archive path the run writes: `override_output` (-o) or [campaign] output, through a
+/// symlink to the file it names (its lock, checkpoints and growth files are that file's,
+/// whichever path a run was given), as MPI-IO is given it (mpi_io_path).
+std::string archive_path(const CampaignSpec& spec, const std::string& override_output);
+/// `FILE: [campaign] output = "PATH"` or, for an output given as -o, `FILE: -o "PATH"`: how a
+/// refusal of the output names it.
+std::string output_named(const CampaignSpec& spec, const std::string& path);
+
 /// "" when the run may write `path`; `mode` says how (a new or resumed archive, one extended
 /// to longer runs, one grown by more replicas: then `source` maps spec's replicas to the
 /// archive's, Archive::check_growth).
