@@ -84,10 +84,14 @@ void refuse_underflow(const Reader& r, const std::string& text, const toml::node
     } else if (const auto* array = node.as_array()) {
         for (const toml::node& item : *array) refuse_underflow(r, text, item, where);
     } else if (const auto* table = node.as_table()) {
-        for (const auto& [key, item] : *table)
-            refuse_underflow(r, text, item,
-                             where.empty() ? "[" + std::string(key.str()) + "]"
-                                           : where + " " + printable(std::string(key.str())));
+        for (const auto& [key, item] : *table) {
+            std::string inner = where;  // appended, not '+': GCC 12's -Wrestrict misfires on that here
+            if (where.empty())
+                inner.append("[").append(key.str()).append("]");
+            else
+                inner.append(" ").append(printable(std::string(key.str())));
+            refuse_underflow(r, text, item, inner);
+        }
     }
 }
 
