@@ -20,6 +20,7 @@
 
 #include "jamsim/archive/archive.hpp"
 #include "jamsim/core/memory.hpp"
+#include "jamsim/io/read_deadline.hpp"
 #include "jamsim/observe/time_series.hpp"
 #include "jamsim/run/model_registry.hpp"
 
@@ -54,15 +55,37 @@ bool disk_full(const std::string& path) {
     return std::isfinite(free) && free < 1e6;
 }
 
+namespace {
+
+/// A file to test a write in, beside `path`: nameless (O_TMPFILE, gone when closed) where the
+/// filesystem allows, else named by host and process (ranks on several nodes test at once).
+/// -1 with errno when it cannot be made.
+int test_file(const std::string& path, std::string& named) {
+    const std::filesystem::path p(path);
+    const std::string dir = p.has_parent_path() ? p.parent_path().string() : ".";
+    const int fd = ::open(dir.c_str(), O_WRONLY | O_TMPFILE | O_CLOEXEC, 0600);
+    if (fd >= 0 || (errno != EOPNOTSUPP && errno != EISDIR && errno != EINVAL)) return fd;
+    char host[64] = "host";
+    (void)::gethostname(host, sizeof host - 1);
+    named = path + "." + host + "." + std::to_string(::getpid()) + ".write-test";
+    return ::open(named.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+}
+
+}  // namespace
+
 std::string write_refused(const std::string& path) {
     if (disk_full(path)) return "no space left on device";
-    // Named per process, so that ranks that test at once do not meet; its suffix lets a test
-    // library fail it (tests/faults/fail_write.c).
-    const std::string probe = path + "." + std::to_string(::getpid()) + ".write-test";
+    // A filesystem that hangs rather than refuses must not hold the rank from its abort.
+    const Deadline watch("jamsim: a test write beside '" + path + "' did not finish within " +
+                             std::to_string(static_cast<int>(write_deadline_seconds())) +
+                             " s: the filesystem stopped answering",
+                         write_deadline_seconds(), 1);
+    std::string named;
     int error = 0;
-    const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+    const int fd = test_file(path, named);
     if (fd < 0) {
         error = errno;
+        if (error == EEXIST || error == ENAMETOOLONG) return "";  // says nothing of the filesystem
     } else {
         const std::vector<char> block(std::size_t{1} << 16, '\0');
         const ssize_t written = ::write(fd, block.data(), block.size());
@@ -71,7 +94,7 @@ std::string write_refused(const std::string& path) {
         else if (::fsync(fd) != 0)
             error = errno;
         ::close(fd);
-        ::unlink(probe.c_str());
+        if (!named.empty()) ::unlink(named.c_str());
     }
     if (error == 0) return "";
     std::string why = std::strerror(error);

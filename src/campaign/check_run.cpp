@@ -89,10 +89,11 @@ std::string check_initial_states(const CampaignSpec& spec, const RunDecision& d)
 void check_campaign(const RunRequest& request, const CampaignSpec& spec, RunDecision& d) {
     d.spec_text = spec.text;
     d.output = archive_path(spec, request.output);
+    d.output_given = !request.output.empty();
     // Before anything opens it: a FIFO blocked the first open() for good, deaf to SIGTERM.
     if (std::error_code ec; !std::filesystem::is_directory(d.output, ec))  // the folder checks say that
         if (const std::string odd = not_a_regular_file(d.output); !odd.empty())
-            throw SpecError(output_named(spec, d.output) + " is not allowed: a regular file: " + odd);
+            throw SpecError(output_named(spec, d.output, d.output_given) + " is not allowed: a regular file: " + odd);
     // What a kill or a failed write left beside the archive goes first: its bytes are free
     // for the size check (a failed extension's PATH.extending used to take them, and the
     // rerun was refused for want of the space it held).
@@ -112,9 +113,9 @@ void check_campaign(const RunRequest& request, const CampaignSpec& spec, RunDeci
     std::error_code ec;
     const bool half_made = std::filesystem::exists(Archive::creation_marker(d.output), ec);
     if (!request.dry_run || (std::filesystem::exists(d.output) && !half_made))
-        d.error = check_output(d.output, spec, d.mode, d.grow_source);
+        d.error = check_output(d.output, d.output_given, spec, d.mode, d.grow_source);
     else
-        d.error = check_output_folder(d.output, spec, false);  // what the run would refuse
+        d.error = check_output_folder(d.output, d.output_given, spec, false);  // what the run would refuse
     for (const std::int64_t from : d.grow_source) d.grow_kept += from >= 0;
     if (d.error.empty() && d.dry_run_refusal.empty() && (d.mode == OutputMode::Extend || d.mode == OutputMode::Grow)) {
         d.capacity.beside_old = true;  // checked again: the new archive is written whole first

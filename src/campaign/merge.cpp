@@ -118,6 +118,8 @@ void check_duplicates_agree(const std::vector<std::string>& inputs, const std::v
             if (stored[k].status[r] != ReplicaStatus::Done) continue;
             const auto [it, fresh] = first_done.emplace(target[k][r], std::pair{k, r});
             if (fresh) continue;
+            if (StopRequest::requested())  // comparing many duplicates can take minutes
+                throw MergeStopped("merging was stopped by a signal before it wrote anything");
             const auto [j, q] = it->second;
             std::string differs;
             try {
@@ -272,6 +274,10 @@ MergeOutcome merge_archives(const std::string& output, const std::vector<std::st
     if (exists) check_existing_output(output, inputs, spec);
     std::error_code ec;
     const bool had_checkpoints = std::filesystem::exists(checkpoint_folder(output), ec);
+    if (StopRequest::requested()) {  // before a new output's creation (large for a large campaign)
+        lock->release();
+        throw MergeStopped("merging into '" + output + "' was stopped by a signal before it wrote anything");
+    }
     MergeOutcome result{.replicas = spec.replicas.size(),
                         .union_campaign = fingerprint(spec) != fingerprint(stored.front().spec)};
     try {

@@ -78,7 +78,7 @@ std::string changed_since_checks(MPI_Comm comm, const CampaignSpec& spec, const 
         OutputMode mode = OutputMode::Fresh;
         std::vector<std::int64_t> source;
         try {
-            why = check_output(d.output, spec, mode, source);
+            why = check_output(d.output, d.output_given, spec, mode, source);
         } catch (const std::exception& e) { why = e.what(); }  // every rank must hear of it
         if (why.empty() && (mode != d.mode || source != d.grow_source)) why = "it is no longer as this run found it";
         if (const std::string prefix = spec.path + ": "; why.rfind(prefix, 0) == 0) why.erase(0, prefix.size());

@@ -28,26 +28,22 @@ std::string archive_path(const CampaignSpec& spec, const std::string& override_o
     return mpi_io_path(spec.path, output);
 }
 
-std::string output_named(const CampaignSpec& spec, const std::string& path) {
-    bool own = false;  // the campaign file's own output (else -o gave it)
-    try {
-        own = path == archive_path(spec, "");
-    } catch (const SpecError&) {}  // its own is too long for MPI-IO: this one came from -o
-    return spec.path + (own ? ": [campaign] output = \"" : ": -o \"") + path + "\"";
+std::string output_named(const CampaignSpec& spec, const std::string& path, bool from_option) {
+    return spec.path + (from_option ? ": -o \"" : ": [campaign] output = \"") + path + "\"";
 }
 
 /// "" when the run may write `path`; `mode` says how (a new or resumed archive, one extended
 /// to longer runs, one grown by more replicas: then `source` maps spec's replicas to the
 /// archive's, Archive::check_growth).
-std::string check_output(const std::string& path, const CampaignSpec& spec, OutputMode& mode,
+std::string check_output(const std::string& path, bool from_option, const CampaignSpec& spec, OutputMode& mode,
                          std::vector<std::int64_t>& source) {
     namespace fs = std::filesystem;
     std::error_code ec;
     if (const std::string why = output_path_problem(path); !why.empty())
-        return output_named(spec, path) + " is not allowed: " + why;
+        return output_named(spec, path, from_option) + " is not allowed: " + why;
     if (fs::exists(path, ec)) {
         if (fs::is_directory(path, ec))
-            return output_named(spec, path) + " is not allowed: a file path, not a directory";
+            return output_named(spec, path, from_option) + " is not allowed: a file path, not a directory";
         if (const std::string bad = diagnose_archive_file(path); !bad.empty())
             return spec.path + ": refusing to use the archive: " + bad +
                    " (choose another [campaign] output or -o, or remove the file)";
@@ -79,14 +75,14 @@ std::string check_output(const std::string& path, const CampaignSpec& spec, Outp
         return spec.path + ": refusing to start '" + path + "': the checkpoint folder '" + folder +
                "' of an earlier run is there without its archive (restore the archive to "
                "continue that run, or remove the folder to start afresh)";
-    return check_output_folder(path, spec, true);
+    return check_output_folder(path, from_option, spec, true);
 }
 
-std::string check_output_folder(const std::string& path, const CampaignSpec& spec, bool create) {
+std::string check_output_folder(const std::string& path, bool from_option, const CampaignSpec& spec, bool create) {
     namespace fs = std::filesystem;
     std::error_code ec;
     if (const std::string why = output_path_problem(path); !why.empty())
-        return output_named(spec, path) + " is not allowed: " + why;
+        return output_named(spec, path, from_option) + " is not allowed: " + why;
     const fs::path p(path);
     const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
     const auto quoted = [](const fs::path& f) {  // appended, not '+': GCC 12's -Wrestrict misfires on that here
@@ -95,7 +91,7 @@ std::string check_output_folder(const std::string& path, const CampaignSpec& spe
         return out;
     };
     const auto refuse = [&](const std::string& why) {
-        std::string out = output_named(spec, path);
+        std::string out = output_named(spec, path, from_option);
         out.append(" is not allowed: a file in a writable directory, or one that can be made (").append(why);
         return out.append(")");
     };

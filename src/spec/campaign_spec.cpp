@@ -41,8 +41,8 @@ std::string line_of(const std::string& text, std::size_t number) {
 }
 
 /// "U+200B" when `text` (UTF-8) holds a character that prints as nothing: C1 controls, the
-/// soft hyphen, zero-width spaces and joiners, direction marks and embeddings, the byte-order
-/// mark; else "".
+/// soft hyphen, the zero-width space, direction marks and embeddings, line and paragraph
+/// separators, Hangul fillers, the byte-order mark; else "".
 std::string invisible_character(const std::string& text) {
     for (std::size_t k = 0; k < text.size();) {
         const auto byte = static_cast<unsigned char>(text[k]);
@@ -54,9 +54,11 @@ std::string invisible_character(const std::string& text) {
         char32_t code = byte & (0xFF >> (length + 1));
         for (std::size_t b = 1; b < length; ++b) code = (code << 6) | (static_cast<unsigned char>(text[k + b]) & 0x3F);
         k += length;
-        const bool invisible = (code >= 0x80 && code <= 0x9F) || code == 0xAD || code == 0x61C || code == 0x180E ||
-                               (code >= 0x200B && code <= 0x200F) || (code >= 0x202A && code <= 0x202E) ||
-                               (code >= 0x2060 && code <= 0x206F) || code == 0xFEFF;
+        // Not the zero-width (non-)joiners U+200C and U+200D: Persian and Indic names need them.
+        const bool invisible = (code >= 0x80 && code <= 0x9F) || code == 0xAD || code == 0x34F || code == 0x61C ||
+                               code == 0x115F || code == 0x1160 || code == 0x180E || code == 0x200B ||
+                               (code >= 0x200E && code <= 0x200F) || (code >= 0x2028 && code <= 0x202E) ||
+                               (code >= 0x2060 && code <= 0x206F) || code == 0x3164 || code == 0xFEFF || code == 0xFFA0;
         if (invisible) {
             char name[16];
             std::snprintf(name, sizeof name, "U+%04X", static_cast<unsigned>(code));
@@ -69,8 +71,14 @@ std::string invisible_character(const std::string& text) {
 /// The text of the value at line:column of `text` (up to a separator): what the file wrote.
 std::string token_at(const std::string& text, const toml::source_position& at) {
     const std::string line = line_of(text, at.line);
-    if (at.column == 0 || at.column > line.size()) return "";
-    const std::size_t begin = at.column - 1, end = line.find_first_of(" \t,]}#", begin);
+    // toml++ counts columns in characters (code points), not bytes: skip column - 1 of them.
+    std::size_t begin = 0;
+    for (std::size_t c = 1; c < at.column && begin < line.size(); ++c) {
+        ++begin;
+        while (begin < line.size() && (static_cast<unsigned char>(line[begin]) & 0xC0) == 0x80) ++begin;
+    }
+    if (at.column == 0 || begin >= line.size()) return "";
+    const std::size_t end = line.find_first_of(" \t,]}#", begin);
     return line.substr(begin, end == std::string::npos ? std::string::npos : end - begin);
 }
 
@@ -165,7 +173,8 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
         if (description.find("cannot redefine existing") != std::string::npos)
             description = "a key or table defined a second time (TOML allows each once): '" + line + "'";
         else if (description.find("floating-point") != std::string::npos &&
-                 description.find("could not be interpreted") != std::string::npos)
+                 (description.find("could not be interpreted") != std::string::npos ||
+                  description.find("not representable") != std::string::npos))  // toml++ with charconv
             description += " (in '" + line + "': " + kDoubleRangeWords + " is allowed)";
         else if (!line.empty())  // toml++ names no key: the line does
             description += " (in '" + line + "')";

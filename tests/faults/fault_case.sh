@@ -253,8 +253,9 @@ write_refused)  # every write to the archive refused, with a quota's or a failin
   # closed the half-written file again at MPI_Finalize: a segfault, exit 139)
   [[ -n ${FAIL_WRITE_LIB:-} ]] || fail "FAIL_WRITE_LIB is not set"
   run ref.log run "$here/source.toml" -o ref.h5; expect_rc 0 ref.log
-  refused() {  # ERRNO AFTER LOG: the run with writes to w.h5 and its test writes refused
-    timeout -k 10 "$limit" "$mpirun" -n "$ranks" -x LD_PRELOAD="$FAIL_WRITE_LIB" -x FAIL_WRITE_SUFFIX=/w.h5:.write-test \
+  refused() {  # ERRNO AFTER LOG: the run with writes to w.h5 and its test writes (a nameless
+    # file, which /proc names 'DIR/#INODE (deleted)', or a named one) refused
+    timeout -k 10 "$limit" "$mpirun" -n "$ranks" -x LD_PRELOAD="$FAIL_WRITE_LIB" -x FAIL_WRITE_SUFFIX='/w.h5:.write-test:(deleted)' \
       -x FAIL_WRITE_RANK=any -x FAIL_WRITE_ERRNO="$1" -x FAIL_WRITE_AFTER="$2" -x JAMSIM_WRITE_DEADLINE_SECONDS=10 \
       "$jamsim" run "$here/source.toml" -o w.h5 > "$3" 2>&1
     rc=$?

@@ -54,8 +54,8 @@ double free_bytes(const std::string& path);
 bool disk_full(const std::string& path);
 /// Why the filesystem of `path` refuses writes, in the system's words ("no space left on
 /// device", "disk quota exceeded", "input/output error", "read-only file system"), from its
-/// free space and a small test write beside `path` (64 kB, synced, removed); "" when it takes
-/// them. For the message of a failed archive write: MPI-IO reports a refused write to HDF5
+/// free space and a small test write beside `path` (64 kB, synced, in a nameless file where
+/// the filesystem makes one); "" when it takes them or the test says nothing. For the message of a failed archive write: MPI-IO reports a refused write to HDF5
 /// without its errno, so HDF5's error says only "file write failed".
 std::string write_refused(const std::string& path);
 

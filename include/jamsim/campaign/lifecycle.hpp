@@ -37,8 +37,9 @@ struct RunRequest {
 
 /// What rank 0 found before any rank starts work.
 struct RunDecision {
-    std::string spec_text;  ///< the campaign file as read (every rank parses the same text)
-    std::string output;     ///< the archive's path as MPI-IO is given it (symlinks resolved)
+    std::string spec_text;      ///< the campaign file as read (every rank parses the same text)
+    std::string output;         ///< the archive's path as MPI-IO is given it (symlinks resolved)
+    bool output_given = false;  ///< -o gave it (rank 0: refusals name -o, not [campaign] output)
     OutputMode mode = OutputMode::Fresh;
     std::vector<std::int64_t> grow_source;  ///< Grow: the archive's id of each replica (−1: new)
     std::int64_t grow_kept = 0;             ///< Grow: replicas kept from the archive

@@ -17,19 +17,20 @@ enum class OutputMode : int { Fresh = 0, Extend = 1, Grow = 2 };
 /// symlink to the file it names (its lock, checkpoints and growth files are that file's,
 /// whichever path a run was given), as MPI-IO is given it (mpi_io_path).
 std::string archive_path(const CampaignSpec& spec, const std::string& override_output);
-/// `FILE: [campaign] output = "PATH"` or, for an output given as -o, `FILE: -o "PATH"`: how a
-/// refusal of the output names it.
-std::string output_named(const CampaignSpec& spec, const std::string& path);
+/// `FILE: [campaign] output = "PATH"` or, for an output given as -o (`from_option`),
+/// `FILE: -o "PATH"`: how a refusal of the output names it (it used to blame the campaign
+/// file for a bad -o).
+std::string output_named(const CampaignSpec& spec, const std::string& path, bool from_option);
 
 /// "" when the run may write `path`; `mode` says how (a new or resumed archive, one extended
 /// to longer runs, one grown by more replicas: then `source` maps spec's replicas to the
-/// archive's, Archive::check_growth).
-std::string check_output(const std::string& path, const CampaignSpec& spec, OutputMode& mode,
+/// archive's, Archive::check_growth). `from_option`: -o gave `path` (output_named).
+std::string check_output(const std::string& path, bool from_option, const CampaignSpec& spec, OutputMode& mode,
                          std::vector<std::int64_t>& source);
 /// "" when the folder of `path` exists and is writable, or can be made below the nearest
 /// folder that exists (then, with `create`, it is made, as `mkdir -p` would: the campaigns
 /// shipped write to out/...); else why not, the same words in the dry run and the run.
-std::string check_output_folder(const std::string& path, const CampaignSpec& spec, bool create);
+std::string check_output_folder(const std::string& path, bool from_option, const CampaignSpec& spec, bool create);
 /// Every checkpoint beside the archive must belong to one of this campaign's replicas ("" or
 /// why not); a damaged (unreadable) one is left to its replica.
 std::string check_checkpoints(const std::string& output, const CampaignSpec& spec);

@@ -44,7 +44,8 @@ inline hid_t check(hid_t id, const std::string& what) {
 /// attribute on MPI_COMM_SELF set after HDF5's own (MPI_Finalize deletes them last set, first
 /// called), or an exit handler registered after HDF5's where MPI is not running. A command
 /// that fails so has already said why; whatever it wrote is made whole or removed by its own
-/// rules before this point.
+/// rules before this point. The status is 1 whatever the command meant to return: `jamsim
+/// run` refuses an archive whose creation failed with 2, but a refused write ends it with 1.
 void file_close_failed() noexcept;
 
 /// Move-only owner of an hid_t, closed with the matching H5*close on destruction.
