@@ -9,13 +9,23 @@ volatile std::sig_atomic_t StopRequest::flag_ = 0;
 
 namespace {
 extern "C" void on_stop_signal(int) { StopRequest::request(); }
+/// The first stop signal requests the stop; a second one of any of them ends the process as
+/// that signal does by default (signal and raise are async-signal-safe).
+extern "C" void on_stop_signal_second_ends(int sig) {
+    if (StopRequest::requested()) {
+        std::signal(sig, SIG_DFL);
+        std::raise(sig);
+        return;
+    }
+    StopRequest::request();
+}
 }  // namespace
 
 void StopRequest::install(bool second_ends) {
     struct sigaction action {};
-    action.sa_handler = on_stop_signal;
+    action.sa_handler = second_ends ? on_stop_signal_second_ends : on_stop_signal;
     sigemptyset(&action.sa_mask);
-    action.sa_flags = SA_RESTART | (second_ends ? SA_RESETHAND : 0);
+    action.sa_flags = SA_RESTART;
     // SIGHUP: a closed terminal or a batch system's hangup stops the run as TERM does, with
     // its state saved.
     for (int sig : {SIGTERM, SIGINT, SIGUSR1, SIGHUP}) sigaction(sig, &action, nullptr);

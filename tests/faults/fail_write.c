@@ -4,7 +4,7 @@
  * whose OMPI_COMM_WORLD_RANK is FAIL_WRITE_RANK ("any": every process), after FAIL_WRITE_AFTER
  * such writes that succeed (default 0): one rank's share of a collective write meets a full
  * disk or quota. With FAIL_WRITE_HANG_SECONDS set, the first such write instead waits that long
- * (or until a signal) and then goes through, as do the rest (a filesystem that stops answering
+ * and then goes through, as do the rest (a filesystem that stops answering
  * one node; a merge held while a test sends it a signal). FAIL_WRITE_ERRNO names
  * another error: EDQUOT (a quota) or EIO (a failing disk). */
 #define _GNU_SOURCE
@@ -40,8 +40,9 @@ static int should_fail(int fd) {
     if (passed++ < (after ? atoi(after) : 0)) return 0;
     const char* hang = getenv("FAIL_WRITE_HANG_SECONDS");
     if (hang) {
-        static int waited = 0; /* the first such write waits; a signal cuts the wait short */
-        if (!waited++) sleep((unsigned)atoi(hang));
+        static int waited = 0; /* the first such write waits, through signals that are caught */
+        if (!waited++)
+            for (unsigned left = (unsigned)atoi(hang); left > 0;) left = sleep(left);
         return 0;
     }
     const char* name = getenv("FAIL_WRITE_ERRNO");
