@@ -74,6 +74,7 @@ def cmd_summary(a):
 
 def cmd_averages(a):
     """Steady windows, per-replica means with errors and tau_int, averages over seeds."""
+    from . import stats
     from .archive import open_archives
     run = open_archives(a.archives)
     if a.output is not None:  # checked before the work, never an input, an archive or another kind of file
@@ -93,6 +94,8 @@ def cmd_averages(a):
     _print_table(table[[c for c in cols if c in table]])
     print()
     _print_table(groups)
+    if note := stats.one_seed_note(groups):
+        print(note)
     if a.output is not None:  # counts as integers, as printed (N 64, not 64.0)
         write_beside(a.output, lambda tmp: _shown(groups).to_csv(tmp, sep="\t", index=False))
 

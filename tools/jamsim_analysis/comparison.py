@@ -63,6 +63,14 @@ def welch(mean_a, var_a, k_a, mean_b, var_b, k_b):
     return float(t), float(nu), float(2 * sps.t.sf(abs(t), nu))
 
 
+# Said with every comparison that holds a z test: a single seed's time error misses the
+# spread between seeds, and on short windows (few independent samples) it also comes out small,
+# so such z tests alarm more often than their level.
+ONE_SEED_CAUTION = ("Caution: the z tests compare a group of one seed by its time error alone, which misses the "
+                    "spread between seeds and comes out small on windows of few independent samples, so they "
+                    "alarm more often than their level: run two or more seeds per group for Welch's t.")
+
+
 def z_test(difference, error):
     """Two-sided z test: (z, p)."""
     if not (np.isfinite(error) and error > 0):
@@ -101,6 +109,8 @@ class AveragesComparison:
         n_sig = int(d["significant"].sum())
         lines.append(f"{n_sig} of {len(d)} differences significant at the {self.alpha:g} level "
                      f"(two-sided; Holm's adjustment over the {len(d)} tests of this comparison).")
+        if (d["test"] == "z").any():
+            lines.append(ONE_SEED_CAUTION)
         return " ".join(lines)
 
 

@@ -170,7 +170,10 @@ def _dynamics(rep, archive, opts):
                 "start that minimises the standard error of the remaining mean); a replica whose first "
                 f"and last thirds then differ by more than {stats.DRIFT_Z} standard errors (from the "
                 "integrated autocorrelation time) drifts and is left out. Averages per (model, N, phi, "
-                "rate): mean over seeds, error = standard error over seeds (the time error with one seed).")
+                "rate): mean over seeds; error = the seeds' time errors combined with the spread between "
+                "seeds beyond them, widened by Student's t for few seeds (stats.seed_average; never below "
+                "the time errors). With one seed it is that seed's time error alone, which misses the "
+                "spread between seeds and comes out small when the window holds few independent samples.")
     d.paragraph(f"Replicas left out: {len(left)} of {len(table)}.")
     if len(left):
         d.table(left[["replica", "model", "N", "phi", "rate", "seed", "left_out"]])

@@ -301,6 +301,18 @@ def seed_average(means, time_errors):
     return float(m.mean()), float(np.sqrt(base + t * t * tau2 / k)), error_time, float(np.sqrt(s2 / k))
 
 
+def one_seed_note(groups):
+    """A note on the state points of group_averages' table that hold one seed ("" when none):
+    their error is that seed's time error, which misses the spread between seeds and comes out
+    small on windows of few independent samples (samples / 2 tau_int)."""
+    one = int((groups["seeds"] == 1).sum()) if "seeds" in groups else 0
+    if not one:
+        return ""
+    return (f"note: {one} of {len(groups)} state points have one seed: their error is that seed's time error, "
+            "which misses the spread between seeds and comes out small on windows of few independent samples "
+            "(samples / 2 tau); run two or more seeds for error bars")
+
+
 def group_averages(replica_table, observables, keys=KEYS):
     """Averages over seeds per `keys` of the kept replicas (left_out == ""). For each
     observable (see seed_average): `<obs>` (mean of replica means), `<obs>_error` (its

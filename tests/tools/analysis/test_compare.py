@@ -197,3 +197,18 @@ def test_a_group_with_two_rows_at_a_point_is_refused():
                                keys=("label",) + ja.stats.KEYS)
     with pytest.raises(ja.AnalysisError, match="group one has two rows at N = 64"):
         comparison.compare_averages(groups, ["pressure"], label="label")
+
+
+def test_one_seed_z_tests_carry_the_caution():
+    """A comparison with a one-seed group says that its z tests rest on time errors alone (they
+    alarmed in a quarter to two fifths of same-physics seed pairs of short windows); one with
+    two seeds per group does not."""
+    rng = np.random.default_rng(3)
+    for seeds, cautioned in ((1, True), (2, False)):
+        table = replica_table(rng, ("A", "B"), 5, seeds, 0.0, 0.01)
+        cmp = comparison.compare_averages(ja.group_averages(table, ["pressure"]), ["pressure"], replica_table=table)
+        assert (comparison.ONE_SEED_CAUTION in cmp.statement()) == cautioned
+    groups = ja.group_averages(replica_table(rng, ("A",), 3, 1, 0.0, 0.01), ["pressure"])
+    assert ja.stats.one_seed_note(groups).startswith("note: 3 of 3 state points have one seed")
+    groups = ja.group_averages(replica_table(rng, ("A",), 3, 2, 0.0, 0.01), ["pressure"])
+    assert ja.stats.one_seed_note(groups) == ""
