@@ -204,9 +204,31 @@ double probe_smaller_sizes(const CampaignSpec& spec, double budget, double spent
     return spent;
 }
 
+/// The replicas a calibration may probe, in the sweep's order of their cost groups: a dynamics
+/// group by its replica of most steps, a minimisation group by every replica (its first seeds
+/// are probed). A group's first replica was probed: a short one (a fast rate first in the
+/// rate list) runs whole, its set-up and samples counted as steps, and `rate = [0.1, 1e-4]`
+/// was estimated at 8 times its cost where `[1e-4, 0.1]` was within 10%.
+std::vector<const ReplicaParams*> probe_candidates(const CampaignSpec& spec) {
+    std::vector<const ReplicaParams*> order;
+    std::map<CostGroup, std::size_t> slot;  // a dynamics group -> its place in `order`
+    for (const ReplicaParams& p : spec.replicas) {
+        if (model_of(p).kind != ModelKind::Dynamics) {
+            order.push_back(&p);
+            continue;
+        }
+        const auto [it, fresh] = slot.emplace(cost_group(p), order.size());
+        if (fresh)
+            order.push_back(&p);
+        else if (schedule_of(p).steps > schedule_of(*order[it->second]).steps)
+            order[it->second] = &p;
+    }
+    return order;
+}
+
 /// The throughput of each group of a campaign on this machine: from the replicas an earlier
 /// run finished in the campaign's archive (wall time over estimated cost), else from a probe
-/// of the group's first replica (process CPU time): dynamics run it for about 1e7 and 3e7
+/// (process CPU time) of the group's replica of most steps (probe_candidates): dynamics run it for about 1e7 and 3e7
 /// particle force evaluations and take the difference (at least 20 steps; the replica whole
 /// when shorter), a minimisation protocol up to three of
 /// its replicas whole, each when it takes under a third of the budget by the best estimate so far (a
@@ -258,7 +280,8 @@ Calibration calibrate(const CampaignSpec& spec, const std::string& archive, doub
     constexpr int kMinimisationProbes = 3;
     std::map<CostGroup, std::pair<double, double>> probed;  // group -> (seconds, cost)
     std::map<CostGroup, int> probes;
-    for (const ReplicaParams& p : spec.replicas) {
+    for (const ReplicaParams* probed_replica : probe_candidates(spec)) {
+        const ReplicaParams& p = *probed_replica;
         const CostGroup key = cost_group(p);
         const bool minimisation = model_of(p).kind != ModelKind::Dynamics;
         if (recorded.count(key) || spent >= budget || probes[key] >= (minimisation ? kMinimisationProbes : 1)) continue;
