@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "jamsim/archive/archive.hpp"
+#include "jamsim/core/invisible_text.hpp"
 #include "jamsim/spec/campaign_spec.hpp"
 #include "jamsim/io/hdf5.hpp"
 #include "jamsim/io/lammps_data.hpp"
@@ -461,6 +462,8 @@ std::string diagnose_archive_file(const std::string& path) {
 std::string odd_file_name(const std::string& path) {
     if (std::any_of(path.begin(), path.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }))
         return "a path without line breaks or control characters";
+    if (const std::string code = invisible_character(path); !code.empty())
+        return "a path without invisible characters (it holds " + code + ")";
     if (path == "-") return "a file name, not '-' (jamsim writes its files to disk, never to standard output)";
     const std::string name = std::filesystem::path(path).filename().string();
     const auto blank = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };

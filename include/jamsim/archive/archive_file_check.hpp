@@ -33,7 +33,7 @@ std::string output_path_problem(const std::string& path);
 /// "" unless a path names a file jamsim should not make, else what is allowed: a name that
 /// starts or ends with white space (`-o ' '`: a quoting mistake, which HDF5 could not create),
 /// a path with a line break or another control character (it split every log line that names
-/// it), or '-' (standard output to most tools; jamsim made a file named '-').
+/// it) or an invisible character (invisible_text.hpp), or '-' (standard output to most tools; jamsim made a file named '-').
 std::string odd_file_name(const std::string& path);
 
 /// Whether `path` is a single-replica file of jamsim replica (an HDF5 file whose root has the
