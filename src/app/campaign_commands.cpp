@@ -223,7 +223,7 @@ int run(const RunOptions& opt, int& argc, char**& argv) {
                          "finished before are safe in it (jamsim status %s): %s and run the same command "
                          "again to continue\n",
                          rank, refused.c_str(), decision.output.c_str(), e.what(), decision.output.c_str(),
-                         refused == "no space left on device" ? "free space" : "mend the filesystem");
+                         refused == kNoSpaceLeft ? "free space" : "mend the filesystem");
         else if (dynamic_cast<const std::filesystem::filesystem_error*>(&e))
             std::fprintf(stderr,
                          "jamsim run (rank %d): the filesystem refused a checkpoint beside the archive (%s); the "

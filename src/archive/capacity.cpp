@@ -74,12 +74,12 @@ int test_file(const std::string& path, std::string& named) {
 }  // namespace
 
 std::string write_refused(const std::string& path) {
-    if (disk_full(path)) return "no space left on device";
+    if (disk_full(path)) return kNoSpaceLeft;
     // A filesystem that hangs rather than refuses must not hold the rank from its abort.
+    const double seconds = write_deadline_seconds();
     const Deadline watch("jamsim: a test write beside '" + path + "' did not finish within " +
-                             std::to_string(static_cast<int>(write_deadline_seconds())) +
-                             " s: the filesystem stopped answering",
-                         write_deadline_seconds(), 1);
+                             std::to_string(static_cast<int>(seconds)) + " s: the filesystem stopped answering",
+                         seconds, 1);
     std::string named;
     int error = 0;
     const int fd = test_file(path, named);

@@ -255,44 +255,9 @@ def cmd_compare(a):
         return _compare_collapses(a)
     if a.outdir:  # checked before the work (it was refused after every table was printed)
         output_directory(a.outdir, "--outdir", create=False)
-    import numpy as np
-    import pandas as pd
     from . import comparison, figures, report, stats
-    from .archive import open_archives
-    if a.by == "file":
-        tables = []
-        names = [os.path.splitext(os.path.basename(p))[0] for p in a.archives]
-        if len(set(names)) < len(names):
-            names = list(a.archives)
-        if len(set(names)) < len(names):
-            raise AnalysisError("--by file: an archive is given twice")
-        for k, first in enumerate(a.archives):  # one file under two names compared with itself
-            for second in a.archives[k + 1:]:
-                if os.path.exists(first) and os.path.exists(second) and os.path.samefile(first, second):
-                    raise AnalysisError(f"--by file: '{first}' and '{second}' are the same file: compare two "
-                                        "different archives")
-        for path, name in zip(a.archives, names):
-            t = stats.replica_averages(open_archives([path]), a.observable)
-            t.insert(0, "file", name)
-            tables.append(t)
-        table = pd.concat(tables, ignore_index=True)
-        comparison.refuse_shared_replicas(table)
-        keys = ("file",) + stats.KEYS
-    else:
-        table = stats.replica_averages(open_archives(a.archives), a.observable)
-        keys = stats.KEYS
-    for column, wanted in (("model", a.model), ("N", a.N), ("phi", a.phi), ("rate", a.rate)):
-        if wanted is None:
-            continue
-        if column == "model":
-            keep = table["model"] == wanted
-        else:
-            keep = np.isclose(table[column].astype(float), float(wanted), rtol=1e-9, atol=0)
-        if not keep.any():
-            values = ", ".join(f"{v:g}" if isinstance(v, float) else str(v)
-                               for v in sorted(table[column].dropna().unique()))
-            raise AnalysisError(f"--{column} {wanted}: not in the data ({column}: {values})")
-        table = table[keep]
+    filters = {"model": a.model, "N": a.N, "phi": a.phi, "rate": a.rate}
+    table, keys = comparison.compared_replicas(a.archives, a.observable, a.by, filters)
     groups = stats.group_averages(table, a.observable, keys=keys)
     cmp = comparison.compare_averages(groups, a.observable, label=a.by, alpha=a.alpha, replica_table=table)
     _print_table(cmp.averages)

@@ -221,3 +221,50 @@ def refuse_shared_replicas(table):
         raise AnalysisError(f"--by file: {' and '.join(sorted(shared['file'].unique()))} hold the same replicas "
                             f"(N = {int(r['N'])}, phi = {r['phi']:g}, seed {int(r['seed'])}, ...): a shard and its "
                             "archive, or one run copied; compare independent archives")
+
+
+def compared_replicas(archives, observables, by, filters):
+    """The replica table of `jamsim-analyze compare` and its group keys: one table of all
+    `archives` (groups by model), or with by == "file" one per archive with a `file` column
+    (named by the file's stem, or its path when two stems agree; one file under two names and
+    two files that share replicas are refused); then only the rows with filters' values
+    ({"model": name, "N"/"phi"/"rate": number}; None keeps all), a value not in the data
+    refused with the values that are."""
+    import os
+    from . import stats
+    from .archive import open_archives
+    if by == "file":
+        names = [os.path.splitext(os.path.basename(p))[0] for p in archives]
+        if len(set(names)) < len(names):
+            names = list(archives)
+        if len(set(names)) < len(names):
+            raise AnalysisError("--by file: an archive is given twice")
+        for k, first in enumerate(archives):  # one file under two names compared with itself
+            for second in archives[k + 1:]:
+                if os.path.exists(first) and os.path.exists(second) and os.path.samefile(first, second):
+                    raise AnalysisError(f"--by file: '{first}' and '{second}' are the same file: compare two "
+                                        "different archives")
+        tables = []
+        for path, name in zip(archives, names):
+            t = stats.replica_averages(open_archives([path]), observables)
+            t.insert(0, "file", name)
+            tables.append(t)
+        table = pd.concat(tables, ignore_index=True)
+        refuse_shared_replicas(table)
+        keys = ("file",) + stats.KEYS
+    else:
+        table = stats.replica_averages(open_archives(archives), observables)
+        keys = stats.KEYS
+    for column, wanted in filters.items():
+        if wanted is None:
+            continue
+        if column == "model":
+            keep = table["model"] == wanted
+        else:
+            keep = np.isclose(table[column].astype(float), float(wanted), rtol=1e-9, atol=0)
+        if not keep.any():
+            values = ", ".join(f"{v:g}" if isinstance(v, float) else str(v)
+                               for v in sorted(table[column].dropna().unique()))
+            raise AnalysisError(f"--{column} {wanted}: not in the data ({column}: {values})")
+        table = table[keep]
+    return table, keys

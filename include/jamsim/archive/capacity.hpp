@@ -58,6 +58,8 @@ bool disk_full(const std::string& path);
 /// the filesystem makes one); "" when it takes them or the test says nothing. For the message of a failed archive write: MPI-IO reports a refused write to HDF5
 /// without its errno, so HDF5's error says only "file write failed".
 std::string write_refused(const std::string& path);
+/// write_refused's words for a full filesystem (the system's for ENOSPC, lower-cased).
+inline constexpr const char* kNoSpaceLeft = "no space left on device";
 
 /// "10G", "1.5T", "500M", "2e12" in bytes; negative when it does not parse.
 double parse_bytes(const std::string& text);
