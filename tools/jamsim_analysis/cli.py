@@ -88,14 +88,16 @@ def cmd_averages(a):
                             "pressure, shear_stress, energy_per_particle or contact_number (time and strain are "
                             "the series' clock)")
     table, groups = _averages(run, a.observable)
-    cols = ["replica", "model", "N", "phi", "rate", "seed", "window_start", "samples", "drift_z", "left_out"]
+    cols = ["replica", "model", "N", "phi", "rate", "seed", "window_start", "samples", "drift_z", "drift_limit",
+            "left_out"]
     for o in a.observable:
-        cols += [o, f"{o}_error", f"{o}_tau"]
+        cols += [o, f"{o}_error", f"{o}_tau", f"{o}_dof"]
     _print_table(table[[c for c in cols if c in table]])
     print()
     _print_table(groups)
-    if note := stats.one_seed_note(groups):
-        print(note)
+    for note in (stats.one_seed_note(groups), stats.weak_drift_note(table)):
+        if note:
+            print(note)
     if a.output is not None:  # counts as integers, as printed (N 64, not 64.0)
         write_beside(a.output, lambda tmp: _shown(groups).to_csv(tmp, sep="\t", index=False))
 
@@ -247,7 +249,7 @@ def cmd_compare(a):
     """Steady-state averages of several groups (models; archives with --by file) compared at
     the state points (N, phi, rate) they share, one rate or many: each group's seed averages
     with errors, each difference with its error in sigmas and a two-sided test of equal means
-    (Welch t over the replica means, z with the time errors for one seed; Holm's adjustment),
+    (Welch t over the replica means, t of the time errors with their dof for one seed; Holm's adjustment),
     a table (compare_averages.tsv, compare.tsv) and a figure (compare.png) in --outdir.
     --collapse: instead, the joint collapse of two models (shared phi_J, q, znu) against
     separate ones, with an F test (needs >= 3 rates)."""

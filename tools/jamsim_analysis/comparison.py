@@ -16,8 +16,12 @@ and tested for equal means, two-sided:
       seeds holds the time noise and the seed-to-seed offsets alike), with the
       Welch-Satterthwaite degrees of freedom nu = (v_a + v_b)^2 / (v_a^2/(k_a-1) + v_b^2/(k_b-1)),
       v = s^2/k, and p = 2 P(T_nu > |t|).
-    z (a group with one seed): z = difference / difference_error with the time errors (the
-      only error one seed has), p = 2 P(Z > |z|).
+    t of the time errors (a group with one seed): t = difference / sqrt(e_a^2 + e_b^2) with
+      e the one-seed group's time error (the only error one seed has; stats `_error_time`)
+      and the other group's 1-sigma error, nu = Satterthwaite's dof from the time errors' own
+      dof (`_error_dof`; a time error from a window of few independent samples is itself
+      uncertain, and with a normal reference such tests alarmed 2-3 times their level), and
+      p = 2 P(T_nu > |t|).
 
 The p-values of one comparison (every state point, pair and observable) are adjusted for
 multiplicity by Holm's step-down method; a difference is significant when its adjusted p is
@@ -63,20 +67,26 @@ def welch(mean_a, var_a, k_a, mean_b, var_b, k_b):
     return float(t), float(nu), float(2 * sps.t.sf(abs(t), nu))
 
 
-# Said with every comparison that holds a z test: a single seed's time error misses the
-# spread between seeds, and on short windows (few independent samples) it also comes out small,
-# so such z tests alarm more often than their level.
-ONE_SEED_CAUTION = ("Caution: the z tests compare a group of one seed by its time error alone, which misses the "
-                    "spread between seeds and comes out small on windows of few independent samples, so they "
-                    "alarm more often than their level: run two or more seeds per group for Welch's t.")
+# Said with every comparison that holds a one-seed test: a single seed's time error misses the
+# spread between seeds (the offsets of its start), which only two or more seeds measure.
+ONE_SEED_CAUTION = ("Caution: the tests of a group with one seed rest on its time error alone, which misses the "
+                    "spread between seeds, so they alarm more often than their level where seeds differ beyond "
+                    "their time noise: run two or more seeds per group for Welch's t.")
 
 
-def z_test(difference, error):
-    """Two-sided z test: (z, p)."""
-    if not (np.isfinite(error) and error > 0):
-        return np.nan, np.nan
-    z = difference / error
-    return float(z), float(2 * sps.norm.sf(abs(z)))
+def time_error_test(difference, errors, dofs):
+    """Two-sided t test of a difference whose error is the sum in quadrature of `errors`, each
+    estimated with `dofs` (infinite: known): (t, Satterthwaite's nu, p)."""
+    e = np.asarray(errors, float)
+    nu = np.asarray(dofs, float)
+    se2 = float(np.sum(e ** 2))
+    if not (np.isfinite(se2) and se2 > 0):
+        return np.nan, np.nan, np.nan
+    pooled = float(np.sum(e ** 4 / np.where(np.isfinite(nu) & (nu > 0), nu, np.inf)))
+    dof = se2 ** 2 / pooled if pooled > 0 else np.inf
+    t = difference / np.sqrt(se2)
+    p = 2 * (sps.t.sf(abs(t), dof) if np.isfinite(dof) else sps.norm.sf(abs(t)))
+    return float(t), float(dof), float(p)
 
 
 @dataclasses.dataclass
@@ -100,7 +110,7 @@ class AveragesComparison:
         lines = []
         for r in d.itertuples(index=False):
             test = (f"Welch t = {r.statistic:.2f}, nu = {r.dof:.1f}" if r.test == "Welch t"
-                    else f"z = {r.statistic:.2f} (one seed: time errors)")
+                    else f"t = {r.statistic:.2f}, nu = {r.dof:.1f} (one seed: time errors)")
             lines.append(f"{r.observable} at N = {int(r.N)}, phi = {r.phi:g}, rate = {r.rate:g}: "
                          f"{r.group_a} - {r.group_b} = {r.difference:.4g} +- {r.difference_error:.2g} "
                          f"({r.sigmas:.1f} sigma; {test}, p = {r.p_value:.3g}, Holm-adjusted "
@@ -109,7 +119,7 @@ class AveragesComparison:
         n_sig = int(d["significant"].sum())
         lines.append(f"{n_sig} of {len(d)} differences significant at the {self.alpha:g} level "
                      f"(two-sided; Holm's adjustment over the {len(d)} tests of this comparison).")
-        if (d["test"] == "z").any():
+        if (d["test"] == "t of time errors").any():
             lines.append(ONE_SEED_CAUTION)
         return " ".join(lines)
 
@@ -163,8 +173,8 @@ def compare_averages(groups, observables, label="model", alpha=ALPHA, replica_ta
                     t, nu, p = welch(float(ra[o]), va, ka, float(rb[o]), vb, kb)
                     row.update(test="Welch t", statistic=t, dof=nu, p_value=p)
                 else:
-                    z, p = z_test(d, err)
-                    row.update(test="z", statistic=z, dof=np.nan, p_value=p)
+                    t, nu, p = time_error_test(d, *zip(*(_time_error(r, o) for r in (ra, rb))))
+                    row.update(test="t of time errors", statistic=t, dof=nu, p_value=p)
                 rows.append(row)
     if not rows:
         raise AnalysisError(f"no state point ({', '.join(keys)}) is held by two groups: nothing to compare "
@@ -178,6 +188,14 @@ def compare_averages(groups, observables, label="model", alpha=ALPHA, replica_ta
     cols = [label] + keys + ["seeds"] + [c for o in observables for c in (o, f"{o}_error")]
     averages = pd.concat(shared)[cols].reset_index(drop=True)
     return AveragesComparison(averages, diff, alpha, list(observables), labels)
+
+
+def _time_error(row, observable):
+    """(error, dof) of a group in a one-seed test: a one-seed group's time error and its dof;
+    a group of several seeds, its 1-sigma error (already widened for its seeds) as known."""
+    if int(row["seeds"]) == 1 and f"{observable}_error_time" in row:
+        return float(row[f"{observable}_error_time"]), float(row.get(f"{observable}_error_dof", np.inf))
+    return float(row[f"{observable}_error"]), np.inf
 
 
 def _seed_variances(replica_table, label, keys, observables):

@@ -10,7 +10,9 @@ pooled over the campaign's points), and the fits take those as they take a real 
   collapse   scaling.fit_collapse of O = rate^q exp(P(x)) (phi_J, q, znu; degree 2)
   Newtonian  rheology.newtonian_divergence of O = A rate (phi_J - phi)^-beta (phi_J given)
   Bagnold    rheology.bagnold_analysis of O = A rate^2 d^-beta (1 + c d) (phi_J given)
-Run: python3 -m jamsim_analysis.coverage [--campaigns 1000] (from tools/).
+Run: python3 -m jamsim_analysis.coverage [--campaigns 1000] (from tools/); short windows:
+--samples 121 --tau 4.5 (13 independent samples; with --seeds 1 the one-seed error, which
+rests on the time error and its dof alone).
 """
 import argparse
 import dataclasses
@@ -63,7 +65,7 @@ def replicas(rng, points, seeds, spec):
         for s in range(seeds):
             est = stats.mean_with_error(value * series[i * seeds + s])
             rows.append(dict(model="RD0", N=1024, phi=phi, rate=rate, seed=s, pressure=est.mean,
-                             pressure_error=est.error, left_out=""))
+                             pressure_error=est.error, pressure_dof=est.dof, left_out=""))
     return pd.DataFrame(rows)
 
 
@@ -155,11 +157,14 @@ def main(argv=None):
     p.add_argument("--seeds", default="2,4,16", help="seed counts, comma separated")
     p.add_argument("--offset", type=float, default=1.0,
                    help="seed-to-seed offset, in units of one replica's time error")
+    p.add_argument("--samples", type=int, default=Spec.n, help="samples per replica window")
+    p.add_argument("--tau", type=float, default=(1 + Spec.a) / (2 * (1 - Spec.a)),
+                   help="integrated autocorrelation time of the series, in samples")
     p.add_argument("--no-fits", action="store_true", help="group averages only")
     p.add_argument("--rng-seed", type=int, default=12345, help="seed of the random numbers")
     a = p.parse_args(argv)
-    table = coverage_table(a.campaigns, tuple(int(s) for s in a.seeds.split(",")), Spec(offset=a.offset),
-                           not a.no_fits, a.rng_seed)
+    spec = Spec(n=a.samples, a=(2 * a.tau - 1) / (2 * a.tau + 1), offset=a.offset)
+    table = coverage_table(a.campaigns, tuple(int(s) for s in a.seeds.split(",")), spec, not a.no_fits, a.rng_seed)
     with pd.option_context("display.width", 200, "display.max_rows", 200):
         print(table.to_string(index=False, float_format=lambda v: f"{v:.3f}"))
     bad = table[(table["coverage"] - ONE_SIGMA).abs() > 0.03]

@@ -4,7 +4,7 @@ as PNG figures plus report.md and report.html in an output directory.
 Dynamics (RD0, CD0, RD0T, RD, CD, CDn, CDt): steady averages per (model, N, phi, rate),
 replicas left out and why, flow curves; with two or more models, their averages compared at
 the state points they share (any number of rates: a difference, its error in sigmas and a
-Welch t or z test); per model with >= 3 rates the collapse of p and sigma in the window
+Welch t, or t of the time errors for one seed); per model with >= 3 rates the collapse of p and sigma in the window
 chosen from the data (bootstrap over seeds when every point has >= 3 seeds), then the fit
 to every point, marked when its chi2 rejects it; the Newtonian divergence (overdamped
 models) or the Bagnold analysis (massive models), at the size with the most phi at their
@@ -167,13 +167,17 @@ def _dynamics(rep, archive, opts):
     d = rep.doc
     d.heading("Steady-state averages")
     d.paragraph("Each replica's window starts at its declared transient plus an MSER-5 truncation (the "
-                "start that minimises the standard error of the remaining mean); a replica whose first "
-                f"and last thirds then differ by more than {stats.DRIFT_Z} standard errors (from the "
-                "integrated autocorrelation time) drifts and is left out. Averages per (model, N, phi, "
-                "rate): mean over seeds; error = the seeds' time errors combined with the spread between "
-                "seeds beyond them, widened by Student's t for few seeds (stats.seed_average; never below "
-                "the time errors). With one seed it is that seed's time error alone, which misses the "
-                "spread between seeds and comes out small when the window holds few independent samples.")
+                "start within the first quarter that minimises the standard error of the remaining mean); a "
+                f"replica whose first and last thirds then differ by more than {stats.DRIFT_Z} standard errors "
+                "(from the integrated autocorrelation time; Student's t of the same tail probability for the "
+                "dof of that error, drift_limit) drifts and is left out. A replica's time error comes from its "
+                "integrated autocorrelation time, corrected for the sample mean, with its dof (<obs>_dof). "
+                "Averages per (model, N, phi, rate): mean over seeds; error = the seeds' time errors combined "
+                "with the spread between seeds beyond them, widened by Student's t for few seeds "
+                "(stats.seed_average; never below the time errors). With one seed it is that seed's time error "
+                "times Student's t for its dof, which misses the spread between seeds.")
+    if note := stats.weak_drift_note(table):
+        d.paragraph(note[len("note: "):])
     d.paragraph(f"Replicas left out: {len(left)} of {len(table)}.")
     if len(left):
         d.table(left[["replica", "model", "N", "phi", "rate", "seed", "left_out"]])
@@ -408,7 +412,7 @@ def _compare_averages(rep, table, groups, label="model"):
 
 
 TEST_TEXT = ("Test of equal means, two-sided: Welch's t over the replica means when both groups have 2 or "
-             "more seeds, else a z test with the time errors; Holm's adjustment over every test of the "
+             "more seeds, else a t test of the time errors with their dof; Holm's adjustment over every test of the "
              "comparison. Tables: compare_averages.tsv, compare.tsv.")
 DIFFERENCE_COLUMNS = ("N", "phi", "rate", "observable", "group_a", "group_b", "difference", "difference_error",
                       "relative_difference", "sigmas", "test", "statistic", "dof", "p_value", "p_adjusted",

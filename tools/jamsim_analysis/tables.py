@@ -27,7 +27,7 @@ GRID = ("N", "phi", "rate", "seed")
 INTEGER = ("N", "seed")
 # Columns of the per-replica CSV, in this order, before the observables (those present).
 CSV_KEYS = ("replica", "campaign", "model", "N", "phi", "rate", "seed", "status_name", "left_out",
-            "window_start", "samples", "drift_z")
+            "window_start", "samples", "drift_z", "drift_limit")
 
 
 def _one_model(table, model):
@@ -83,7 +83,7 @@ def to_dataset(table, dims=GRID, model=None):
 
 def replica_dataset(archive, observables=("pressure", "shear_stress"), model=None, **averages):
     """Per-replica steady means (stats.replica_averages: `<obs>`, `<obs>_error`, `<obs>_tau`,
-    window, drift, `left_out`, and every parameter) of an Archive as a Dataset over
+    `<obs>_dof`, window, drift, `left_out`, and every parameter) of an Archive as a Dataset over
     (N, phi, rate, seed)."""
     return to_dataset(stats.replica_averages(archive, list(observables), **averages), GRID, model)
 
@@ -96,10 +96,10 @@ def group_dataset(groups, observables=None, model=None):
 
 def means_table(table, observables):
     """The per-replica table in the CSV's column order: keys, then `<obs>`, `<obs>_error`,
-    `<obs>_tau` for each observable."""
+    `<obs>_tau`, `<obs>_dof` for each observable."""
     cols = [c for c in CSV_KEYS if c in table]
     for o in observables:
-        cols += [c for c in (o, f"{o}_error", f"{o}_tau") if c in table]
+        cols += [c for c in (o, f"{o}_error", f"{o}_tau", f"{o}_dof") if c in table]
     out = table[cols].copy()
     for c in INTEGER + ("replica", "samples"):
         if c in out and out[c].notna().all():

@@ -1,7 +1,8 @@
 """The comparison of steady-state averages between groups (comparison.py, `jamsim_analyze.py
 compare`, the report's section): Welch's t against scipy's, Holm's adjustment, the rate of
 false alarms for equal means (with seed-to-seed offsets, where a z test on the tables'
-1-sigma errors would alarm too often) at the level asked, a known offset found in synthetic
+1-sigma errors would alarm too often; with one seed of a short window, whose time error is
+itself uncertain) at the level asked, a known offset found in synthetic
 archives of two models at one rate (and of two archives of one model with --by file), and
 the report of such archives: exit 0, the comparison written, the analyses not run named."""
 import os
@@ -60,14 +61,14 @@ def test_equal_means_alarm_at_the_level(seeds, offset_sd):
     """Over 1000 state points with equal means, the fraction of raw p-values below 0.05 is
     never above 0.05 by more than 4 binomial standard deviations, and within 4 of 0.05 from 4
     seeds on (Welch's t is conservative with 2 or 3 seeds per group: its Satterthwaite
-    degrees of freedom lie below the 2 (k - 1) of equal variances) and for the z test of one
-    seed with exact time errors."""
+    degrees of freedom lie below the 2 (k - 1) of equal variances) and for the test of one
+    seed with exact time errors (infinite dof: a z test)."""
     rng = np.random.default_rng(10 + seeds)
     table = replica_table(rng, ("A", "B"), 1000, seeds, offset_sd, 0.01)
     groups = ja.group_averages(table, ["pressure"])
     cmp = comparison.compare_averages(groups, ["pressure"], replica_table=table)
     d = cmp.differences
-    assert len(d) == 1000 and set(d["test"]) == {"Welch t" if seeds >= 2 else "z"}
+    assert len(d) == 1000 and set(d["test"]) == {"Welch t" if seeds >= 2 else "t of time errors"}
     rate = float(np.mean(d["p_value"] < 0.05))
     sd = np.sqrt(0.05 * 0.95 / len(d))
     assert rate < 0.05 + 4 * sd, rate
@@ -199,10 +200,33 @@ def test_a_group_with_two_rows_at_a_point_is_refused():
         comparison.compare_averages(groups, ["pressure"], label="label")
 
 
-def test_one_seed_z_tests_carry_the_caution():
-    """A comparison with a one-seed group says that its z tests rest on time errors alone (they
-    alarmed in a quarter to two fifths of same-physics seed pairs of short windows); one with
-    two seeds per group does not."""
+@pytest.mark.parametrize("n,a", [(121, 0.8), (400, 0.95), (60, 0.5)])
+def test_one_seed_tests_of_short_windows_alarm_at_the_level(n, a):
+    """One seed per group, each a stationary AR(1) series of n samples (tau_int = 4.5, 19.5
+    and 1.5 samples: 13, 10 and 20 independent samples) with equal means at 1000 state points:
+    its time error and dof from stats.mean_with_error, as replica_averages writes them. The
+    raw p-values fall below 0.05 no more often than 0.05 plus 4 binomial standard deviations.
+    A z test of the same time errors (normal reference) alarms in 6.7-7.8% of them, and with
+    the error before its correction for the sample mean, 9.8-13.1%."""
+    from jamsim_analysis import coverage
+    rng = np.random.default_rng(int(n * 10 + a * 100))
+    series = coverage.ar1(rng, 2000, n, a)
+    rows = []
+    for i, x in enumerate(series):
+        est = ja.mean_with_error(x)
+        rows.append(dict(model="AB"[i % 2], N=64, phi=0.80 + 1e-4 * (i // 2), rate=1e-3, seed=0, pressure=est.mean,
+                         pressure_error=est.error, pressure_dof=est.dof, left_out=""))
+    table = pd.DataFrame(rows)
+    cmp = comparison.compare_averages(ja.group_averages(table, ["pressure"]), ["pressure"], replica_table=table)
+    d = cmp.differences
+    assert len(d) == 1000 and set(d["test"]) == {"t of time errors"}
+    rate = float(np.mean(d["p_value"] < 0.05))
+    assert rate < 0.05 + 4 * np.sqrt(0.05 * 0.95 / len(d)), rate
+
+
+def test_one_seed_tests_carry_the_caution():
+    """A comparison with a one-seed group says that its tests rest on time errors alone (they
+    miss the spread between seeds); one with two seeds per group does not."""
     rng = np.random.default_rng(3)
     for seeds, cautioned in ((1, True), (2, False)):
         table = replica_table(rng, ("A", "B"), 5, seeds, 0.0, 0.01)

@@ -35,3 +35,16 @@ def test_newtonian_fit_covers_with_two_seeds():
     assert tolerance < 0.075, tolerance
     for row in fits.itertuples():
         assert abs(row.coverage - coverage.ONE_SIGMA) <= tolerance, (row, tolerance)
+
+
+def test_one_seed_error_of_a_short_window_covers_the_truth():
+    """One seed, no seed-to-seed offset, windows of 121 samples at tau_int = 4.5 (13
+    independent samples): the group error, the time error times Student's t for its dof,
+    covers the truth 68.27% of the time within the tolerance. Before the time error was
+    corrected for the sample mean and widened for its dof it covered 57%."""
+    spec = coverage.Spec(n=121, a=0.8, offset=0.0)
+    table = coverage.coverage_table(25, seed_counts=(1,), spec=spec, fits=False, seed=5)
+    row = table[table["quantity"] == "group average"].iloc[0]
+    tolerance = _tolerance(table)
+    assert tolerance < 0.05, tolerance
+    assert abs(row.coverage - coverage.ONE_SIGMA) <= tolerance, (row, tolerance)
