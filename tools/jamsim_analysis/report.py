@@ -306,7 +306,7 @@ def _collapse(rep, table, groups, model, observable, opts, phi_j):
     kind = ("window chosen from the data" if choice is not None else
             "window given" if _explicit_window(opts) else "every point (full window)")
     rep.fits += fit_rows(name, fit.values, fit.errors, fit.chi2, fit.dof, f"{window}; {kind}; errors: {method}",
-                         scaled="residuals" if method == "least squares" else False)
+                         scaled="residuals")  # a bootstrap's errors are never below the scaled ones
     if observable == "pressure":
         phi_j[model] = fit.values["phi_J"]
     fname = f"collapse_{model}_{observable}.png"
