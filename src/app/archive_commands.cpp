@@ -3,6 +3,7 @@
 #include "exit_status.hpp"
 #include "wall_time.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -12,6 +13,7 @@
 #include "jamsim/archive/archive_file_check.hpp"
 #include "jamsim/archive/archive_lock.hpp"
 #include "jamsim/campaign/lifecycle.hpp"
+#include "jamsim/campaign/throughput.hpp"
 #include "jamsim/campaign/wall_time.hpp"
 #include "jamsim/parallel/mpi.hpp"
 
@@ -20,6 +22,28 @@
 namespace jamsim::app {
 
 namespace {
+
+/// "remaining: about T on R ranks (C core-seconds[; the longest chain left takes L])": each
+/// unfinished replica's estimated cost at the throughput of the finished replicas of its
+/// model and N (campaign/throughput.hpp), the running ones from their latest progress; on
+/// the latest run's ranks, and never below the longest unfinished chain (a rate ladder).
+void print_time_left(const std::string& path, const ArchiveSummary& s) {
+    const double ranks = s.ranks > 0 ? static_cast<double>(s.ranks) : 1.0;
+    std::vector<double> progress = s.progress;
+    for (const auto& r : s.in_progress)
+        if (std::isfinite(r.noted) && static_cast<std::size_t>(r.replica) < progress.size())
+            progress[static_cast<std::size_t>(r.replica)] = std::max(r.fraction, r.noted);
+    TimeLeft left;
+    try {
+        left = time_left(read_stored_campaign(path).spec, s.status, s.wall_seconds, progress);
+    } catch (const std::exception&) {  // a campaign this build cannot read back: one rate for all
+        left.core_seconds = s.wall_seconds_done / s.cost_done * s.cost_left;
+    }
+    const bool chain_bound = left.longest_chain > left.core_seconds / ranks;
+    std::printf("remaining: about %s on %s (%.0f core-seconds%s)\n", duration(left.on(ranks)).c_str(),
+                counted(static_cast<long long>(ranks), "rank").c_str(), left.core_seconds,
+                chain_bound ? "; the longest chain left, one replica after another, sets it" : "");
+}
 
 int status(const std::string& path) {
     if (const std::string bad = diagnose_archive_file(path); !bad.empty()) {
@@ -52,13 +76,7 @@ int status(const std::string& path) {
     if (complete && !s.merged.empty()) state += "; merged " + s.merged;
     std::printf("last run started %s, finished %s%s\n", s.started.empty() ? "-" : s.started.c_str(),
                 run_finished ? s.finished.c_str() : "-", state.empty() ? "" : (" (" + state + ")").c_str());
-    if (s.cost_done > 0 && s.cost_left > 0) {
-        const double per_cost = s.wall_seconds_done / s.cost_done;
-        const double ranks = s.ranks > 0 ? static_cast<double>(s.ranks) : 1.0;
-        const double left = per_cost * s.cost_left;
-        std::printf("remaining: about %s on %s (%.0f core-seconds)\n", duration(left / ranks).c_str(),
-                    counted(static_cast<long long>(ranks), "rank").c_str(), left);
-    }
+    if (s.cost_done > 0 && s.cost_left > 0) print_time_left(path, s);
     for (const auto& r : s.in_progress) {
         const auto id = static_cast<long long>(r.replica);
         if (!std::isfinite(r.noted) || (!live && r.noted <= r.fraction))

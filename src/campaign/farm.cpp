@@ -10,6 +10,7 @@
 #include "jamsim/campaign/core_lending.hpp"
 #include "jamsim/campaign/scheduler.hpp"
 #include "jamsim/campaign/stop_request.hpp"
+#include "jamsim/campaign/throughput.hpp"
 #include "jamsim/parallel/mpi.hpp"
 #include "jamsim/parallel/threads.hpp"
 #include "jamsim/run/model_registry.hpp"
@@ -76,8 +77,7 @@ class Dispatcher {
                std::vector<RankCores> cores)
         : comm_(comm), spec_(spec), scheduler_(make_scheduler(spec, queue, status)), fail_(std::move(fail)),
           total_(static_cast<std::int64_t>(queue.size()) + already_done), done_(already_done), progress_(progress),
-          start_(Clock::now()), last_print_(start_) {
-        for (auto id : queue) cost_total_run_ += estimated_cost(spec_.replicas[id]);
+          queue_(queue), ended_(spec.replicas.size(), 0), start_(Clock::now()), last_print_(start_) {
         workers_active_ = mpi::size(comm) - 1;
         active_.assign(static_cast<std::size_t>(mpi::size(comm)), true);
         cores_ = std::move(cores);
@@ -112,7 +112,7 @@ class Dispatcher {
     void finished(std::int64_t replica, Outcome outcome, int rank) {
         --running_;
         replica_of_[static_cast<std::size_t>(rank)] = -1;
-        if (outcome != Outcome::Interrupted) wall_done_ += seconds_since(started_[static_cast<std::size_t>(rank)]);
+        const double wall = seconds_since(started_[static_cast<std::size_t>(rank)]);
         if (outcome == Outcome::Interrupted) {
             ++interrupted_;
             scheduler_.finished(replica, Ended::Interrupted);
@@ -120,7 +120,8 @@ class Dispatcher {
         } else {
             ++(outcome == Outcome::Failed ? failed_ : done_);
             scheduler_.finished(replica, outcome == Outcome::Failed ? Ended::Failed : Ended::Done);
-            cost_done_ += estimated_cost(spec_.replicas[replica]);
+            ended_[static_cast<std::size_t>(replica)] = 1;
+            if (outcome == Outcome::Done) throughput_.add(spec_.replicas[replica], wall);
             record_failures();
         }
         wake_waiting();
@@ -171,6 +172,7 @@ class Dispatcher {
     void record_failures() {
         for (const auto& [id, before] : scheduler_.take_failed()) {
             ++failed_;
+            ended_[static_cast<std::size_t>(id)] = 1;
             fail_(id, "its predecessor in the rate ladder, replica " + std::to_string(before) + ", failed");
         }
     }
@@ -316,7 +318,7 @@ class Dispatcher {
         const double every = progress_.terminal ? 0.5 : progress_.interval_seconds;
         if (!final_line && std::chrono::duration<double>(Clock::now() - last_print_).count() < every) return;
         last_print_ = Clock::now();
-        const bool measured = cost_done_ > 0;
+        const bool measured = throughput_.measured();
         const double remaining = remaining_seconds();
         const auto total = static_cast<long long>(total_);
         const long long pending = total - done_ - failed_ - running_ - interrupted_;
@@ -334,24 +336,26 @@ class Dispatcher {
         std::fflush(stdout);
     }
 
-    /// Seconds left, without jumps as replicas end: a rank's throughput (estimated cost per
-    /// second of a replica's own wall time, over the replicas finished so far; before the
-    /// first, the nominal rate) gives each running replica's part done by now, the work left
-    /// over all ranks, and the longest remaining chain on one rank; the larger of the two.
+    /// Seconds left, without jumps as replicas end: each unfinished replica's seconds at the
+    /// throughput of the finished replicas of its model and N (campaign/throughput.hpp; before
+    /// the first, the nominal rate), less what each running replica has run by now; the work
+    /// left over all ranks, or the longest remaining chain on one rank, whichever is larger.
+    /// (One rate for every replica put a campaign of RD0 and CD0 at a fraction of its time.)
     double remaining_seconds() const {
-        const double per_rank =
-            wall_done_ > 0 && cost_done_ > 0 ? cost_done_ / wall_done_ : kNominalEvaluationsPerSecond;
-        double done_running = 0, chain = 0;
+        double left = 0, chain = 0;
+        for (const std::int64_t id : queue_)
+            if (!ended_[static_cast<std::size_t>(id)]) left += throughput_.seconds(spec_.replicas[id]);
         for (std::size_t r = 0; r < replica_of_.size(); ++r) {
             const std::int64_t id = replica_of_[r];
             if (id < 0) continue;
-            const double cost = estimated_cost(spec_.replicas[static_cast<std::size_t>(id)]);
-            const double part = std::min(cost, per_rank * seconds_since(started_[r]));
-            done_running += part;
-            chain = std::max(chain, scheduler_.critical_path(id) - part);
+            const ReplicaParams& p = spec_.replicas[static_cast<std::size_t>(id)];
+            const double part = std::min(throughput_.seconds(p), seconds_since(started_[r]));
+            left -= part;
+            // The chain's queued replicas are of one model and N (a rate ladder): its seconds
+            // are its cost at this replica's rate.
+            chain = std::max(chain, scheduler_.critical_path(id) * throughput_.seconds_per_cost(p) - part);
         }
-        const double left = std::max(0.0, cost_total_run_ - cost_done_ - done_running);
-        return std::max(left / (per_rank * static_cast<double>(mpi::size(comm_))), chain / per_rank);
+        return std::max(std::max(left, 0.0) / static_cast<double>(mpi::size(comm_)), chain);
     }
 
     MPI_Comm comm_;
@@ -369,11 +373,12 @@ class Dispatcher {
     std::vector<int> threads_;                ///< by rank: its threads now
     std::vector<std::int64_t> updates_sent_;  ///< by rank: kTagThreads messages sent
     std::vector<Clock::time_point> started_;  ///< by rank: when its replica started
-    double wall_done_ = 0;                    ///< wall seconds of the replicas finished
     bool in_first_round_ = false;
-    std::int64_t own_first_ = -1;                ///< rank 0's replica chosen in the first round
-    double cost_total_run_ = 0, cost_done_ = 0;  ///< estimated costs of this run's queue
+    std::int64_t own_first_ = -1;  ///< rank 0's replica chosen in the first round
     ProgressOptions progress_;
+    std::vector<std::int64_t> queue_;  ///< this run's replicas
+    std::vector<char> ended_;          ///< by replica: done or failed in this run
+    Throughput throughput_;            ///< of the replicas done in this run
     Clock::time_point start_, last_print_;
 };
 
