@@ -3,7 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <iterator>
 #include <map>
+#include <set>
 #include <tuple>
 #include <unordered_map>
 
@@ -197,9 +200,33 @@ void make_replicas(const Reader& r, const std::vector<Point>& points, Seeds seed
         }
 }
 
+/// Two values of phi or rate closer than this (relative) are one state point written twice
+/// (a generated list's rounding: 0.84 and 0.8400000000000001), not two.
+constexpr double kSameValue = 1e-12;
+
+/// Values of `key` (phi or rate) over the sweep's replicas that are distinct but closer than
+/// kSameValue: refused, naming both (they print alike and the analysis would split their seeds).
+void check_values_apart(const Reader& r, const CampaignSpec& spec, const std::string& key,
+                        double ReplicaParams::*value) {
+    std::set<double> values;
+    for (const ReplicaParams& p : spec.replicas)
+        if (std::isfinite(p.*value)) values.insert(p.*value);
+    for (auto it = values.begin(); it != values.end() && std::next(it) != values.end(); ++it) {
+        const double a = *it, b = *std::next(it);
+        if (b - a > kSameValue * std::max(std::abs(a), std::abs(b))) continue;
+        char gap[32];
+        std::snprintf(gap, sizeof gap, "%.2g", (b - a) / std::max(std::abs(a), std::abs(b)));
+        throw SpecError(r.path() + ": [sweep] " + key + " holds " + show_value(a) + " and " + show_value(b) +
+                        ", which is not allowed: values at least 1e-12 apart, relative (these differ by " + gap +
+                        ": one state point written twice, as a generated list's rounding makes it; write it once)");
+    }
+}
+
 /// The same replica twice would compute the same bits twice: a value listed twice in a sweep
 /// list, or a point that repeats the grid or another point.
 void check_each_once(const Reader& r, const CampaignSpec& spec) {
+    check_values_apart(r, spec, "phi", &ReplicaParams::phi);
+    check_values_apart(r, spec, "rate", &ReplicaParams::rate);
     {
         std::unordered_map<std::string, std::size_t> seen;
         for (std::size_t k = 0; k < spec.replicas.size(); ++k) {

@@ -44,3 +44,6 @@ jamsim_campaign_error(invisible_name "invisible_name.toml: \\[campaign\\] name =
 # An invisible character in -o (here a zero-width space) as in the campaign file's output.
 jamsim_cli_error(run_output_invisible "small.toml: -o \"s.*\\.h5\" is not allowed: a path without invisible characters \\(it holds U\\+200B\\)" run ${campaigns}/small.toml -o s​.h5)
 set_tests_properties(cli.run_output_invisible PROPERTIES LABELS unit)
+# Values of phi or rate closer than 1e-12 relative are one state point written twice.
+jamsim_campaign_error(phi_one_ulp_apart "phi_one_ulp_apart.toml: \\[sweep\\] phi holds 0.86 and 0.8600000000000001, which is not allowed: values at least 1e-12 apart")
+jamsim_campaign_error(rate_one_ulp_apart "rate_one_ulp_apart.toml: \\[sweep\\] rate holds 0.001 and 0.0010000000000000002, which is not allowed")
