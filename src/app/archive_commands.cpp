@@ -23,15 +23,16 @@ namespace jamsim::app {
 
 namespace {
 
-/// "remaining: about T on R ranks (C core-seconds[; the longest chain left takes L])": each
-/// unfinished replica's estimated cost at the throughput of the finished replicas of its
-/// model and N (campaign/throughput.hpp), the running ones from their latest progress; on
-/// the latest run's ranks, and never below the longest unfinished chain (a rate ladder).
-void print_time_left(const std::string& path, const ArchiveSummary& s) {
+/// "remaining: about T on R ranks (C core-seconds[; the longest chain left, ... sets it])":
+/// each unfinished replica's estimated cost at the throughput of the finished replicas of its
+/// (model, N, phi) group (campaign/throughput.hpp: else its model and N, ...), a running one
+/// from its latest progress while the run lives, from its last checkpoint (where it resumes)
+/// when interrupted; on the latest run's ranks, and never below the longest unfinished chain.
+void print_time_left(const std::string& path, const ArchiveSummary& s, bool live) {
     const double ranks = s.ranks > 0 ? static_cast<double>(s.ranks) : 1.0;
     std::vector<double> progress = s.progress;
     for (const auto& r : s.in_progress)
-        if (std::isfinite(r.noted) && static_cast<std::size_t>(r.replica) < progress.size())
+        if (live && std::isfinite(r.noted) && static_cast<std::size_t>(r.replica) < progress.size())
             progress[static_cast<std::size_t>(r.replica)] = std::max(r.fraction, r.noted);
     TimeLeft left;
     try {
@@ -76,7 +77,7 @@ int status(const std::string& path) {
     if (complete && !s.merged.empty()) state += "; merged " + s.merged;
     std::printf("last run started %s, finished %s%s\n", s.started.empty() ? "-" : s.started.c_str(),
                 run_finished ? s.finished.c_str() : "-", state.empty() ? "" : (" (" + state + ")").c_str());
-    if (s.cost_done > 0 && s.cost_left > 0) print_time_left(path, s);
+    if (s.cost_done > 0 && s.cost_left > 0) print_time_left(path, s, live);
     for (const auto& r : s.in_progress) {
         const auto id = static_cast<long long>(r.replica);
         if (!std::isfinite(r.noted) || (!live && r.noted <= r.fraction))

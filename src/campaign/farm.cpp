@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <chrono>
+#include <map>
 #include <cstdio>
 #include <numeric>
 #include <optional>
 #include <thread>
+#include <tuple>
 
 #include "jamsim/campaign/core_lending.hpp"
 #include "jamsim/campaign/scheduler.hpp"
@@ -77,7 +79,14 @@ class Dispatcher {
                std::vector<RankCores> cores)
         : comm_(comm), spec_(spec), scheduler_(make_scheduler(spec, queue, status)), fail_(std::move(fail)),
           total_(static_cast<std::int64_t>(queue.size()) + already_done), done_(already_done), progress_(progress),
-          queue_(queue), ended_(spec.replicas.size(), 0), start_(Clock::now()), last_print_(start_) {
+          cost_(spec.replicas.size(), 0.0), start_(Clock::now()), last_print_(start_) {
+        for (const std::int64_t id : queue) {
+            const ReplicaParams& p = spec_.replicas[static_cast<std::size_t>(id)];
+            cost_[static_cast<std::size_t>(id)] = estimated_cost(p);
+            GroupLeft& group = cost_left_[{p.model, p.n, p.phi}];
+            group.params = &p;
+            group.cost += cost_[static_cast<std::size_t>(id)];
+        }
         workers_active_ = mpi::size(comm) - 1;
         active_.assign(static_cast<std::size_t>(mpi::size(comm)), true);
         cores_ = std::move(cores);
@@ -120,7 +129,7 @@ class Dispatcher {
         } else {
             ++(outcome == Outcome::Failed ? failed_ : done_);
             scheduler_.finished(replica, outcome == Outcome::Failed ? Ended::Failed : Ended::Done);
-            ended_[static_cast<std::size_t>(replica)] = 1;
+            ended(replica);
             if (outcome == Outcome::Done) throughput_.add(spec_.replicas[replica], wall);
             record_failures();
         }
@@ -172,7 +181,7 @@ class Dispatcher {
     void record_failures() {
         for (const auto& [id, before] : scheduler_.take_failed()) {
             ++failed_;
-            ended_[static_cast<std::size_t>(id)] = 1;
+            ended(id);
             fail_(id, "its predecessor in the rate ladder, replica " + std::to_string(before) + ", failed");
         }
     }
@@ -336,22 +345,32 @@ class Dispatcher {
         std::fflush(stdout);
     }
 
-    /// Seconds left, without jumps as replicas end: each unfinished replica's seconds at the
-    /// throughput of the finished replicas of its model and N (campaign/throughput.hpp; before
-    /// the first, the nominal rate), less what each running replica has run by now; the work
-    /// left over all ranks, or the longest remaining chain on one rank, whichever is larger.
-    /// (One rate for every replica put a campaign of RD0 and CD0 at a fraction of its time.)
+    /// A replica of this run's queue is done or failed: its cost is no longer left.
+    void ended(std::int64_t id) {
+        double& cost = cost_[static_cast<std::size_t>(id)];
+        const ReplicaParams& p = spec_.replicas[static_cast<std::size_t>(id)];
+        cost_left_[{p.model, p.n, p.phi}].cost -= cost;
+        cost = 0;  // counted once
+    }
+
+    /// Seconds left, without jumps as replicas end: each (model, N, phi) group's cost left at
+    /// the throughput of its finished replicas (campaign/throughput.hpp: else of its model and
+    /// N, its model, any; before the first, the nominal rate), less what each running replica
+    /// has run by now; the work left over all ranks, or the longest remaining chain on one
+    /// rank, whichever is larger. O(groups + ranks) per call. (One rate for every replica put
+    /// a campaign whose groups differ in speed at what its fastest finished group would take.)
     double remaining_seconds() const {
         double left = 0, chain = 0;
-        for (const std::int64_t id : queue_)
-            if (!ended_[static_cast<std::size_t>(id)]) left += throughput_.seconds(spec_.replicas[id]);
+        for (const auto& [key, group] : cost_left_)
+            if (group.cost > 0) left += group.cost * throughput_.seconds_per_cost(*group.params);
         for (std::size_t r = 0; r < replica_of_.size(); ++r) {
             const std::int64_t id = replica_of_[r];
             if (id < 0) continue;
             const ReplicaParams& p = spec_.replicas[static_cast<std::size_t>(id)];
-            const double part = std::min(throughput_.seconds(p), seconds_since(started_[r]));
+            const double part = std::min(cost_[static_cast<std::size_t>(id)] * throughput_.seconds_per_cost(p),
+                                         seconds_since(started_[r]));
             left -= part;
-            // The chain's queued replicas are of one model and N (a rate ladder): its seconds
+            // The chain's queued replicas are of one model, N and phi (a rate ladder): its seconds
             // are its cost at this replica's rate.
             chain = std::max(chain, scheduler_.critical_path(id) * throughput_.seconds_per_cost(p) - part);
         }
@@ -376,9 +395,13 @@ class Dispatcher {
     bool in_first_round_ = false;
     std::int64_t own_first_ = -1;  ///< rank 0's replica chosen in the first round
     ProgressOptions progress_;
-    std::vector<std::int64_t> queue_;  ///< this run's replicas
-    std::vector<char> ended_;          ///< by replica: done or failed in this run
-    Throughput throughput_;            ///< of the replicas done in this run
+    struct GroupLeft {
+        const ReplicaParams* params = nullptr;  ///< one of the group's replicas
+        double cost = 0;                        ///< estimated cost of its replicas not ended
+    };
+    std::vector<double> cost_;  ///< by replica: its estimated cost while queued and not ended, else 0
+    std::map<std::tuple<std::string, std::int64_t, double>, GroupLeft> cost_left_;  ///< by (model, N, phi)
+    Throughput throughput_;  ///< of the replicas done in this run
     Clock::time_point start_, last_print_;
 };
 

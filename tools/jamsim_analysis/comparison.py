@@ -20,8 +20,10 @@ and tested for equal means, two-sided:
       e the one-seed group's time error (the only error one seed has; stats `_error_time`)
       and the other group's 1-sigma error, nu = Satterthwaite's dof from the time errors' own
       dof (`_error_dof`; a time error from a window of few independent samples is itself
-      uncertain, and with a normal reference such tests alarmed 2-3 times their level), and
-      p = 2 P(T_nu > |t|).
+      uncertain, and with a normal reference such tests alarmed at 6.7-7.8% for a 5% level,
+      and at 9.8-13.1% with the time errors before their correction), and p = 2 P(T_nu > |t|).
+      Its t can differ from `sigmas`, which divides by the tables' 1-sigma errors (a one-seed
+      group's widened by its t factor).
 
 The p-values of one comparison (every state point, pair and observable) are adjusted for
 multiplicity by Holm's step-down method; a difference is significant when its adjusted p is

@@ -187,7 +187,7 @@ def _dynamics(rep, archive, opts):
         more = f"; and {len(reasons) - 5} more" if len(reasons) > 5 else ""
         raise AnalysisError("every replica was left out (" + "; ".join(reasons[:5]) + more + ")")
     d.table(kept[["replica", "model", "N", "phi", "rate", "seed", "window_start", "samples",
-                  "pressure", "pressure_error", "pressure_tau", "drift_z"]])
+                  "pressure", "pressure_error", "pressure_tau", "drift_z", "drift_limit"]])
     groups = stats.group_averages(table, list(OBSERVABLES))
     d.table(groups[["model", "N", "phi", "rate", "seeds", "pressure", "pressure_error",
                     "shear_stress", "shear_stress_error"]])

@@ -43,6 +43,9 @@ class ScalingFit:
     errors: dict
     points: pd.DataFrame
     method: str = "least squares"
+    # With a bootstrap (bootstrap_collapse): the resampled parameters' standard deviations,
+    # widened for the seeds' count, before the least-squares errors are taken where larger.
+    bootstrap_errors: dict = None
 
     @property
     def chi2_per_dof(self):
@@ -260,8 +263,8 @@ def bootstrap_collapse(replica_table, observable, fit, n_boot=200, seed=1):
     widen = float(np.sqrt(np.mean(seeds / (seeds - 1)))) if len(seeds) else 1.0
     out = dataclasses.replace(fit, method=f"bootstrap over seeds ({len(samples)} resamples, widened by "
                                           f"{widen:.3g} for the seeds' count), or least squares where larger")
-    out.errors = {k: max(widen * float(np.std(samples[:, j], ddof=1)), fit.errors[k])
-                  for j, k in enumerate(fit.values)}
+    out.bootstrap_errors = {k: widen * float(np.std(samples[:, j], ddof=1)) for j, k in enumerate(fit.values)}
+    out.errors = {k: max(out.bootstrap_errors[k], fit.errors[k]) for k in fit.values}
     return out
 
 

@@ -46,8 +46,9 @@ def autocorrelation(x):
     return acov / acov[0]
 
 
-def _mean_variance_by_window(x, window_factor):
-    """(tau_int, window W, variance s^2) of a series, corrected for the sample mean.
+def _mean_variance_by_window(x, window_factor, trend=False):
+    """(tau_int, window W, variance s^2) of a series, corrected for the sample mean (with
+    trend, for the least-squares straight line instead: the drift test's errors).
 
     With the sample mean subtracted, each lag's autocovariance estimate is low by about
     var(mean) = S/n, where S = s^2 + 2 sum_{t>=1} C(t) = 2 tau_int s^2: the windowed sum
@@ -55,23 +56,30 @@ def _mean_variance_by_window(x, window_factor):
     short windows of a campaign (n / 2 tau_int of 10 to 30) that bias made tau_int, and with
     it the error of the mean, 30-40% too small: the mean lay outside its 1-sigma interval in
     43% of stationary AR(1) series of 121 samples at tau_int = 4.5, where 31.7% is right. So
-    S = S_W / (1 - (2W + 1)/n) and s^2 = C(0) + S / n, and Sokal's window is the first W with
-    W >= window_factor * tau_int(W), searched where the correction is at most 2 (W < n/4);
-    without one, the largest W there is used."""
+    S = S_W / (1 - p (2W + 1)/n) and s^2 = C(0) + p S / n, p the parameters fitted (1, or 2
+    with trend: the slope's error takes about as much again), and Sokal's window is the first
+    W with W >= window_factor * tau_int(W), searched below n/(2p + 2) (a correction of at
+    most 2 for the mean, 3 for a line); without one, the largest W there is used. S is at least n C(0)/(n - p), so
+    tau_int >= 1/2 (no anticorrelation)."""
     n = len(x)
-    dx = x - x.mean()
+    fitted = 2 if trend else 1
+    if trend:
+        t = np.arange(n, dtype=float)
+        dx = x - np.polyval(np.polyfit(t, x, 1), t)
+    else:
+        dx = x - x.mean()
     size = 1 << (2 * n - 1).bit_length()
     spectrum = np.fft.rfft(dx, size)
     acov = np.fft.irfft(spectrum * np.conj(spectrum), size)[:n] / n
     if acov[0] <= 0:
         return 0.5, 0, 0.0
-    last = (n - 1) // 4
-    if last < 1:  # below 5 samples: no lag to sum, taken as uncorrelated
-        return 0.5, 0, float(np.var(x, ddof=1))
+    last = (n - 1) // (2 * fitted + 2)
+    if last < 1:  # too few samples for a lag: taken as uncorrelated
+        return 0.5, 0, float(np.sum(dx * dx) / max(n - fitted, 1))
     windows = np.arange(1, last + 1)
     partial = acov[0] + 2 * np.cumsum(acov[1 : last + 1])
-    total = np.maximum(partial / (1.0 - (2 * windows + 1) / n), acov[0])  # S >= C(0): no anticorrelation
-    variance = acov[0] + total / n
+    total = np.maximum(partial / (1.0 - fitted * (2 * windows + 1) / n), acov[0] * n / (n - fitted))
+    variance = acov[0] + fitted * total / n
     tau = total / (2 * variance)
     ok = windows >= window_factor * tau
     w = int(np.argmax(ok)) if ok.any() else len(windows) - 1
@@ -154,15 +162,15 @@ class MeanEstimate:
 def error_dof(n, window):
     """Degrees of freedom of a windowed estimate of var(mean): n / (2W + 1) (Bartlett: the
     relative variance of a sum of 2W + 1 autocovariances over n samples is 2 (2W + 1) / n).
-    A mean over n_effective = 13 independent samples has W about 25 and so 2.4 dof: its error
-    is uncertain by about 90% in variance, and a 1-sigma interval needs Student's t factor
+    A mean over n_effective = 13 independent samples has W about 20 and so 3 dof: its error
+    is uncertain by about 80% in variance, and a 1-sigma interval needs Student's t factor
     (one_sigma_factor) to cover the truth 68% of the time."""
     return float(n) / (2 * window + 1) if window > 0 else float(max(n - 1, 1))
 
 
 def one_sigma_factor(dof):
     """Student's t quantile at (1 + ONE_SIGMA)/2 for dof degrees of freedom (1 for infinite
-    dof; 1.84 for 1, 1.20 for 4, 1.03 for 16): error * factor covers the truth 68.27% of the
+    dof; 1.84 for 1, 1.20 for 3, 1.03 for 16): error * factor covers the truth 68.27% of the
     time when error^2 is an estimate with that many dof."""
     dof = np.asarray(dof, float)
     factor = np.where(np.isfinite(dof), sps.t.ppf(0.5 + ONE_SIGMA / 2, np.where(np.isfinite(dof), dof, 1.0)), 1.0)
@@ -200,8 +208,11 @@ def drift_limit(dof, z_max=DRIFT_Z):
     """The |z| above which a window drifts: Student's t quantile with `dof` degrees of freedom
     at the normal tail probability of z_max (3.5: 4.7e-4 two-sided). The combined error rests
     on the second half's variance and tau_int, estimated with few dof on short windows; with
-    the normal limit, 2.1% of stationary AR(1) windows of 121 samples at tau_int = 4.5 were
-    flagged, 45 times the nominal rate."""
+    the normal limit (and the error from the half's own mean, MSER over the first half), 1%
+    of stationary AR(1) windows of 121 samples at tau_int = 4.5 were flagged, 20 times the
+    nominal rate. Now 0.15% (and 0.55% at tau_int = 19.5), while a ramp across a window of
+    1000 samples that moves the mean by 3 of the series' standard deviations is flagged in
+    72% of them (48% for 2)."""
     if not np.isfinite(dof):
         return float(z_max)
     return float(sps.t.ppf(sps.norm.cdf(z_max), dof))
@@ -211,13 +222,15 @@ def _drift_z(values):
     """(|mean(first third) - mean(last third)| in standard errors, the dof of that error):
     z NaN when a third holds fewer than MIN_INDEPENDENT independent samples (too short to
     tell drift from slow fluctuations). Under the hypothesis of a stationary window both
-    thirds share the variance and tau_int of the second half (a transient left in the first
-    third would inflate its own estimate and hide itself)."""
+    thirds share the variance and tau_int of the second half about its least-squares line
+    (a transient left in the first third, or a drift through the whole window, would
+    inflate them and hide itself: about the half's own mean, a ramp across 1000 samples of 2
+    standard deviations was flagged in a fifth of the windows, about its line in half)."""
     third = len(values) // 3
     if third < 4:
         return float("nan"), float("inf")
     half = np.asarray(values[len(values) // 2:], float)
-    tau, window, variance = _mean_variance_by_window(half, WINDOW_FACTOR)
+    tau, window, variance = _mean_variance_by_window(half, WINDOW_FACTOR, trend=True)
     if third < 2 * tau * MIN_INDEPENDENT:
         return float("nan"), float("inf")
     err = np.sqrt(2.0 * variance * 2 * tau / third)
@@ -271,7 +284,7 @@ def replica_averages(archive, observables, time_column="strain", drift_observabl
     observable over it. Returns a DataFrame with the replica's parameters, `<obs>`,
     `<obs>_error`, `<obs>_tau` (samples), `<obs>_dof` (the error's dof, error_dof), `window_start` (strain, or time for a dynamics
     replica at rate 0, whose `time` column is set), `samples`,
-    `drift_z`, `drifting` and `left_out` (a reason, or "" for replicas kept). Replicas not
+    `drift_z`, `drift_limit`, `drifting` and `left_out` (a reason, or "" for replicas kept). Replicas not
     done appear with left_out = their status."""
     table = archive.replicas
     drift_observable = drift_observable or observables[0]
@@ -322,9 +335,9 @@ def replica_averages(archive, observables, time_column="strain", drift_observabl
             continue
         if detect and n >= MIN_SAMPLES:
             window = steady_window(times, series[drift_observable], transient)
-        else:
+        else:  # no drift test: NaN, not a z of 0 that would read as steady
             start = int(np.searchsorted(times, transient)) if n > 1 else 0
-            window = SteadyWindow(start, float(times[start]) if start < n else np.nan, 0.0, False)
+            window = SteadyWindow(start, float(times[start]) if start < n else np.nan, np.nan, False, np.nan)
         row.update(window_start=window.start_time, samples=n - window.start, drift_z=window.drift_z,
                    drift_limit=window.drift_limit, drifting=window.drifting)
         if n - window.start <= 0:
@@ -364,13 +377,13 @@ def seed_average(means, time_errors, time_dofs=None):
     a seed-to-seed offset of variance tau^2. The seed-to-seed variance is estimated by
     moments, tau^2 = max(0, s^2 - mean(e_i^2)) (s^2: variance of the m_i; DerSimonian-Laird
     with equal weights), and
-        error^2 = t_w^2 sum(e_i^2) / k^2 + t^2 tau^2 / k,
+        error^2 = sum(e_i^2) / k^2 + t^2 tau^2 / k  (k >= 2),   error = t_w e_1  (k = 1),
     t = the (1 + ONE_SIGMA)/2 quantile of Student's t with k - 1 degrees of freedom (1.84 for
     2 seeds, 1.20 for 4, 1.03 for 16), so the interval keeps its 68% coverage when the offsets
-    dominate and tau^2 rests on few seeds; t_w the same quantile for the dof of sum(e_i^2)
-    (Satterthwaite: (sum e_i^2)^2 / sum(e_i^4 / nu_i)), so it keeps it when the time errors
-    dominate and rest on short windows (one seed of 13 independent samples: about 2.4 dof,
-    t_w = 1.3). The error is never smaller than the time errors alone support (tau^2 >= 0).
+    dominate and tau^2 rests on few seeds; t_w the same quantile for the dof of the time
+    error (time_error_dof), so one seed's interval keeps it on a short window (13
+    independent samples: about 3 dof, t_w = 1.2). From two seeds on the spread between them
+    is measured and t_w is not applied: with it, two seeds of such windows covered 82%. The error is never smaller than the time errors alone support (tau^2 >= 0).
     Seeds without a time error count as all spread (tau^2 = s^2). Returns (mean, error,
     error_time, error_seeds): error_time = sqrt(sum e_i^2)/k (NaN without time errors),
     error_seeds = s/sqrt(k) (NaN for one seed)."""
@@ -402,15 +415,16 @@ def one_seed_note(groups):
             "run two or more seeds for error bars that hold it")
 
 
-# A drift test whose limit lies above this (few dof) can tell only large drifts.
+# A drift test whose limit lies above this (its error rests on fewer than about 7 dof) can
+# tell only large drifts.
 WEAK_DRIFT_LIMIT = 6.0
 
 
 def weak_drift_note(replica_table):
     """A note on the kept replicas whose window is too short for the drift test to tell a
-    leftover transient from slow fluctuations ("" when none): drift_z NaN (a third of the
-    window holds fewer than MIN_INDEPENDENT independent samples) or a limit above
-    WEAK_DRIFT_LIMIT (its error rests on fewer than about 4 dof)."""
+    leftover transient from slow fluctuations ("" when none): drift_z NaN (a window below
+    MIN_SAMPLES, or a third of it holding fewer than MIN_INDEPENDENT independent samples) or
+    a limit above WEAK_DRIFT_LIMIT."""
     if "drift_limit" not in replica_table:
         return ""
     kept = replica_table[replica_table["left_out"] == ""] if "left_out" in replica_table else replica_table

@@ -222,6 +222,7 @@ def test_one_seed_tests_of_short_windows_alarm_at_the_level(n, a):
     assert len(d) == 1000 and set(d["test"]) == {"t of time errors"}
     rate = float(np.mean(d["p_value"] < 0.05))
     assert rate < 0.05 + 4 * np.sqrt(0.05 * 0.95 / len(d)), rate
+    assert rate > 0.01, rate  # 3.1-4.4% measured: a test that hardly ever alarms fails too
 
 
 def test_one_seed_tests_carry_the_caution():
