@@ -47,3 +47,9 @@ set_tests_properties(cli.run_output_invisible PROPERTIES LABELS unit)
 # Values of phi or rate closer than 1e-12 relative are one state point written twice.
 jamsim_campaign_error(phi_one_ulp_apart "phi_one_ulp_apart.toml: \\[sweep\\] phi holds 0.86 and 0.8600000000000001, which is not allowed: values at least 1e-12 apart")
 jamsim_campaign_error(rate_one_ulp_apart "rate_one_ulp_apart.toml: \\[sweep\\] rate holds 0.001 and 0.0010000000000000002, which is not allowed")
+# A list of 200000 zeros on one line is read in linear time (each value's line and column were
+# found afresh: 20000 zeros took 9 s, 200000 about a quarter of an hour) and refused at once.
+add_test(NAME campaign.many_zeros_read_in_linear_time
+  COMMAND bash -c "set -eu; { printf '[campaign]\\nname = \"z\"\\noutput = \"z.h5\"\\n[run]\\nstrain = 0.1\\nsample_interval = 0.05\\ntransient = 0\\n[sweep]\\nN = [64]\\nrate = [1e-3]\\nseeds = 1\\nphi = [0.84'; for k in $(seq 2000); do printf ', 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0'; done; printf ']\\n'; } > zeros.toml; ! timeout 60 $<TARGET_FILE:jamsim> run zeros.toml --dry-run -o zeros.h5 2> zeros.err; cat zeros.err; grep -q 'phi = 0 is not allowed: 0 < phi < 1' zeros.err"
+  WORKING_DIRECTORY ${campaign_dir})
+set_tests_properties(campaign.many_zeros_read_in_linear_time PROPERTIES LABELS unit TIMEOUT 120)
