@@ -36,7 +36,8 @@ void print_time_left(const std::string& path, const ArchiveSummary& s, bool live
             progress[static_cast<std::size_t>(r.replica)] = std::max(r.fraction, r.noted);
     TimeLeft left;
     try {
-        left = time_left(read_stored_campaign(path).spec, s.status, s.wall_seconds, progress);
+        const StoredCampaign stored = read_stored_campaign(path);
+        left = time_left(stored.spec, stored.status, s.wall_seconds, progress);
     } catch (const std::exception&) {  // a campaign this build cannot read back: one rate for all
         left.core_seconds = s.wall_seconds_done / s.cost_done * s.cost_left;
     }

@@ -49,7 +49,6 @@ ArchiveSummary summarize_archive(const std::string& path) {
         if (!status.empty())
             check(H5Dread(set.get(), rt.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, reasons.data()), "read failure_reason");
     }
-    for (const auto v : status) s.status.push_back(static_cast<ReplicaStatus>(v));
     s.wall_seconds = wall;
     s.progress = progress;
     for (std::size_t r = 0; r < status.size(); ++r) {

@@ -23,10 +23,6 @@ namespace jamsim {
 
 namespace {
 
-/// Replicas that run at one throughput (seconds per estimated cost unit): model, N and phi.
-using CostGroup = std::tuple<std::string, std::int64_t, double>;
-CostGroup cost_group(const ReplicaParams& p) { return {p.model, p.n, p.phi}; }
-
 /// Seconds per estimated cost unit on this machine, per group, and where they come from.
 struct Calibration {
     std::map<CostGroup, double> measured;  ///< groups measured (recorded or probed)

@@ -2,14 +2,14 @@
 
 #include <algorithm>
 #include <chrono>
-#include <map>
 #include <cstdio>
+#include <map>
 #include <numeric>
 #include <optional>
 #include <thread>
-#include <tuple>
 
 #include "jamsim/campaign/core_lending.hpp"
+#include "jamsim/campaign/costs.hpp"
 #include "jamsim/campaign/scheduler.hpp"
 #include "jamsim/campaign/stop_request.hpp"
 #include "jamsim/campaign/throughput.hpp"
@@ -83,7 +83,7 @@ class Dispatcher {
         for (const std::int64_t id : queue) {
             const ReplicaParams& p = spec_.replicas[static_cast<std::size_t>(id)];
             cost_[static_cast<std::size_t>(id)] = estimated_cost(p);
-            GroupLeft& group = cost_left_[{p.model, p.n, p.phi}];
+            GroupLeft& group = cost_left_[cost_group(p)];
             group.params = &p;
             group.cost += cost_[static_cast<std::size_t>(id)];
         }
@@ -349,7 +349,7 @@ class Dispatcher {
     void ended(std::int64_t id) {
         double& cost = cost_[static_cast<std::size_t>(id)];
         const ReplicaParams& p = spec_.replicas[static_cast<std::size_t>(id)];
-        cost_left_[{p.model, p.n, p.phi}].cost -= cost;
+        cost_left_[cost_group(p)].cost -= cost;
         cost = 0;  // counted once
     }
 
@@ -399,9 +399,9 @@ class Dispatcher {
         const ReplicaParams* params = nullptr;  ///< one of the group's replicas
         double cost = 0;                        ///< estimated cost of its replicas not ended
     };
-    std::vector<double> cost_;  ///< by replica: its estimated cost while queued and not ended, else 0
-    std::map<std::tuple<std::string, std::int64_t, double>, GroupLeft> cost_left_;  ///< by (model, N, phi)
-    Throughput throughput_;  ///< of the replicas done in this run
+    std::vector<double> cost_;                  ///< by replica: its estimated cost while queued and not ended, else 0
+    std::map<CostGroup, GroupLeft> cost_left_;  ///< by (model, N, phi)
+    Throughput throughput_;                     ///< of the replicas done in this run
     Clock::time_point start_, last_print_;
 };
 

@@ -12,14 +12,14 @@ namespace jamsim {
 void Throughput::add(const ReplicaParams& p, double wall_seconds) {
     const double cost = estimated_cost(p);
     if (!(wall_seconds > 0) || !(cost > 0)) return;
-    for (Sum* sum : {&by_point_[{p.model, p.n, p.phi}], &by_size_[{p.model, p.n}], &by_model_[p.model], &all_}) {
+    for (Sum* sum : {&by_point_[cost_group(p)], &by_size_[{p.model, p.n}], &by_model_[p.model], &all_}) {
         sum->seconds += wall_seconds;
         sum->cost += cost;
     }
 }
 
 double Throughput::seconds_per_cost(const ReplicaParams& p) const {
-    if (const auto it = by_point_.find({p.model, p.n, p.phi}); it != by_point_.end())
+    if (const auto it = by_point_.find(cost_group(p)); it != by_point_.end())
         return it->second.seconds / it->second.cost;
     if (const auto it = by_size_.find({p.model, p.n}); it != by_size_.end())
         return it->second.seconds / it->second.cost;

@@ -37,6 +37,7 @@ import numpy as np
 import pandas as pd
 from scipy import stats as sps
 
+from . import stats
 from .errors import AnalysisError
 
 POINT = ("N", "phi", "rate")
@@ -79,13 +80,10 @@ ONE_SEED_CAUTION = ("Caution: the tests of a group with one seed rest on its tim
 def time_error_test(difference, errors, dofs):
     """Two-sided t test of a difference whose error is the sum in quadrature of `errors`, each
     estimated with `dofs` (infinite: known): (t, Satterthwaite's nu, p)."""
-    e = np.asarray(errors, float)
-    nu = np.asarray(dofs, float)
-    se2 = float(np.sum(e ** 2))
+    se2 = float(np.sum(np.asarray(errors, float) ** 2))
     if not (np.isfinite(se2) and se2 > 0):
         return np.nan, np.nan, np.nan
-    pooled = float(np.sum(e ** 4 / np.where(np.isfinite(nu) & (nu > 0), nu, np.inf)))
-    dof = se2 ** 2 / pooled if pooled > 0 else np.inf
+    dof = stats.time_error_dof(errors, dofs)
     t = difference / np.sqrt(se2)
     p = 2 * (sps.t.sf(abs(t), dof) if np.isfinite(dof) else sps.norm.sf(abs(t)))
     return float(t), float(dof), float(p)
@@ -250,8 +248,6 @@ def compared_replicas(archives, observables, by, filters):
     two files that share replicas are refused); then only the rows with filters' values
     ({"model": name, "N"/"phi"/"rate": number}; None keeps all), a value not in the data
     refused with the values that are."""
-    import os
-    from . import stats
     from .archive import open_archives
     if by == "file":
         names = [os.path.splitext(os.path.basename(p))[0] for p in archives]

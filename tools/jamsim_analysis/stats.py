@@ -32,15 +32,20 @@ MSER_SEARCH = 0.25
 MIN_INDEPENDENT = 3
 
 
+def _lag_sums(dx):
+    """sum_i dx_i dx_{i+t}, t = 0..n-1, of a 1-D series (FFT, zero-padded: no wrap-around)."""
+    n = len(dx)
+    size = 1 << (2 * n - 1).bit_length()
+    spectrum = np.fft.rfft(dx, size)
+    return np.fft.irfft(spectrum * np.conj(spectrum), size)[:n]
+
+
 def autocorrelation(x):
     """Normalised autocorrelation rho(t), t = 0..n-1, of a 1-D series (FFT, the biased
     estimator sum_{i} dx_i dx_{i+t} / sum_i dx_i^2)."""
     x = np.asarray(x, float)
     n = len(x)
-    dx = x - x.mean()
-    size = 1 << (2 * n - 1).bit_length()
-    spectrum = np.fft.rfft(dx, size)
-    acov = np.fft.irfft(spectrum * np.conj(spectrum), size)[:n]
+    acov = _lag_sums(x - x.mean())
     if acov[0] <= 0:
         return np.r_[1.0, np.zeros(n - 1)]
     return acov / acov[0]
@@ -68,9 +73,7 @@ def _mean_variance_by_window(x, window_factor, trend=False):
         dx = x - np.polyval(np.polyfit(t, x, 1), t)
     else:
         dx = x - x.mean()
-    size = 1 << (2 * n - 1).bit_length()
-    spectrum = np.fft.rfft(dx, size)
-    acov = np.fft.irfft(spectrum * np.conj(spectrum), size)[:n] / n
+    acov = _lag_sums(dx) / n
     if acov[0] <= 0:
         return 0.5, 0, 0.0
     last = (n - 1) // (2 * fitted + 2)
@@ -399,7 +402,7 @@ def seed_average(means, time_errors, time_dofs=None):
     s2 = float(np.var(m, ddof=1))
     within = float(np.mean(e[finite] ** 2)) if finite.all() else 0.0
     tau2 = max(0.0, s2 - within)
-    t = float(sps.t.ppf(0.5 + ONE_SIGMA / 2, k - 1))
+    t = one_sigma_factor(k - 1)
     return float(m.mean()), float(np.sqrt(base + t * t * tau2 / k)), error_time, float(np.sqrt(s2 / k))
 
 
@@ -494,7 +497,7 @@ def pooled_errors(groups, observable, pool_keys=POOL_KEYS):
         sel = usable & (labels == label)
         nu = float(np.sum(k[sel] - 1))
         ratio = float(np.sum((k[sel] - 1) * (e_seeds[sel] / e_time[sel]) ** 2) / nu)  # s^2/w = (1 + r)
-        t = float(sps.t.ppf(0.5 + ONE_SIGMA / 2, nu))
+        t = one_sigma_factor(nu)
         err[sel] = e_time[sel] * np.sqrt(1 + t * t * max(0.0, ratio - 1))
     return err
 
@@ -509,7 +512,7 @@ def residual_scale(chi2, dof):
     covers 73% with right weights and 3 dof.) 1 without dof."""
     if dof <= 0 or not np.isfinite(chi2):
         return 1.0
-    t = float(sps.t.ppf(0.5 + ONE_SIGMA / 2, dof))
+    t = one_sigma_factor(dof)
     return t * t * chi2 / dof
 
 

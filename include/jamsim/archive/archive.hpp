@@ -212,8 +212,7 @@ struct ArchiveSummary {
         double note_age = std::numeric_limits<double>::quiet_NaN();
     };
     std::vector<Progress> in_progress;  ///< running (or interrupted) replicas
-    /// Per replica: its status, wall seconds and fraction of its steps at its last checkpoint.
-    std::vector<ReplicaStatus> status;
+    /// Per replica: its wall seconds and fraction of its steps at its last checkpoint.
     std::vector<double> wall_seconds, progress;
 };
 ArchiveSummary summarize_archive(const std::string& path);

@@ -4,11 +4,17 @@
 // machine (an earlier run's archive, or short probes), or nominal.
 #include <cstdint>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "jamsim/spec/campaign_spec.hpp"
 
 namespace jamsim {
+
+/// Replicas that run at one throughput (seconds per estimated cost unit): model, N and phi
+/// (the dry run's calibration, the time left of a run: throughput.hpp).
+using CostGroup = std::tuple<std::string, std::int64_t, double>;
+inline CostGroup cost_group(const ReplicaParams& p) { return {p.model, p.n, p.phi}; }
 
 /// Seconds of probes a dry run spends calibrating by default (--probe-seconds).
 inline constexpr double kDefaultProbeSeconds = 30.0;

@@ -8,11 +8,11 @@
 #include <cstdint>
 #include <map>
 #include <string>
-#include <tuple>
 #include <utility>
 #include <vector>
 
 #include "jamsim/archive/archive.hpp"
+#include "jamsim/campaign/costs.hpp"
 #include "jamsim/spec/campaign_spec.hpp"
 
 namespace jamsim {
@@ -33,7 +33,7 @@ class Throughput {
     struct Sum {
         double seconds = 0, cost = 0;
     };
-    std::map<std::tuple<std::string, std::int64_t, double>, Sum> by_point_;
+    std::map<CostGroup, Sum> by_point_;
     std::map<std::pair<std::string, std::int64_t>, Sum> by_size_;
     std::map<std::string, Sum> by_model_;
     Sum all_;
