@@ -265,13 +265,18 @@ bool verlet_rule_broken(std::span<const double> x, std::span<const double> y, st
     int moved_too_far = 0;  // an OR over all particles, written to vectorise (no early exit)
     const auto n = static_cast<long>(x.size());
     const bool threaded = n >= static_cast<long>(kThreadedLoopMin) && kernel_threads() > 1;
-    const TimedRegion timed(threaded);
-#pragma omp parallel for schedule(static) reduction(| : moved_too_far) if (threaded)
-    for (long il = 0; il < n; ++il) {
+    auto moved = [&](long il) {
         const auto i = static_cast<std::size_t>(il);
         const double dy = y[i] - y_ref[i];
         const double dx = x[i] - x_ref[i] + strain * dy;
-        moved_too_far |= (dx * dx + dy * dy > allowed2);
+        return static_cast<int>(dx * dx + dy * dy > allowed2);
+    };
+    if (threaded) {
+        const TimedRegion timed;
+#pragma omp parallel for schedule(static) reduction(| : moved_too_far)
+        for (long il = 0; il < n; ++il) moved_too_far |= moved(il);
+    } else {  // no region: even one of one thread costs a system call (pair_forces.hpp)
+        for (long il = 0; il < n; ++il) moved_too_far |= moved(il);
     }
     return moved_too_far != 0;
 }

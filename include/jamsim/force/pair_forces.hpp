@@ -235,24 +235,37 @@ ForceResult accumulate_pair_forces(const Evaluator& eval, const NeighborList& li
     if constexpr (kRecord) scratch.halo_ry.resize(slots);
     scratch.tallies.resize(blocks.count);
     const auto count = static_cast<long>(blocks.count);
-    const bool threaded = count > 1 && kernel_threads() > 1;
-    const TimedRegion timed(threaded);
-#pragma omp parallel if (threaded)
-    {
+    auto run_block = [&](long b, double* rx, double* ry, double* r2, double* fr, double* en) {
+        scratch.tallies[static_cast<std::size_t>(b)] = accumulate_block<kTally, Evaluator, kOffsets, kRecord>(
+            eval, list, box, x.data(), y.data(), ox, oy, static_cast<std::size_t>(b), fx.data(), fy.data(), scratch,
+            record, rx, ry, r2, fr, en);
+    };
+    // A block's halo into its disks' forces, once every block is done (in the region: the
+    // barrier that ends the loop over blocks; every block and halo slot is written then).
+    auto add_halo_of = [&](long c) {
+        add_halo<kRecord>(blocks, static_cast<std::size_t>(c), scratch.halo_x.data(), scratch.halo_y.data(),
+                          scratch.halo_ry.data(), fx.data(), fy.data(), record.sum_ry);
+    };
+    if (count > 1 && kernel_threads() > 1) {
+        const TimedRegion timed;
+#pragma omp parallel
+        {
+            double rx[PairScratch::kChunk], ry[PairScratch::kChunk], r2[PairScratch::kChunk];
+            double fr[PairScratch::kChunk], en[PairScratch::kChunk];
+#pragma omp for schedule(static)
+            for (long b = 0; b < count; ++b) run_block(b, rx, ry, r2, fr, en);
+#pragma omp for schedule(static)
+            for (long c = 0; c < count; ++c) add_halo_of(c);
+        }
+    } else {
+        // No parallel region at all on one thread: even a region of one thread ends in a
+        // barrier whose futex wake is a system call, as dear as the whole loop at small N.
+        // The blocks, then their halos: each element sees the operations in the same order.
         double rx[PairScratch::kChunk], ry[PairScratch::kChunk], r2[PairScratch::kChunk];
         double fr[PairScratch::kChunk], en[PairScratch::kChunk];
-#pragma omp for schedule(static)
-        for (long b = 0; b < count; ++b)
-            scratch.tallies[static_cast<std::size_t>(b)] = accumulate_block<kTally, Evaluator, kOffsets, kRecord>(
-                eval, list, box, x.data(), y.data(), ox, oy, static_cast<std::size_t>(b), fx.data(), fy.data(), scratch,
-                record, rx, ry, r2, fr, en);
-        // (the barrier at the end of the loop above: every block and halo slot is written)
-        if (count > 1) {
-#pragma omp for schedule(static)
-            for (long c = 0; c < count; ++c)
-                add_halo<kRecord>(blocks, static_cast<std::size_t>(c), scratch.halo_x.data(), scratch.halo_y.data(),
-                                  scratch.halo_ry.data(), fx.data(), fy.data(), record.sum_ry);
-        }
+        for (long b = 0; b < count; ++b) run_block(b, rx, ry, r2, fr, en);
+        if (count > 1)
+            for (long c = 0; c < count; ++c) add_halo_of(c);
     }
     ForceResult out;
     out.tallied = kTally == Tally::Full;
