@@ -15,6 +15,7 @@
 #include "jamsim/archive/archive_file_check.hpp"
 #include "jamsim/campaign/scheduler.hpp"
 #include "jamsim/campaign/size_growth.hpp"
+#include "jamsim/campaign/write_probe.hpp"
 #include "jamsim/parallel/threads.hpp"
 #include "jamsim/run/model_registry.hpp"
 #include "jamsim/run/replica.hpp"
@@ -377,12 +378,23 @@ ReplicaSeconds replica_seconds(const CampaignSpec& spec, const std::string& arch
                        .serial = {},
                        .source = describe_source(calibrate, rates, spec, probe_seconds),
                        .extrapolated = {}};
+    // Each replica's archive writes (serial: threads do not shorten them), measured beside
+    // the output with the throughput; nominal runs leave the filesystem alone.
+    const double writes = calibrate ? archive_seconds_per_replica(spec, archive).value_or(0.0) : 0.0;
+    if (calibrate) {
+        char text[96];
+        std::snprintf(text, sizeof text, "%.2g ms", 1e3 * writes);
+        out.source += writes > 0
+                          ? "; each replica's archive writes " + std::string(text) + " (measured beside the output)"
+                          : "; the archive's writes per replica not measured (the directory beside the output is "
+                            "missing, nearly full or refused a scratch archive)";
+    }
     std::map<CostGroup, std::size_t> unmeasured;  // group -> its index in out.extrapolated
     // The probes a budget must pay for before each unmeasured minimisation group's (probes
     // run in the campaign's order): three of its replicas and of every such group before it.
     double probes_before = rates.spent;
     for (const ReplicaParams& p : spec.replicas) {
-        out.serial.push_back(rates.sample_seconds(p));
+        out.serial.push_back(rates.sample_seconds(p) + writes);
         out.seconds.push_back(estimated_cost(p) * rates.seconds_per_cost(p) + out.serial.back());
         if (!calibrate || rates.measured.count(cost_group(p))) continue;
         const auto [it, added] = unmeasured.emplace(cost_group(p), out.extrapolated.size());

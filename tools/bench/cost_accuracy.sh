@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # The dry run's cost estimate against the measured cost, per model and protocol: for each
 # benchmark campaign (tests/bench/campaigns/cost_*.toml, a few seconds of work each) the
-# estimate of `jamsim run --dry-run` (throughput calibrated on this machine), then the campaign
-# run on one rank; measured = the sum of its replicas' wall times (core-seconds), per N and in
-# all. Prints a Markdown table. Not a test: timings depend on the machine and its load.
+# estimate of `jamsim run --dry-run` (throughput calibrated on this machine, each replica's
+# archive writes included), then the campaign run on one rank; measured = the campaign's wall
+# time on that rank (core-seconds: its replicas' own wall times, plus what it spent besides
+# them, mostly the archive's writes, shared out evenly over the replicas for the rows per N).
+# Prints a Markdown table. Not a test: timings depend on the machine and its load.
 # PROBE_SECONDS=S gives the dry run `--probe-seconds S`.
 #   tools/bench/cost_accuracy.sh [JAMSIM] [CAMPAIGN.toml ...]
 set -euo pipefail
@@ -26,14 +28,15 @@ for spec in "${campaigns[@]}"; do
   out="$work/$name.h5"
   "$jamsim" run --dry-run ${PROBE_SECONDS:+--probe-seconds "$PROBE_SECONDS"} "$spec" -o "$out" > "$work/$name.plan" 2>/dev/null
   "$jamsim" run "$spec" -o "$out" --progress lines > "$work/$name.log" 2>&1 || { cat "$work/$name.log" >&2; exit 1; }
-  /usr/bin/python3 - "$out" "$name" "$work/$name.plan" <<'PY'
+  /usr/bin/python3 - "$out" "$name" "$work/$name.plan" "$work/$name.log" <<'PY'
 import re
 import sys
 from collections import defaultdict
 
 import h5py
 
-path, name, plan = sys.argv[1:4]
+path, name, plan, log = sys.argv[1:5]
+campaign_wall = float(re.search(r"finished in ([0-9.]+) s", open(log).read()).group(1))
 estimated = {}  # replica id -> estimated seconds (the dry run's listing: id N phi rate seed samples cost est.s ...)
 for line in open(plan):
     fields = line.split()
@@ -43,8 +46,9 @@ with h5py.File(path, "r") as f:
     wall = f["replicas/wall_seconds"][...]
     sizes = f["replicas/N"][...].astype(int)
     model = f.attrs["model"] if "model" in f.attrs else "?"
+besides = max(0.0, campaign_wall - float(wall.sum())) / len(wall)  # per replica, outside its own run
 rows = defaultdict(lambda: [0, 0.0, 0.0])
-for r, (n, w) in enumerate(zip(sizes, wall)):
+for r, (n, w) in enumerate(zip(sizes, wall + besides)):
     for key in (n, "all"):
         rows[key][0] += 1
         rows[key][1] += estimated[r]
