@@ -21,6 +21,7 @@
 
 #include "jamsim/archive/archive_file_check.hpp"
 #include "jamsim/campaign/scheduler.hpp"
+#include "jamsim/params/parameters.hpp"
 #include "jamsim/spec/campaign_spec.hpp"
 #include "jamsim/linalg/contact_solver.hpp"
 #include "jamsim/parallel/mpi.hpp"
@@ -75,15 +76,17 @@ ReplicaSeconds seconds_from_listing(const std::string& path, const CampaignSpec&
             throw PlanError(where + ": '" + line +
                             "' is not allowed: a row of the dry run's listing (id and N "
                             "whole numbers, est.s and sampling finite numbers of seconds)");
-        // The replica's N, phi, rate and seed as the dry run prints them (phi to 4 digits, rate to 3).
-        const auto listed_as = [](const char* format, double value) {
-            char text[32];
-            std::snprintf(text, sizeof text, format, value);
-            return std::string(text);
+        // The replica's N, phi, rate and seed as the dry run prints them: phi and rate as the
+        // shortest text that reads back the same (show_value), or as listings before it did
+        // (phi to 4 digits, rate to 3; such a listing of phi = 0.84012 was refused).
+        const auto listed_as = [](const char* format, double value, const std::string& text) {
+            char old[32];
+            std::snprintf(old, sizeof old, format, value);
+            return text == show_value(value) || text == old;
         };
         if (id >= spec.replicas.size() || spec.replicas[id].n != n ||
-            listed_as("%.4g", spec.replicas[id].phi) != m[3].str() ||
-            listed_as("%.3g", spec.replicas[id].rate) != m[4].str() ||
+            !listed_as("%.4g", spec.replicas[id].phi, m[3].str()) ||
+            !listed_as("%.3g", spec.replicas[id].rate, m[4].str()) ||
             std::to_string(spec.replicas[id].seed) != m[5].str())
             throw PlanError(where + " (N = " + m[2].str() + ", phi = " + m[3].str() + ", rate = " + m[4].str() +
                             ", seed = " + m[5].str() + ") is not replica " + m[1].str() + " of " + spec.path +
