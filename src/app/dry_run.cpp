@@ -98,7 +98,7 @@ void print_extrapolated(const std::vector<ExtrapolatedGroup>& groups, double tot
 void print_dry_run(const CampaignSpec& spec, const std::string& output, const DryRunPlan& plan) {
     std::printf("campaign %s: %s -> %s (dry run: nothing written)\n", spec.name.c_str(),
                 counted(static_cast<long long>(spec.replicas.size()), "replica").c_str(), output.c_str());
-    const ReplicaSeconds estimate = replica_seconds(spec, output, plan.calibrate, plan.probe_seconds);
+    const ReplicaSeconds estimate = replica_seconds(spec, output, plan.calibrate, plan.probe_seconds, true);
     double total = 0, largest = 0;
     for (const double seconds : estimate.seconds) {
         total += seconds;
@@ -113,7 +113,7 @@ void print_dry_run(const CampaignSpec& spec, const std::string& output, const Dr
             const ReplicaParams& p = spec.replicas[id];
             // phi and rate as the campaign gives them (show_value: the shortest text that reads
             // back the same; %.4g showed 0.8401 and 0.84012 alike)
-            std::printf("%6zu %7lld %8s %10s %6llu %9lld %14.4g %10.4g %9.4g\n", id, static_cast<long long>(p.n),
+            std::printf("%6zu %7lld %8s %10s %6llu %9lld %14.4g %10.6g %9.6g\n", id, static_cast<long long>(p.n),
                         show_value(p.phi).c_str(), show_value(p.rate).c_str(), static_cast<unsigned long long>(p.seed),
                         static_cast<long long>(sample_count(p)), estimated_cost(p), estimate.seconds[id],
                         estimate.serial[id]);

@@ -372,22 +372,23 @@ std::string describe_source(bool calibrate, const Calibration& rates, const Camp
 }  // namespace
 
 ReplicaSeconds replica_seconds(const CampaignSpec& spec, const std::string& archive, bool calibrate,
-                               double probe_seconds) {
+                               double probe_seconds, bool price_writes) {
     const Calibration rates = calibrate ? calibrate_on_one_thread(spec, archive, probe_seconds) : Calibration{};
     ReplicaSeconds out{.seconds = {},
                        .serial = {},
                        .source = describe_source(calibrate, rates, spec, probe_seconds),
                        .extrapolated = {}};
     // Each replica's archive writes (serial: threads do not shorten them), measured beside
-    // the output with the throughput; nominal runs leave the filesystem alone.
-    const double writes = calibrate ? archive_seconds_per_replica(spec, archive).value_or(0.0) : 0.0;
-    if (calibrate) {
+    // the output; nominal estimates and runs without probes leave the filesystem alone.
+    const bool writes_probed = calibrate && price_writes && probe_seconds > 0;
+    const double writes = writes_probed ? archive_seconds_per_replica(spec, archive).value_or(0.0) : 0.0;
+    if (calibrate && price_writes) {
         char text[96];
-        std::snprintf(text, sizeof text, "%.2g ms", 1e3 * writes);
+        std::snprintf(text, sizeof text, "%.3g ms", 1e3 * writes);
         out.source += writes > 0
                           ? "; each replica's archive writes " + std::string(text) + " (measured beside the output)"
-                          : "; the archive's writes per replica not measured (the directory beside the output is "
-                            "missing, nearly full or refused a scratch archive)";
+                          : "; the archive's writes per replica not measured (no probes, --probe-seconds 0; or the "
+                            "output's folder is nearly full or refused a scratch archive)";
     }
     std::map<CostGroup, std::size_t> unmeasured;  // group -> its index in out.extrapolated
     // The probes a budget must pay for before each unmeasured minimisation group's (probes

@@ -3,9 +3,11 @@
 // with a futex system call: one or two per force evaluation cost a replica of 1024 disks a
 // quarter of its time, and tiny replicas (RAND quenches of 16-64 disks) two thirds.
 //
-// GOMP_parallel is GCC's entry for every `#pragma omp parallel` (with or without `for`);
-// this executable defines it, so the kernel's calls (linked statically) come here, are
-// counted and go on to libgomp's.
+// GCC 12 enters every parallel region through one of libgomp's GOMP_parallel* functions:
+// GOMP_parallel (`parallel`, and `parallel for` with a static schedule, which is all jamsim
+// uses), GOMP_parallel_sections, GOMP_parallel_loop_* (other schedules). This executable
+// defines those, so the kernel's calls (linked statically) and the libraries' (CHOLMOD's, for
+// one) come here, are counted, and go on to libgomp's.
 #include <dlfcn.h>
 #include <gtest/gtest.h>
 
@@ -19,19 +21,55 @@
 
 namespace {
 std::atomic<long> g_regions{0};  // parallel regions opened since the last reset
-using ParallelEntry = void (*)(void (*)(void*), void*, unsigned, unsigned);
+
+/// libgomp's own `name`, counting one region.
+template <class Entry> Entry counted_entry(const char* name) {
+    g_regions.fetch_add(1, std::memory_order_relaxed);
+    void* symbol = dlsym(RTLD_NEXT, name);
+    Entry entry = nullptr;
+    std::memcpy(&entry, &symbol, sizeof entry);
+    return entry;
+}
+using Body = void (*)(void*);
 }  // namespace
 
-extern "C" void GOMP_parallel(void (*fn)(void*), void* data, unsigned num_threads, unsigned flags);
-extern "C" void GOMP_parallel(void (*fn)(void*), void* data, unsigned num_threads, unsigned flags) {
-    static const ParallelEntry real = [] {
-        void* symbol = dlsym(RTLD_NEXT, "GOMP_parallel");
-        ParallelEntry entry = nullptr;
-        std::memcpy(&entry, &symbol, sizeof entry);
-        return entry;
-    }();
-    g_regions.fetch_add(1, std::memory_order_relaxed);
-    real(fn, data, num_threads, flags);
+extern "C" {
+void GOMP_parallel(Body fn, void* data, unsigned threads, unsigned flags);
+void GOMP_parallel_sections(Body fn, void* data, unsigned threads, unsigned count, unsigned flags);
+void GOMP_parallel_loop_static(Body fn, void* data, unsigned threads, long start, long end, long incr, long chunk,
+                               unsigned flags);
+void GOMP_parallel_loop_dynamic(Body fn, void* data, unsigned threads, long start, long end, long incr, long chunk,
+                                unsigned flags);
+void GOMP_parallel_loop_guided(Body fn, void* data, unsigned threads, long start, long end, long incr, long chunk,
+                               unsigned flags);
+void GOMP_parallel_loop_runtime(Body fn, void* data, unsigned threads, long start, long end, long incr, unsigned flags);
+
+void GOMP_parallel(Body fn, void* data, unsigned threads, unsigned flags) {
+    counted_entry<decltype(&GOMP_parallel)>("GOMP_parallel")(fn, data, threads, flags);
+}
+void GOMP_parallel_sections(Body fn, void* data, unsigned threads, unsigned count, unsigned flags) {
+    counted_entry<decltype(&GOMP_parallel_sections)>("GOMP_parallel_sections")(fn, data, threads, count, flags);
+}
+void GOMP_parallel_loop_static(Body fn, void* data, unsigned threads, long start, long end, long incr, long chunk,
+                               unsigned flags) {
+    counted_entry<decltype(&GOMP_parallel_loop_static)>("GOMP_parallel_loop_static")(fn, data, threads, start, end,
+                                                                                     incr, chunk, flags);
+}
+void GOMP_parallel_loop_dynamic(Body fn, void* data, unsigned threads, long start, long end, long incr, long chunk,
+                                unsigned flags) {
+    counted_entry<decltype(&GOMP_parallel_loop_dynamic)>("GOMP_parallel_loop_dynamic")(fn, data, threads, start, end,
+                                                                                       incr, chunk, flags);
+}
+void GOMP_parallel_loop_guided(Body fn, void* data, unsigned threads, long start, long end, long incr, long chunk,
+                               unsigned flags) {
+    counted_entry<decltype(&GOMP_parallel_loop_guided)>("GOMP_parallel_loop_guided")(fn, data, threads, start, end,
+                                                                                     incr, chunk, flags);
+}
+void GOMP_parallel_loop_runtime(Body fn, void* data, unsigned threads, long start, long end, long incr,
+                                unsigned flags) {
+    counted_entry<decltype(&GOMP_parallel_loop_runtime)>("GOMP_parallel_loop_runtime")(fn, data, threads, start, end,
+                                                                                       incr, flags);
+}
 }
 
 namespace jamsim {

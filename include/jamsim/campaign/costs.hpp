@@ -50,7 +50,9 @@ struct ReplicaSeconds {
 /// nominal without `calibrate`, plus its samples' seconds (probed: a run of the probe's
 /// steps with 10 samples against one with 1).
 /// `probe_seconds`: the probes' budget (wall seconds; groups past it are extrapolated).
+/// `price_writes` (with calibrate and a budget > 0): each replica also pays its archive
+/// writes, measured on a scratch archive beside `archive` (write_probe.hpp; the dry run).
 ReplicaSeconds replica_seconds(const CampaignSpec& spec, const std::string& archive, bool calibrate,
-                               double probe_seconds = kDefaultProbeSeconds);
+                               double probe_seconds = kDefaultProbeSeconds, bool price_writes = false);
 
 }  // namespace jamsim

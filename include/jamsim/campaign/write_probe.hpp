@@ -12,9 +12,11 @@
 namespace jamsim {
 
 /// Wall seconds of those writes per replica, measured through the archive's own code on a
-/// scratch archive beside `output` (the campaign's smallest replicas, up to 8; the file is
-/// removed after); nullopt when it cannot be measured there (no MPI, a directory that does not
-/// exist, lacks room for 16 such archives and 16 MB, or refuses the write).
+/// scratch archive in the nearest existing folder of `output` (through links; the campaign's
+/// smallest replicas, up to 8; a hidden file of a name no one else holds, removed after);
+/// nullopt when it cannot be measured there (no MPI, no folder, less room than 16 such
+/// archives and 16 MB, or a refusal of a plain write of four times its size first: a quota, an
+/// I/O error).
 std::optional<double> archive_seconds_per_replica(const CampaignSpec& spec, const std::string& output);
 
 }  // namespace jamsim
