@@ -89,20 +89,24 @@ std::optional<double> archive_seconds_per_replica(const CampaignSpec& spec, cons
     const std::filesystem::space_info room = std::filesystem::space(beside, ec);
     if (ec || static_cast<double>(room.available) < 16 * bytes + 16e6) return std::nullopt;
     if (!room_for(scratch.path, static_cast<std::size_t>(4 * bytes))) return std::nullopt;
+    std::filesystem::remove(scratch.path, ec);  // made afresh below (a truncation is dearer, and not timed)
     std::optional<Archive> archive;
     try {
         archive.emplace(Archive::create(MPI_COMM_SELF, scratch.path, probe));
-        double seconds = 0;
+        std::vector<double> seconds;
         for (std::size_t r = 0; r < probe.replicas.size(); ++r) {
             // No rows: whole rows of NaN are written, as for a short replica.
             const ReplicaResult result{.series = {}, .final_state = initial_system(probe.replicas[r])};
             const auto t0 = std::chrono::steady_clock::now();
             archive->mark_running(static_cast<std::int64_t>(r), 0, false);
             archive->write_done(static_cast<std::int64_t>(r), result, 0, 1.0);
-            seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
         }
         archive->close();
-        return seconds / static_cast<double>(probe.replicas.size());
+        // The median: one fdatasync that meets the disk's other work would set the mean.
+        std::sort(seconds.begin(), seconds.end());
+        const std::size_t k = seconds.size();
+        return k % 2 ? seconds[k / 2] : 0.5 * (seconds[k / 2 - 1] + seconds[k / 2]);
     } catch (const std::exception&) {
         // Closed here, not abandoned by an unwinding destructor (one process: no rank waits).
         try {

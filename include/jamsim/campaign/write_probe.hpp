@@ -11,7 +11,7 @@
 
 namespace jamsim {
 
-/// Wall seconds of those writes per replica, measured through the archive's own code on a
+/// Wall seconds of those writes per replica (the median of the probe's), measured through the archive's own code on a
 /// scratch archive in the nearest existing folder of `output` (through links; the campaign's
 /// smallest replicas, up to 8; a hidden file of a name no one else holds, removed after);
 /// nullopt when it cannot be measured there (no MPI, no folder, less room than 16 such
