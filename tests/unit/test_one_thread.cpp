@@ -137,5 +137,18 @@ TEST(OneThread, NoModelOpensAParallelRegion) {
         }
 }
 
+TEST(OneThread, SmallReplicasOpenNoRegionOnTwoThreads) {
+    // Below one block of the kernel's loops (4096 disks) two threads have nothing to share: a
+    // rank lent a second core runs a small replica on one, without regions.
+    const ThreadCount count(2);
+    for (const ModelInfo& model : models()) {
+        SCOPED_TRACE(std::string(model.name) + " N = 256 on 2 threads");
+        const ReplicaParams p = short_replica(model, 256);
+        g_regions = 0;
+        run_replica(p);
+        EXPECT_EQ(g_regions.load(), 0);
+    }
+}
+
 }  // namespace
 }  // namespace jamsim
