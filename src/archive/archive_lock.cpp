@@ -86,6 +86,23 @@ std::string archive_held(int fd, const std::string& archive) {
            "run to finish or stop it (scancel, kill), or close the file in the other program";
 }
 
+/// Why the file open as `fd` at the lock's path is no jamsim lock file ("" when it is one:
+/// empty, or written by a jamsim run or merge, stale or not): a user's file of that name would
+/// be emptied and removed with the lock (it was, silently).
+std::string not_a_lock(int fd, const std::string& path) {
+    struct stat st {};
+    if (::fstat(fd, &st) != 0) return "";
+    if (!S_ISREG(st.st_mode))
+        return "the lock file '" + path +
+               "' is not a regular file (a FIFO, a device, ...), which is not allowed: jamsim keeps the "
+               "archive's lock in a file of that name; remove it, or write the archive under another name";
+    char head[8] = {};
+    if (st.st_size == 0 || (::pread(fd, head, 7, 0) == 7 && std::string_view(head, 7) == "jamsim ")) return "";
+    return "'" + path + "' holds " + std::to_string(static_cast<long long>(st.st_size)) +
+           " bytes that no jamsim run wrote, which is not allowed: jamsim keeps the archive's lock in a file of "
+           "that name and would overwrite it; move that file away, or write the archive under another name";
+}
+
 std::string host_name() {
     char name[256] = {};
     if (::gethostname(name, sizeof name - 1) != 0) return "unknown host";
@@ -145,6 +162,8 @@ ArchiveLock ArchiveLock::acquire(MPI_Comm comm, const std::string& archive_path,
         fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
         if (fd < 0) {
             error = "cannot open the lock file '" + path + "': " + std::strerror(errno);
+        } else if (const std::string foreign = not_a_lock(fd, path); !foreign.empty()) {
+            error = foreign;
         } else if (const int e = set_lock(fd, F_WRLCK); busy(e)) {
             error = busy_message(archive_path, path, fd);
         } else if (e == 0 && !names(path, fd)) {  // removed or replaced between open and lock
