@@ -126,6 +126,17 @@ std::string check_checkpoints(const std::string& output, const CampaignSpec& spe
     if (!fs::is_directory(folder, ec)) return "";
     for (const auto& entry : fs::directory_iterator(folder, ec)) {
         const std::string name = entry.path().filename().string();
+        // A folder, FIFO or device under the name of a replica's file: reading it blocked for
+        // good (a FIFO) or stopped the run with the C++ library's words, naming nothing.
+        std::error_code type_error;
+        const fs::file_type type = entry.status(type_error).type();
+        if ((name.starts_with("replica_") || name.starts_with("end_") || name.starts_with("rebuild_")) &&
+            type != fs::file_type::regular && type != fs::file_type::not_found && !type_error) {
+            std::string why = spec.path + ": '";
+            why.append(entry.path().string()).append("' is not a regular file (a folder, a FIFO, a device), which is ");
+            return why.append("not allowed: jamsim keeps a replica's checkpoint, end state or progress note under that "
+                              "name; remove it and run the same command again");
+        }
         long long id = -1;
         char tail[8] = {};
         if (std::sscanf(name.c_str(), "replica_%lld.h%7s", &id, tail) != 2 || std::string(tail) != "5")

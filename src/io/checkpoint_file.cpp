@@ -1,5 +1,7 @@
 #include "jamsim/io/checkpoint_file.hpp"
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <array>
 #include <cstdio>
@@ -108,8 +110,15 @@ void write_progress_note(const std::string& path, double fraction) {
 }
 
 std::optional<ProgressNote> read_progress_note(const std::string& path) {
-    std::FILE* f = std::fopen(path.c_str(), "r");
-    if (!f) return std::nullopt;
+    // O_NONBLOCK and a regular file only: a FIFO of that name blocked `jamsim status` for good.
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+    if (fd < 0) return std::nullopt;
+    struct stat st {};
+    std::FILE* f = ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) ? ::fdopen(fd, "r") : nullptr;
+    if (!f) {
+        ::close(fd);
+        return std::nullopt;
+    }
     double fraction = 0, when = 0;
     const int read = std::fscanf(f, "%lf %lf", &fraction, &when);
     std::fclose(f);
