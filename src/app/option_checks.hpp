@@ -32,6 +32,11 @@ inline CLI::Validator nonempty_path() {
         "FILE");
 }
 
+/// Decimal digits alone: strtoll also took " 16" and "+16" (and --threads refused them).
+inline bool digits_only(const std::string& v) {
+    return !v.empty() && v.find_first_not_of("0123456789") == std::string::npos;
+}
+
 /// A whole number >= 1 of `what` ("replicas", "ranks"); CLI11's own PositiveNumber printed
 /// "Value 0 not in range 0.000000 to 1.79769e+308" (300 digits of it).
 inline CLI::Validator count_at_least_one(const std::string& what) {
@@ -40,7 +45,7 @@ inline CLI::Validator count_at_least_one(const std::string& what) {
             char* end = nullptr;
             errno = 0;
             const long long n = std::strtoll(v.c_str(), &end, 10);
-            return end != v.c_str() && *end == '\0' && n >= 1 && errno != ERANGE
+            return digits_only(v) && *end == '\0' && n >= 1 && errno != ERANGE
                        ? ""
                        : "value " + v + " is not allowed: a whole number of " + what + " >= 1";
         },
@@ -55,7 +60,7 @@ inline CLI::Validator count_from_one_to(const std::string& what, long long most)
             char* end = nullptr;
             errno = 0;
             const long long n = std::strtoll(v.c_str(), &end, 10);
-            return end != v.c_str() && *end == '\0' && n >= 1 && n <= most && errno != ERANGE
+            return digits_only(v) && *end == '\0' && n >= 1 && n <= most && errno != ERANGE
                        ? ""
                        : "value " + v + " is not allowed: a whole number of " + what + " from 1 to " +
                              std::to_string(most);
