@@ -220,6 +220,11 @@ CampaignSpec parse_campaign(const std::string& text, const std::string& path, st
     };
     if (has_control(spec.name))
         r.fail("[campaign] name", show(*campaign->get("name")), "a name without line breaks or control characters");
+    // " x" and "x" read alike in every progress line and listing (and "   " as no name at all),
+    // as the output's name does, which is refused so too.
+    if (spec.name.front() == ' ' || spec.name.back() == ' ')
+        r.fail("[campaign] name", show(*campaign->get("name")),
+               "a name that neither starts nor ends with a space (a quoting mistake?)");
     // The name heads every progress line and is kept in the archive: a 5 MB name was taken.
     if (constexpr std::size_t most = 256; spec.name.size() > most)
         r.fail("[campaign] name",

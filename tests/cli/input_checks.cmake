@@ -41,6 +41,7 @@ jamsim_campaign_error(float_underflow "float_underflow.toml: \\[sweep\\] points 
 # An invisible character in a campaign's name (a zero-width space) was taken: two names that read
 # the same in every log and listing.
 jamsim_campaign_error(invisible_name "invisible_name.toml: \\[campaign\\] name = .* is not allowed: a name without invisible characters \\(it holds U\\+200B\\)")
+jamsim_campaign_error(name_spaces "name_spaces.toml: \\[campaign\\] name = \" spaced\" is not allowed: a name that neither starts nor ends with a space")
 # An invisible character in -o (here a zero-width space) as in the campaign file's output.
 jamsim_cli_error(run_output_invisible "small.toml: -o \"s.*\\.h5\" is not allowed: a path without invisible characters \\(it holds U\\+200B\\)" run ${campaigns}/small.toml -o s​.h5)
 set_tests_properties(cli.run_output_invisible PROPERTIES LABELS unit)
