@@ -356,8 +356,9 @@ CLI::App* add_run_command(CLI::App& app, int& argc, char**& argv) {
            [opt](const std::string& v) {
                opt->limits.max_archive_bytes = parse_bytes(v);
                if (!(opt->limits.max_archive_bytes > 0))
-                   throw CLI::ValidationError("jamsim run: --max-archive-size = " + v +
-                                              " is not allowed: a size > 0 such as 500G, 2T or 1e13");
+                   throw CLI::ValidationError(
+                       "jamsim run: --max-archive-size = " + v +
+                       " is not allowed: a size in decimal from 1 byte to about 1e308 such as 500G, 2T or 1e13");
            },
            "Refuse a campaign whose archive would be larger (the free space of its filesystem is "
            "checked as well)")

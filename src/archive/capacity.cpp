@@ -195,6 +195,10 @@ std::string check_replica_disk(const ReplicaParams& p, const std::string& output
 }
 
 double parse_bytes(const std::string& text) {
+    // Decimal only: strtod also skipped leading white space and read hexadecimal ("0x10").
+    if (text.empty() || !((text[0] >= '0' && text[0] <= '9') || text[0] == '.') ||
+        text.find_first_of("xX") != std::string::npos)
+        return -1.0;
     char* end = nullptr;
     const double v = std::strtod(text.c_str(), &end);
     if (end == text.c_str() || !std::isfinite(v) || v < 0) return -1.0;
@@ -207,7 +211,8 @@ double parse_bytes(const std::string& text) {
                          : unit == "T"                ? 1e12
                          : unit == "P"                ? 1e15
                                                       : -1.0;
-    return scale < 0 ? -1.0 : v * scale;
+    // A size beyond a double (1e300T) is no cap at all, and one below a byte none either.
+    return scale < 0 || !std::isfinite(v * scale) || v * scale < 1.0 ? -1.0 : v * scale;
 }
 
 }  // namespace jamsim
