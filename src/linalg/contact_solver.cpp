@@ -80,6 +80,22 @@ std::vector<std::string> petsc_option_names(const std::string& options) {
 }
 
 std::string petsc_options_problem(const std::string& options) {
+    // PETSc reads "-name [value] -name [value] ...": a word where neither fits was dropped
+    // without a word ("cd0_ksp_type gmres" set nothing), and a tab joined two words into one name.
+    if (options.find_first_of("\t\n\r\v\f") != std::string::npos)
+        return "options separated by spaces (it holds a tab or a line break)";
+    {
+        std::istringstream in(options);
+        bool value_allowed = false;  // right after an option's name
+        for (std::string token; in >> token;) {
+            const bool name = token.size() >= 2 && token[0] == '-' &&
+                              !std::isdigit(static_cast<unsigned char>(token[1])) && token[1] != '.';
+            if (!name && !value_allowed)
+                return "'" + token + "' is neither an option's name (-" + std::string(kPetscPrefix) +
+                       "...) nor the value of the one before it (each takes one value at most)";
+            value_allowed = name;
+        }
+    }
     const std::vector<std::string> names = petsc_option_names(options);
     if (names.empty()) return "";
     petsc::ensure_initialized();
